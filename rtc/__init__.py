@@ -1,0 +1,1 @@
+"""The ``rtc`` command line: thin wrappers over raytracer/, variants/, steps/ and harness/."""

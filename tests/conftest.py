@@ -1,0 +1,3 @@
+"""The step library is a pytest plugin; every test session here uses it."""
+
+pytest_plugins = ["steps.plugin"]
