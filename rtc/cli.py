@@ -14,6 +14,8 @@ from types import ModuleType
 
 COMMANDS = [
     "rtc.cmd_variants",
+    "rtc.cmd_kata",
+    "rtc.cmd_demo",
 ]
 
 

@@ -1,0 +1,159 @@
+"""The camera (chapter 7): which ray goes through which pixel, and rendering a world.
+
+Naive on purpose: the camera's half extents and pixel size are computed on every access, and
+``ray_for_pixel`` inverts the camera transform for every ray.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from raytracer.canvas import Canvas, canvas, write_pixel
+from raytracer.colors import BLACK, Color
+from raytracer.matrices import Matrix, identity_matrix, inverse
+from raytracer.rays import Ray
+from raytracer.sampling import MAX_SAMPLES, sample_offset
+from raytracer.tolerance import EPSILON, using_epsilon
+from raytracer.tuples import normalize, point
+from raytracer.world import World, color_at
+
+
+@dataclass(frozen=True, slots=True)
+class Camera:
+    """Chapter 7: a pinhole camera.
+
+    hsize, vsize: the canvas size in pixels; field_of_view: the horizontal or vertical
+    angle (radians) the wider side of the canvas spans; transform: the view transformation
+    (world space to camera space; the camera looks down -z from the origin).
+    """
+
+    hsize: int
+    vsize: int
+    field_of_view: float
+    transform: Matrix = identity_matrix
+
+    def _half_extents(self) -> tuple[float, float]:
+        """(half_width, half_height) of the canvas one unit in front of the camera."""
+        half_view = math.tan(self.field_of_view / 2)
+        aspect = self.hsize / self.vsize
+        if aspect >= 1:
+            return half_view, half_view / aspect
+        return half_view * aspect, half_view
+
+    @property
+    def half_width(self) -> float:
+        return self._half_extents()[0]
+
+    @property
+    def half_height(self) -> float:
+        return self._half_extents()[1]
+
+    @property
+    def pixel_size(self) -> float:
+        """The width (and height) of one pixel one unit in front of the camera."""
+        return self._half_extents()[0] * 2 / self.hsize
+
+    @property
+    def inverse_transform(self) -> Matrix:
+        """The inverse of ``transform``, computed on every access (the naive baseline)."""
+        return inverse(self.transform)
+
+
+def camera(hsize: int, vsize: int, field_of_view: float) -> Camera:
+    """Chapter 7: a camera at the origin looking down -z.
+
+    hsize, vsize: the canvas size in pixels; field_of_view: in radians, between 0 and π.
+    """
+    if isinstance(hsize, bool) or isinstance(vsize, bool) or hsize < 1 or vsize < 1:
+        raise ValueError(f"camera({hsize!r}, {vsize!r}, ...): the size must be at least 1x1")
+    if hsize != int(hsize) or vsize != int(vsize):
+        raise ValueError(f"camera({hsize!r}, {vsize!r}, ...): the size must be whole pixels")
+    if not 0 < field_of_view < math.pi:
+        raise ValueError(
+            f"camera(..., {field_of_view!r}): the field of view must be between 0 and π radians"
+        )
+    return Camera(int(hsize), int(vsize), field_of_view)
+
+
+def ray_for_pixel(c: Camera, px: float, py: float) -> Ray:
+    """Chapter 7: the ray from the camera through the centre of pixel (px, py).
+
+    px, py: the pixel; floats are allowed (``px + dx - 0.5`` aims at offset dx in the pixel).
+    """
+    xoffset = (px + 0.5) * c.pixel_size
+    yoffset = (py + 0.5) * c.pixel_size
+    world_x = c.half_width - xoffset  # the camera looks toward -z, so +x is to the left
+    world_y = c.half_height - yoffset
+    inv = c.inverse_transform
+    pixel = inv * point(world_x, world_y, -1)
+    origin = inv * point(0, 0, 0)
+    return Ray(origin, normalize(pixel - origin))
+
+
+@dataclass(frozen=True, slots=True)
+class RenderSettings:
+    """How to render (not in the book, except ``depth``, its ``remaining``).
+
+    depth: how many times a ray may be reflected or refracted (the book's 5);
+    samples: rays per pixel (1: through the centre, as in the book; more: antialiasing);
+    seed: chooses the sample positions when samples > 1 (see ``raytracer.sampling``);
+    epsilon: the offset for over_point/under_point and friends (``EPSILON`` by default).
+    """
+
+    depth: int = 5
+    samples: int = 1
+    seed: int = 0
+    epsilon: float = EPSILON
+
+    def __post_init__(self) -> None:
+        def whole(value: object) -> bool:
+            return isinstance(value, int) and not isinstance(value, bool)
+
+        if not whole(self.depth) or not 0 <= self.depth <= 100:
+            raise ValueError(
+                f"RenderSettings: depth must be a whole number 0 to 100, got {self.depth!r}"
+            )
+        if not whole(self.samples) or not 1 <= self.samples <= MAX_SAMPLES:
+            raise ValueError(
+                f"RenderSettings: samples must be a whole number 1 to "
+                f"{MAX_SAMPLES}, got {self.samples!r}"
+            )
+        if not whole(self.seed) or not 0 <= self.seed < 2**64:
+            raise ValueError(
+                f"RenderSettings: seed must be a whole number 0 to 2**64-1, got {self.seed!r}"
+            )
+        if (
+            isinstance(self.epsilon, bool)
+            or not isinstance(self.epsilon, int | float)
+            or not (0 < self.epsilon < 1)
+        ):
+            raise ValueError(
+                f"RenderSettings: epsilon must be a number between 0 and 1, got {self.epsilon!r}"
+            )
+
+
+def pixel_color(c: Camera, w: World, x: int, y: int, settings: RenderSettings) -> Color:
+    """The color of pixel (x, y): one ray through its centre, or the mean of the samples
+    (summed in order i = 0, 1, ... then multiplied by 1 / samples)."""
+    if settings.samples == 1:
+        return color_at(w, ray_for_pixel(c, x, y), settings.depth)
+    total = BLACK
+    for i in range(settings.samples):
+        dx, dy = sample_offset(settings.seed, x, y, i)
+        total = total + color_at(w, ray_for_pixel(c, x + dx - 0.5, y + dy - 0.5), settings.depth)
+    return total * (1.0 / settings.samples)
+
+
+def render(c: Camera, w: World, settings: RenderSettings | None = None) -> Canvas:
+    """Chapter 7: render ``w`` as seen by ``c`` into a new canvas, row by row.
+
+    settings: depth, samples per pixel, seed and epsilon (default ``RenderSettings()``).
+    """
+    settings = settings if settings is not None else RenderSettings()
+    image = canvas(c.hsize, c.vsize)
+    with using_epsilon(settings.epsilon):
+        for y in range(c.vsize):
+            for x in range(c.hsize):
+                write_pixel(image, x, y, pixel_color(c, w, x, y, settings))
+    return image

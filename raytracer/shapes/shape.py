@@ -1,0 +1,113 @@
+"""The abstract shape (chapter 9, refactoring chapters 5 and 6; ``parent`` from chapter 14).
+
+A shape is an entity: ``set_transform``, ``s.material ← m`` and ``add_child`` change it in
+place. Shapes compare by value (type, transform, material and their own fields, never
+``parent``) and are never hashed.
+
+Naive on purpose: ``inverse_transform`` inverts ``transform`` on every access. Everything in
+the tracer reads a shape's inverse through that property, so a variant can subclass a shape
+and cache it.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+from raytracer.materials import Material, material
+from raytracer.matrices import (
+    Matrix,
+    NotInvertibleError,
+    identity_matrix,
+    inverse,
+    is_invertible,
+    transpose,
+)
+from raytracer.rays import Ray
+from raytracer.rays import transform as transform_ray
+from raytracer.shapes.space import normal_to_world, world_to_object
+from raytracer.tuples import Tuple
+
+if TYPE_CHECKING:
+    from raytracer.intersections import Intersection
+
+__all__ = [
+    "Shape",
+    "intersect",
+    "local_intersect",
+    "local_normal_at",
+    "normal_at",
+    "normal_to_world",
+    "set_transform",
+    "world_to_object",
+]
+
+
+@dataclass(slots=True, eq=True)
+class Shape(ABC):
+    """Chapter 9: what every shape has.
+
+    transform: object space to world space (default: the identity);
+    material: how the surface looks (default: ``material()``);
+    casts_shadow: False for an object that never shadows others (a scene's ``shadow: false``);
+    parent: the group containing this shape (chapter 14), or None.
+    """
+
+    transform: Matrix = identity_matrix
+    material: Material = field(default_factory=material)
+    casts_shadow: bool = True
+    parent: Shape | None = field(default=None, compare=False, repr=False)
+
+    @property
+    def inverse_transform(self) -> Matrix:
+        """The inverse of ``transform``, computed on every access (the naive baseline)."""
+        return inverse(self.transform)
+
+    @property
+    def inverse_transpose(self) -> Matrix:
+        """The transpose of the inverse, for normals; computed on every access (naive)."""
+        return transpose(self.inverse_transform)
+
+    @abstractmethod
+    def local_intersect(self, local_ray: Ray) -> list[Intersection]:
+        """The intersections of a ray already in object space with this shape."""
+
+    @abstractmethod
+    def local_normal_at(self, local_point: Tuple, hit: Intersection | None = None) -> Tuple:
+        """The object-space normal at an object-space point (``hit``: for smooth triangles)."""
+
+
+def intersect(shape: Shape, ray: Ray) -> list[Intersection]:
+    """Chapters 5 and 9: the intersections of a world-space ``ray`` with ``shape``."""
+    return shape.local_intersect(transform_ray(ray, shape.inverse_transform))
+
+
+def normal_at(shape: Shape, world_point: Tuple, hit: Intersection | None = None) -> Tuple:
+    """Chapters 6, 9 and 14: the world-space surface normal of ``shape`` at ``world_point``.
+
+    hit: the intersection being shaded (only smooth triangles use it, chapter 15).
+    """
+    local_point = world_to_object(shape, world_point)
+    local_normal = shape.local_normal_at(local_point, hit)
+    return normal_to_world(shape, local_normal)
+
+
+def local_intersect(shape: Shape, local_ray: Ray) -> list[Intersection]:
+    """Chapter 9: the shape-specific intersection of an object-space ray."""
+    return shape.local_intersect(local_ray)
+
+
+def local_normal_at(shape: Shape, local_point: Tuple, hit: Intersection | None = None) -> Tuple:
+    """Chapter 9: the shape-specific normal at an object-space point."""
+    return shape.local_normal_at(local_point, hit)
+
+
+def set_transform(shape: Shape, m: Matrix) -> None:
+    """Chapter 5: give ``shape`` the transformation ``m``; it must be invertible."""
+    if not is_invertible(m):
+        raise NotInvertibleError(
+            f"set_transform({type(shape).__name__}): the transform is not invertible "
+            "(determinant 0)"
+        )
+    shape.transform = m

@@ -1,0 +1,39 @@
+"""The test shape (chapter 9): records the ray it was asked to intersect."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from raytracer.intersections import Intersection
+from raytracer.rays import Ray
+from raytracer.shapes.shape import Shape
+from raytracer.tuples import Tuple, vector
+
+
+@dataclass(slots=True, eq=True)
+class TestShape(Shape):
+    """Chapter 9: a shape for testing the abstract ``Shape``.
+
+    saved_ray: the last object-space ray ``local_intersect`` received (not compared).
+    """
+
+    __test__ = False  # not a pytest test class, despite the name
+
+    saved_ray: Ray | None = field(default=None, compare=False)
+
+    def local_intersect(self, local_ray: Ray) -> list[Intersection]:
+        """Chapter 9: remember the ray; no intersections."""
+        self.saved_ray = local_ray
+        return []
+
+    def local_normal_at(self, local_point: Tuple, hit: Intersection | None = None) -> Tuple:
+        """Chapter 9: the object-space point as a vector."""
+        return vector(local_point.x, local_point.y, local_point.z)
+
+
+def test_shape() -> TestShape:
+    """Chapter 9: a new test shape."""
+    return TestShape()
+
+
+test_shape.__test__ = False  # type: ignore[attr-defined]  # not a pytest test function

@@ -1,0 +1,91 @@
+"""``rtc demo N``: draw chapter N's "putting it together" picture with the reference tracer."""
+
+from __future__ import annotations
+
+import argparse
+import re
+import time
+from pathlib import Path
+
+from harness.images import FORMATS, write_image
+from raytracer.canvas import MAX_SIDE
+from rtc.cli import UserError
+from rtc.demos import DEMOS
+
+NAME = "demo"
+HELP = "draw a chapter's 'putting it together' picture (chapters 1 to 11) as a PNG"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.formatter_class = argparse.RawDescriptionHelpFormatter
+    parser.epilog = "chapters:\n" + "\n".join(
+        f"  {d.chapter:2d}  {d.title}" + (f" (default {d.size[0]}x{d.size[1]})" if d.size else "")
+        for d in DEMOS.values()
+    )
+    parser.add_argument("chapter", metavar="N", help="the chapter, 1 to 11 (listed below)")
+    parser.add_argument(
+        "-o", "--output", metavar="OUT.png",
+        help="where to write the picture (.png or .ppm; default demo-chNN.png here)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--size", metavar="WxH", help="canvas size in pixels, e.g. 200x100 (default per chapter)"
+    )
+
+
+def parse_size(text: str) -> tuple[int, int]:
+    """``"200x100"`` -> (200, 100); anything else is a ``UserError``."""
+    match = re.fullmatch(r"\s*(\d+)\s*[xX×]\s*(\d+)\s*", text)
+    if not match:
+        raise UserError(f"bad --size {text!r}: expected WIDTHxHEIGHT, e.g. 200x100")
+    width, height = int(match.group(1)), int(match.group(2))
+    if not (1 <= width <= MAX_SIDE and 1 <= height <= MAX_SIDE):
+        raise UserError(f"bad --size {text!r}: width and height must be 1 to {MAX_SIDE}")
+    return width, height
+
+
+def parse_chapter(text: str) -> int:
+    """The chapter number; an unknown one is a ``UserError`` listing the known ones."""
+    known = f"{min(DEMOS)} to {max(DEMOS)}"
+    try:
+        chapter = int(text)
+    except ValueError:
+        raise UserError(f"unknown chapter {text!r}: choose {known}") from None
+    if chapter not in DEMOS:
+        raise UserError(f"no demo for chapter {chapter}: choose {known}")
+    return chapter
+
+
+def run(args: argparse.Namespace) -> int:
+    chapter = parse_chapter(args.chapter)
+    demo = DEMOS[chapter]
+    output = Path(args.output or f"demo-ch{chapter:02d}.png")
+    if output.suffix.lower() not in FORMATS:
+        raise UserError(
+            f"cannot write {str(output)!r}: unknown image extension {output.suffix or '(none)'}; "
+            f"use {' or '.join(FORMATS)}"
+        )
+    if demo.size is None:
+        width = height = 0
+        if args.size or args.output:
+            print(
+                f"chapter {chapter} prints its results and draws no picture; "
+                "--size and -o are ignored"
+            )
+    else:
+        width, height = parse_size(args.size) if args.size else demo.size
+        if not output.parent.is_dir():
+            raise UserError(f"cannot write {str(output)!r}: no folder {str(output.parent)!r}")
+    size = f" at {width}x{height}" if demo.size else ""
+    print(f"chapter {chapter}: {demo.title}{size}", flush=True)
+    start = time.perf_counter()
+    picture = demo.draw(width, height)
+    elapsed = time.perf_counter() - start
+    if picture is None:
+        print(f"done in {elapsed:.2f} s")
+        return 0
+    try:
+        write_image(picture, output)
+    except OSError as error:
+        raise UserError(f"cannot write {str(output)!r}: {error.strerror or error}") from None
+    print(f"drew {width}x{height} in {elapsed:.2f} s -> {output}")
+    return 0

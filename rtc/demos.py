@@ -1,0 +1,466 @@
+"""The "putting it together" programs of chapters 1 to 11, drawn with the reference tracer.
+
+Each demo takes the canvas size and returns the picture (a ``Canvas``), or None for chapter
+3, which only prints. Demos print what they compute as they go. The scenes are this
+project's own compositions of what each chapter introduces.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from raytracer import (
+    Camera,
+    Canvas,
+    Color,
+    Material,
+    Pattern,
+    Plane,
+    Shape,
+    Sphere,
+    Tuple,
+    World,
+    canvas,
+    checkers_pattern,
+    color,
+    gradient_pattern,
+    hit,
+    identity_matrix,
+    intersect,
+    inverse,
+    lighting,
+    material,
+    matrix,
+    normal_at,
+    normalize,
+    point,
+    point_light,
+    position,
+    ray,
+    render,
+    ring_pattern,
+    rotation_x,
+    rotation_y,
+    scaling,
+    set_pattern_transform,
+    shearing,
+    stripe_pattern,
+    translation,
+    transpose,
+    tuple_,
+    vector,
+    view_transform,
+    write_pixel,
+)
+from raytracer.matrices import Matrix
+
+
+@dataclass(frozen=True)
+class Demo:
+    """One chapter's program.
+
+    chapter: the book chapter; title: what it draws; size: the default (width, height), or
+    None when it draws nothing; draw: the program, given the size.
+    """
+
+    chapter: int
+    title: str
+    size: tuple[int, int] | None
+    draw: Callable[[int, int], Canvas | None]
+
+
+# --- small drawing helpers -------------------------------------------------------------
+
+
+def fill(c: Canvas, paint: Color) -> None:
+    """Paint every pixel of ``c``."""
+    for y in range(c.height):
+        for x in range(c.width):
+            write_pixel(c, x, y, paint)
+
+
+def dot_at(c: Canvas, x: float, y: float, paint: Color, radius: int = 1) -> None:
+    """A square dot centred on (x, y), clipped to the canvas; radius 0 is a single pixel."""
+    cx, cy = round(x), round(y)
+    for py in range(cy - radius, cy + radius + 1):
+        for px in range(cx - radius, cx + radius + 1):
+            if 0 <= px < c.width and 0 <= py < c.height:
+                write_pixel(c, px, py, paint)
+
+
+# --- chapters 1 and 2: the projectile ---------------------------------------------------
+
+
+def trajectory(
+    start: Tuple, velocity: Tuple, gravity: Tuple, wind: Tuple, limit: int = 10_000
+) -> list[Tuple]:
+    """Chapter 1's ``tick`` repeated until the projectile is back on the ground (y <= 0).
+
+    start: the launch point; velocity: per tick; gravity, wind: the environment's vectors.
+    """
+    positions = [start]
+    where, speed = start, velocity
+    while where.y > 0 and len(positions) < limit:
+        where, speed = where + speed, speed + gravity + wind
+        positions.append(where)
+    return positions
+
+
+def chapter1(width: int, height: int) -> Canvas:
+    """A ball thrown at 45 degrees, at unit speed, into a light headwind."""
+    path = trajectory(
+        point(0, 1, 0), normalize(vector(1, 1, 0)), vector(0, -0.1, 0), vector(-0.01, 0, 0)
+    )
+    for tick, where in enumerate(path):
+        print(f"  tick {tick:2d}: x = {where.x:7.3f}  y = {where.y:7.3f}")
+    print(f"  landed after {len(path) - 1} ticks, {path[-1].x:.3f} units away")
+    c = canvas(width, height)
+    fill(c, color(0.05, 0.05, 0.1))
+    span_x = max(where.x for where in path) or 1.0
+    span_y = max(where.y for where in path) or 1.0
+    margin = 0.08
+    for where in path:
+        x = (margin + (1 - 2 * margin) * where.x / span_x) * (width - 1)
+        y = (1 - margin - (1 - 2 * margin) * max(where.y, 0.0) / span_y) * (height - 1)
+        dot_at(c, x, y, color(1, 0.8, 0.2), radius=max(1, min(width, height) // 60))
+    return c
+
+
+def chapter2(width: int, height: int) -> Canvas:
+    """The book's stronger throw (speed 11.25 up a 1:1.8 slope) on a 900x550 sky."""
+    path = trajectory(
+        point(0, 1, 0),
+        normalize(vector(1, 1.8, 0)) * 11.25,
+        vector(0, -0.1, 0),
+        vector(-0.01, 0, 0),
+    )
+    print(f"  {len(path) - 1} ticks, landing {path[-1].x:.1f} units away")
+    c = canvas(width, height)
+    fill(c, color(0.02, 0.04, 0.12))
+    sx, sy = width / 900, height / 550  # the trajectory was planned for 900x550
+    ground = height - 1
+    for x in range(width):
+        write_pixel(c, x, ground, color(0.2, 0.5, 0.2))
+    for where in path:
+        dot_at(
+            c,
+            where.x * sx,
+            ground - where.y * sy,
+            color(1, 0.3, 0.1),
+            radius=max(1, min(width, height) // 250),
+        )
+    return c
+
+
+# --- chapter 3: matrix experiments ------------------------------------------------------
+
+
+def _show(m: Matrix) -> str:
+    # round(...) + 0.0 turns a rounded -0.0 into 0.0
+    cells = [[f"{round(value, 5) + 0.0:9.5f}" for value in row] for row in m.rows]
+    return "\n".join("    " + " ".join(row) for row in cells)
+
+
+def _tuple(t: Tuple) -> str:
+    return f"tuple({t.x:g}, {t.y:g}, {t.z:g}, {t.w:g})"
+
+
+def chapter3(width: int, height: int) -> None:
+    """The chapter's questions about inverses and transposes, answered by experiment."""
+    del width, height
+    a = matrix([[3, -9, 7, 3], [3, -8, 2, -9], [-4, 4, 4, 1], [-6, 5, -1, 1]])
+    print("  1. The inverse of the identity matrix:")
+    print(_show(inverse(identity_matrix)))
+    print("  2. A matrix times its inverse (the identity, up to rounding):")
+    print(_show(a * inverse(a)))
+    print("  3. inverse(transpose(A)) and transpose(inverse(A)) (the same):")
+    print(_show(inverse(transpose(a))))
+    print(_show(transpose(inverse(a))))
+    t = tuple_(1, 2, 3, 4)
+    almost = matrix([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]])
+    print(f"  4. identity * {_tuple(t)} = {_tuple(identity_matrix * t)}")
+    rows = [list(row) for row in almost.rows]
+    rows[1][2] = 5.0
+    print(f"     with [1, 2] = 5: {_tuple(matrix(rows) * t)} (y picks up 5 z)")
+
+
+# --- chapter 4: the clock --------------------------------------------------------------
+
+
+def chapter4(width: int, height: int) -> Canvas:
+    """Twelve hour marks: 12 o'clock rotated around y by π/6 at a time, seen from above."""
+    c = canvas(width, height)
+    fill(c, color(0.1, 0.1, 0.12))
+    radius = 3 / 8 * min(width, height)
+    size = max(1, min(width, height) // 50)
+    twelve = point(0, 0, 1)
+    for hour in range(12):
+        mark = rotation_y(hour * math.pi / 6) * twelve
+        x = width / 2 + mark.x * radius
+        y = height / 2 - mark.z * radius  # +z is up on the canvas
+        paint = color(1, 0.2, 0.2) if hour == 0 else color(0.9, 0.9, 0.9)
+        dot_at(c, x, y, paint, radius=size * (2 if hour % 3 == 0 else 1))
+    dot_at(c, width / 2, height / 2, color(0.6, 0.6, 0.6), radius=size)
+    return c
+
+
+# --- chapters 5 and 6: casting rays at a sphere by hand ----------------------------------
+
+
+def _cast_at_sphere(
+    width: int, height: int, shape: Shape, shade: Callable[[Tuple, Tuple, Shape], Color]
+) -> Canvas:
+    """Rays from an eye at z = -5 through a 7x7 wall at z = 10, shaded where they hit.
+
+    shade: (hit point, ray direction, shape) -> color.
+    """
+    eye = point(0, 0, -5)
+    wall_z, wall_size = 10.0, 7.0
+    pixel_size = wall_size / min(width, height)
+    c = canvas(width, height)
+    for y in range(height):
+        world_y = pixel_size * height / 2 - pixel_size * (y + 0.5)
+        for x in range(width):
+            world_x = -pixel_size * width / 2 + pixel_size * (x + 0.5)
+            r = ray(eye, normalize(point(world_x, world_y, wall_z) - eye))
+            h = hit(intersect(shape, r))
+            if h is not None:
+                write_pixel(c, x, y, shade(position(r, h.t), r.direction, h.object))
+    return c
+
+
+def chapter5(width: int, height: int) -> Canvas:
+    """The red silhouette of a sphere squashed and sheared into a leaning egg."""
+    shape = Sphere(transform=shearing(0.4, 0, 0, 0, 0, 0) * scaling(0.8, 1.1, 1))
+    return _cast_at_sphere(width, height, shape, lambda p, d, s: color(1, 0, 0))
+
+
+def chapter6(width: int, height: int) -> Canvas:
+    """A purple sphere lit from the upper left with the Phong model."""
+    shape = Sphere(material=material(color=color(1, 0.2, 1)))
+    light = point_light(point(-10, 10, -10), color(1, 1, 1))
+
+    def shade(where: Tuple, direction: Tuple, obj: Shape) -> Color:
+        return lighting(obj.material, obj, light, where, -direction, normal_at(obj, where))
+
+    return _cast_at_sphere(width, height, shape, shade)
+
+
+# --- chapters 7 and 8: the first scene --------------------------------------------------
+
+
+def _room(shadows: bool) -> World:
+    """Three spheres in a corner whose floor and walls are very flat spheres.
+
+    shadows: False makes every object ``casts_shadow=False`` (chapter 7 has no shadows yet).
+    """
+    wall = material(color=color(0.95, 0.88, 0.8), specular=0)
+    flat = scaling(10, 0.01, 10)
+    floor = Sphere(transform=flat, material=wall, casts_shadow=shadows)
+    left_wall = Sphere(
+        transform=translation(0, 0, 5) * rotation_y(-math.pi / 4) * rotation_x(math.pi / 2) * flat,
+        material=wall,
+        casts_shadow=shadows,
+    )
+    right_wall = Sphere(
+        transform=translation(0, 0, 5) * rotation_y(math.pi / 4) * rotation_x(math.pi / 2) * flat,
+        material=wall,
+        casts_shadow=shadows,
+    )
+    big = Sphere(
+        transform=translation(-0.4, 1, 0.7),
+        material=material(color=color(0.15, 0.65, 0.8), diffuse=0.7, specular=0.3),
+        casts_shadow=shadows,
+    )
+    medium = Sphere(
+        transform=translation(1.4, 0.6, -0.4) * scaling(0.6, 0.6, 0.6),
+        material=material(color=color(1, 0.5, 0.1), diffuse=0.7, specular=0.3),
+        casts_shadow=shadows,
+    )
+    small = Sphere(
+        transform=translation(-1.6, 0.35, -0.7) * scaling(0.35, 0.35, 0.35),
+        material=material(color=color(0.6, 0.3, 0.9), diffuse=0.7, specular=0.3),
+        casts_shadow=shadows,
+    )
+    return World(
+        [floor, left_wall, right_wall, big, medium, small],
+        point_light(point(-8, 10, -10), color(1, 1, 1)),
+    )
+
+
+def _room_camera(width: int, height: int) -> Camera:
+    return Camera(
+        width, height, math.pi / 3,
+        view_transform(point(0, 1.6, -5.2), point(0, 1, 0), vector(0, 1, 0)),
+    )  # fmt: skip
+
+
+def chapter7(width: int, height: int) -> Canvas:
+    """The first scene, rendered through a camera; no object casts a shadow yet."""
+    return render(_room_camera(width, height), _room(shadows=False))
+
+
+def chapter8(width: int, height: int) -> Canvas:
+    """The first scene again, now with shadows."""
+    return render(_room_camera(width, height), _room(shadows=True))
+
+
+# --- chapter 9: planes ------------------------------------------------------------------
+
+
+def chapter9(width: int, height: int) -> Canvas:
+    """A floor and a back wall that are real planes; one sphere sinks into the floor."""
+    floor = Plane(material=material(color=color(0.85, 0.9, 0.8), specular=0))
+    backdrop = Plane(
+        transform=translation(0, 0, 7) * rotation_x(math.pi / 2),
+        material=material(color=color(0.7, 0.75, 0.95), specular=0),
+    )
+    sunk = Sphere(
+        transform=translation(-1.3, 0.3, 1.2) * scaling(0.9, 0.9, 0.9),
+        material=material(color=color(0.9, 0.3, 0.3), diffuse=0.8, specular=0.4),
+    )
+    resting = Sphere(
+        transform=translation(0.6, 0.7, 0.2) * scaling(0.7, 0.7, 0.7),
+        material=material(color=color(0.2, 0.7, 0.4), diffuse=0.8, specular=0.4),
+    )
+    floating = Sphere(
+        transform=translation(1.8, 1.6, 2.2) * scaling(0.4, 0.4, 0.4),
+        material=material(color=color(0.95, 0.8, 0.2), diffuse=0.8, specular=0.4),
+    )
+    w = World(
+        [floor, backdrop, sunk, resting, floating],
+        point_light(point(-6, 8, -8), color(1, 1, 1)),
+    )
+    cam = Camera(
+        width, height, math.pi / 3,
+        view_transform(point(0, 2.2, -5.5), point(0, 0.8, 1), vector(0, 1, 0)),
+    )  # fmt: skip
+    return render(cam, w)
+
+
+# --- chapter 10: patterns ---------------------------------------------------------------
+
+
+def _patterned(pattern: Pattern, transform: Matrix, **overrides: float) -> Material:
+    """A material whose color comes from ``pattern`` with the given pattern transform."""
+    set_pattern_transform(pattern, transform)
+    return material(pattern=pattern, **overrides)
+
+
+def chapter10(width: int, height: int) -> Canvas:
+    """Checkers on the floor, stripes on the wall, a gradient, rings and checkers on spheres."""
+    white, charcoal = color(0.95, 0.95, 0.95), color(0.25, 0.25, 0.3)
+    floor = Plane(
+        material=_patterned(checkers_pattern(white, charcoal), rotation_y(math.pi / 7), specular=0)
+    )
+    wall = Plane(
+        transform=translation(0, 0, 6) * rotation_x(math.pi / 2),
+        material=_patterned(
+            stripe_pattern(color(0.9, 0.85, 0.6), color(0.75, 0.6, 0.4)),
+            rotation_y(math.pi / 4) * scaling(0.5, 0.5, 0.5),
+            specular=0,
+        ),
+    )
+    gradient_ball = Sphere(
+        transform=translation(-1.5, 1, 1),
+        # x from -1 to 1 across the sphere, so the blend spans it once
+        material=_patterned(
+            gradient_pattern(color(1, 0.2, 0.2), color(0.2, 0.3, 1)),
+            translation(-1, 0, 0) * scaling(2, 1, 1),
+            specular=0.4,
+        ),
+    )
+    ring_ball = Sphere(
+        transform=translation(0.9, 0.8, 0.3) * scaling(0.8, 0.8, 0.8),
+        material=_patterned(
+            ring_pattern(color(0.2, 0.7, 0.3), color(0.95, 0.95, 0.8)),
+            rotation_x(math.pi / 2) * scaling(0.2, 0.2, 0.2),
+            specular=0.4,
+        ),
+    )
+    checkered_ball = Sphere(
+        transform=translation(0.1, 0.4, -1.2) * scaling(0.4, 0.4, 0.4),
+        material=_patterned(
+            checkers_pattern(color(1, 0.75, 0.1), color(0.3, 0.15, 0.05)),
+            scaling(0.5, 0.5, 0.5),
+            specular=0.4,
+        ),
+    )
+    w = World(
+        [floor, wall, gradient_ball, ring_ball, checkered_ball],
+        point_light(point(-5, 9, -8), color(1, 1, 1)),
+    )
+    cam = Camera(
+        width, height, math.pi / 3,
+        view_transform(point(0.5, 2.4, -5), point(0, 0.7, 1), vector(0, 1, 0)),
+    )  # fmt: skip
+    return render(cam, w)
+
+
+# --- chapter 11: reflection and refraction ----------------------------------------------
+
+
+def chapter11(width: int, height: int) -> Canvas:
+    """A glass ball and a mirror ball over a reflective checkered floor."""
+    floor = Plane(
+        material=material(
+            pattern=checkers_pattern(color(0.9, 0.9, 0.9), color(0.1, 0.1, 0.15)),
+            specular=0.2,
+            reflective=0.3,
+        )
+    )
+    wall = Plane(
+        transform=translation(0, 0, 8) * rotation_x(math.pi / 2),
+        material=material(color=color(0.55, 0.7, 0.9), specular=0),
+    )
+    glass = Sphere(
+        transform=translation(-0.3, 1, 0),
+        material=material(
+            color=color(0.05, 0.08, 0.05),
+            ambient=0.02,
+            diffuse=0.1,
+            specular=1,
+            shininess=300,
+            reflective=0.9,
+            transparency=0.9,
+            refractive_index=1.5,
+        ),
+        casts_shadow=False,  # clear glass: let the light through (the scene files' shadow: false)
+    )
+    mirror = Sphere(
+        transform=translation(1.8, 0.7, 1.5) * scaling(0.7, 0.7, 0.7),
+        material=material(color=color(0.15, 0.15, 0.2), diffuse=0.4, specular=0.9, reflective=0.8),
+    )
+    behind = Sphere(  # seen through the glass, upside down
+        transform=translation(-1.3, 0.5, 3) * scaling(0.5, 0.5, 0.5),
+        material=material(color=color(1, 0.35, 0.1), diffuse=0.8),
+    )
+    w = World(
+        [floor, wall, glass, mirror, behind],
+        point_light(point(-4, 9, -8), color(1, 1, 1)),
+    )
+    cam = Camera(
+        width, height, math.pi / 3,
+        view_transform(point(0, 1.8, -5), point(0.2, 0.8, 1), vector(0, 1, 0)),
+    )  # fmt: skip
+    return render(cam, w)
+
+
+DEMOS: dict[int, Demo] = {
+    demo.chapter: demo
+    for demo in [
+        Demo(1, "a projectile's flight, printed and plotted", (200, 100), chapter1),
+        Demo(2, "a projectile's trajectory on a canvas", (900, 550), chapter2),
+        Demo(3, "matrix experiments (printed, no picture)", None, chapter3),
+        Demo(4, "a clock face: twelve hour marks", (200, 200), chapter4),
+        Demo(5, "a sphere's silhouette", (100, 100), chapter5),
+        Demo(6, "a shaded purple sphere", (100, 100), chapter6),
+        Demo(7, "the first scene, no shadows", (100, 50), chapter7),
+        Demo(8, "the first scene with shadows", (100, 50), chapter8),
+        Demo(9, "spheres on planes", (100, 50), chapter9),
+        Demo(10, "patterns", (100, 50), chapter10),
+        Demo(11, "reflection and refraction", (64, 32), chapter11),
+    ]
+}
