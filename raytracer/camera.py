@@ -7,6 +7,7 @@ Naive on purpose: the camera's half extents and pixel size are computed on every
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from raytracer.canvas import Canvas, canvas, write_pixel
@@ -145,10 +146,16 @@ def pixel_color(c: Camera, w: World, x: int, y: int, settings: RenderSettings) -
     return total * (1.0 / settings.samples)
 
 
-def render(c: Camera, w: World, settings: RenderSettings | None = None) -> Canvas:
+def render(
+    c: Camera,
+    w: World,
+    settings: RenderSettings | None = None,
+    progress: Callable[[int], object] | None = None,
+) -> Canvas:
     """Chapter 7: render ``w`` as seen by ``c`` into a new canvas, row by row.
 
-    settings: depth, samples per pixel, seed and epsilon (default ``RenderSettings()``).
+    settings: depth, samples per pixel, seed and epsilon (default ``RenderSettings()``);
+    progress: called with the number of rows just finished (for a progress bar).
     """
     settings = settings if settings is not None else RenderSettings()
     image = canvas(c.hsize, c.vsize)
@@ -156,4 +163,6 @@ def render(c: Camera, w: World, settings: RenderSettings | None = None) -> Canva
         for y in range(c.vsize):
             for x in range(c.hsize):
                 write_pixel(image, x, y, pixel_color(c, w, x, y, settings))
+            if progress is not None:
+                progress(1)
     return image
