@@ -5,7 +5,8 @@
     python3 run.py test    # every feature for every variant, the unit tests, ruff and mypy
     python3 run.py rtc ARGS...   # any rtc command inside the environment
 
-Needs only Python 3.11 or newer. The environment is (re)built when pyproject.toml changes.
+Needs only Python 3.11 or newer. The environment is (re)built when pyproject.toml or the
+C extension's sources (setup.py, harness/_alloccount.c) change.
 """
 
 from __future__ import annotations
@@ -21,10 +22,15 @@ ROOT = Path(__file__).resolve().parent
 VENV = ROOT / ".venv"
 BIN = VENV / ("Scripts" if os.name == "nt" else "bin")
 STAMP = VENV / "installed-from.sha256"
+BUILD_INPUTS = ("pyproject.toml", "setup.py", "harness/_alloccount.c")  # a change reinstalls
 
 
 def _wanted_stamp() -> str:
-    return hashlib.sha256((ROOT / "pyproject.toml").read_bytes()).hexdigest()
+    digest = hashlib.sha256()
+    for name in BUILD_INPUTS:
+        path = ROOT / name
+        digest.update(path.read_bytes() if path.exists() else b"")
+    return digest.hexdigest()
 
 
 def ensure_environment() -> None:

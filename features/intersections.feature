@@ -178,3 +178,11 @@ Feature: Intersections
     When comps ← prepare_computations(xs[0], r, xs)
       And reflectance ← schlick(comps)
     Then reflectance = 0.48873
+
+  # Triangles (and smooth triangles) remember where on their surface a ray hit them.
+  @chapter15
+  Scenario: An intersection can also hold u and v
+    Given s ← triangle(point(0, 1, 0), point(-1, 0, 0), point(1, 0, 0))
+    When i ← intersection_with_uv(3.5, s, 0.2, 0.4)
+    Then i.u = 0.2
+      And i.v = 0.4

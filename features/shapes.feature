@@ -61,3 +61,50 @@ Feature: Shapes
     When set_transform(s, m)
       And n ← normal_at(s, point(0, √2/2, -√2/2))
     Then n = vector(0, 0.97014, -0.24254)
+
+  @chapter14
+  Scenario: A new shape has no parent
+    Given s ← test_shape()
+    Then s.parent is nothing
+
+  # The point passes through every group on the way down: first g1's inverse, then g2's,
+  # then the sphere's own.
+  @chapter14
+  Scenario: A point in world space converted to the space of a nested child
+    Given g1 ← group()
+      And set_transform(g1, rotation_y(π/2))
+      And g2 ← group()
+      And set_transform(g2, scaling(2, 2, 2))
+      And add_child(g1, g2)
+      And s ← sphere()
+      And set_transform(s, translation(5, 0, 0))
+      And add_child(g2, s)
+    When p ← world_to_object(s, point(-2, 0, -10))
+    Then p = point(0, 0, -1)
+
+  # The normal goes the other way, child to parent, normalized at every level.
+  @chapter14
+  Scenario: A normal on a nested child converted to world space
+    Given g1 ← group()
+      And set_transform(g1, rotation_y(π/2))
+      And g2 ← group()
+      And set_transform(g2, scaling(1, 2, 3))
+      And add_child(g1, g2)
+      And s ← sphere()
+      And set_transform(s, translation(5, 0, 0))
+      And add_child(g2, s)
+    When n ← normal_to_world(s, vector(√3/3, √3/3, √3/3))
+    Then n = vector(0.2857, 0.4286, -0.8571)
+
+  @chapter14
+  Scenario: The normal on a child shape inside nested groups
+    Given g1 ← group()
+      And set_transform(g1, rotation_y(π/2))
+      And g2 ← group()
+      And set_transform(g2, scaling(1, 2, 3))
+      And add_child(g1, g2)
+      And s ← sphere()
+      And set_transform(s, translation(5, 0, 0))
+      And add_child(g2, s)
+    When n ← normal_at(s, point(1.7321, 1.1547, -5.5774))
+    Then n = vector(0.2857, 0.4286, -0.8571)

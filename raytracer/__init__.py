@@ -40,6 +40,7 @@ from raytracer.matrices import (
     submatrix,
     transpose,
 )
+from raytracer.obj_file import ObjParseError, ObjParser, obj_to_group, parse_obj_file
 from raytracer.patterns import (
     CheckersPattern,
     GradientPattern,
@@ -60,6 +61,17 @@ from raytracer.patterns import (
 )
 from raytracer.rays import Ray, position, ray, transform
 from raytracer.sampling import sample_offset
+from raytracer.shapes.cone import Cone, cone
+from raytracer.shapes.csg import (
+    CSG,
+    csg,
+    filter_intersections,
+    includes,
+    intersection_allowed,
+)
+from raytracer.shapes.cube import Cube, cube
+from raytracer.shapes.cylinder import Cylinder, cylinder
+from raytracer.shapes.group import Group, add_child, group
 from raytracer.shapes.plane import Plane, plane
 from raytracer.shapes.shape import (
     Shape,
@@ -71,8 +83,10 @@ from raytracer.shapes.shape import (
     set_transform,
     world_to_object,
 )
+from raytracer.shapes.smooth_triangle import SmoothTriangle, smooth_triangle
 from raytracer.shapes.sphere import Sphere, glass_sphere, sphere
 from raytracer.shapes.test_shape import TestShape, test_shape
+from raytracer.shapes.triangle import Triangle, triangle
 from raytracer.tolerance import EPSILON, epsilon, using_epsilon
 from raytracer.transformations import (
     rotation_x,
@@ -108,17 +122,24 @@ from raytracer.world import (
 )
 
 __all__ = [
+    "CSG",
     "EPSILON",
     "Camera",
     "Canvas",
     "CheckersPattern",
     "Color",
     "Computations",
+    "Cone",
+    "Cube",
+    "Cylinder",
     "GradientPattern",
+    "Group",
     "Intersection",
     "Material",
     "Matrix",
     "NotInvertibleError",
+    "ObjParseError",
+    "ObjParser",
     "Pattern",
     "Plane",
     "PointLight",
@@ -126,12 +147,15 @@ __all__ = [
     "RenderSettings",
     "RingPattern",
     "Shape",
+    "SmoothTriangle",
     "Sphere",
     "StripePattern",
     "TestPattern",
     "TestShape",
+    "Triangle",
     "Tuple",
     "World",
+    "add_child",
     "camera",
     "canvas",
     "canvas_to_ppm",
@@ -140,19 +164,27 @@ __all__ = [
     "cofactor",
     "color",
     "color_at",
+    "cone",
     "cross",
+    "csg",
+    "cube",
+    "cylinder",
     "default_world",
     "determinant",
     "dot",
     "epsilon",
     "equal",
+    "filter_intersections",
     "glass_sphere",
     "gradient_pattern",
+    "group",
     "hit",
     "identity_matrix",
+    "includes",
     "intersect",
     "intersect_world",
     "intersection",
+    "intersection_allowed",
     "intersection_with_uv",
     "intersections",
     "inverse",
@@ -168,6 +200,8 @@ __all__ = [
     "normal_at",
     "normal_to_world",
     "normalize",
+    "obj_to_group",
+    "parse_obj_file",
     "pattern_at",
     "pattern_at_shape",
     "pixel_at",
@@ -194,6 +228,7 @@ __all__ = [
     "set_transform",
     "shade_hit",
     "shearing",
+    "smooth_triangle",
     "sphere",
     "stripe_at",
     "stripe_at_object",
@@ -204,6 +239,7 @@ __all__ = [
     "transform",
     "translation",
     "transpose",
+    "triangle",
     "tuple_",
     "using_epsilon",
     "vector",

@@ -9,13 +9,18 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
 from types import ModuleType
 
 COMMANDS = [
     "rtc.cmd_variants",
+    "rtc.cmd_new",
     "rtc.cmd_kata",
     "rtc.cmd_demo",
+    "rtc.cmd_bench",
+    "rtc.cmd_report",
+    "rtc.cmd_render",
 ]
 
 
@@ -49,6 +54,17 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print(f"rtc {args.command}: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:  # `rtc kata | head`: the reader went away; not an error of ours
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())  # so the interpreter's final flush is quiet
+        return 0
+    except NotImplementedError as error:  # a learner's stub (rtc new) that a command reached
+        from variants.learner import NotImplementedYet
+
+        if not isinstance(error, NotImplementedYet):
+            raise
+        print(f"rtc {args.command}: {error}; rtc kata --next shows what to write", file=sys.stderr)
+        return 2
 
 
 if __name__ == "__main__":

@@ -13,7 +13,7 @@ from rtc.cli import UserError
 from rtc.demos import DEMOS
 
 NAME = "demo"
-HELP = "draw a chapter's 'putting it together' picture (chapters 1 to 11) as a PNG"
+HELP = "draw a chapter's 'putting it together' picture (chapters 1 to 16) as a PNG"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -22,7 +22,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         f"  {d.chapter:2d}  {d.title}" + (f" (default {d.size[0]}x{d.size[1]})" if d.size else "")
         for d in DEMOS.values()
     )
-    parser.add_argument("chapter", metavar="N", help="the chapter, 1 to 11 (listed below)")
+    parser.add_argument("chapter", metavar="N", help="the chapter, 1 to 16 (listed below)")
     parser.add_argument(
         "-o", "--output", metavar="OUT.png",
         help="where to write the picture (.png or .ppm; default demo-chNN.png here)",

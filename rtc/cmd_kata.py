@@ -1,8 +1,10 @@
-"""``rtc kata``: run feature files against variants and show progress chapter by chapter."""
+"""``rtc kata``: run feature files against variants and show progress chapter by chapter;
+``--next`` shows only the next scenario to make pass, ``--watch`` re-runs on every save."""
 
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 from rtc.cli import UserError
@@ -36,6 +38,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--json", action="store_true", help="print the results as JSON")
     parser.add_argument("-v", "--verbose", action="store_true", help="show pytest's own output")
+    parser.add_argument(
+        "--next",
+        action="store_true",
+        help="show only the next scenario to make pass (the first not passing, in book order)",
+    )
+    parser.add_argument(
+        "--watch",
+        action="store_true",
+        help="run again whenever the variant's files or the feature files change (Ctrl-C stops)",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -47,9 +59,40 @@ def run(args: argparse.Namespace) -> int:
     for chapter in args.chapter or []:
         if not 1 <= chapter <= 99:
             raise UserError(f"--chapter {chapter}: the book's chapters are numbered from 1")
+    variants = args.variant or ["naive"]
+    if args.next and (len(variants) > 1 or variants[0].strip() == "all"):
+        raise UserError("--next shows one variant's next scenario: give one --variant NAME")
+    if args.watch:
+        return _watch(args, path, variants)
     try:
-        result = kata.run_kata(path, args.variant or ["naive"], args.chapter or [], args.verbose)
+        result = kata.run_kata(path, variants, args.chapter or [], args.verbose)
     except LookupError as error:
         raise UserError(f"--variant: {error.args[0]}") from None
+    if args.next:
+        from steps.next_scenario import next_json, next_report, next_scenario
+
+        variant = result.variants[0]
+        print(next_json(result, variant) if args.json else next_report(result, variant))
+        return 0 if next_scenario(result, variant) is None and not result.errors else 1
     print(kata.as_json(result) if args.json else kata.progress_table(result))
     return 0 if result.ok else 1
+
+
+def _watch(args: argparse.Namespace, path: Path, variants: list[str]) -> int:
+    """Check the variant names once, then hand the same command (without ``--watch``) to
+    ``rtc.watch``, which runs it in a fresh process on every change."""
+    from rtc.watch import distinct, variant_folders, watch
+    from steps.plugin import select_variants
+
+    try:
+        select_variants(variants)
+    except LookupError as error:
+        raise UserError(f"--variant: {error.args[0]}") from None
+    command = [sys.executable, "-m", "rtc.cli", "kata", str(path.absolute())]
+    for name in variants:
+        command += ["--variant", name]
+    for chapter in args.chapter or []:
+        command += ["--chapter", str(chapter)]
+    command += [flag for flag, on in (("--json", args.json), ("-v", args.verbose)) if on]
+    command += ["--next"] if args.next else []
+    return watch(command, distinct([path, *variant_folders(variants)]))

@@ -3,31 +3,99 @@
 from __future__ import annotations
 
 import argparse
+import textwrap
+from collections import defaultdict
 
 from raytracer.api import BOOK_API
-from variants.registry import registry
+from variants.registry import Variant, registry
 
 NAME = "variants"
 HELP = "list the registered variants, what each overrides, and whether it is available"
+INDENT = " " * 13
+WIDTH = 100
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    del parser  # no options
+    parser.epilog = (
+        "Name variants as NAME, NAME[opt=value,flag] or NAME[...]:INNER, e.g. "
+        "pooled[workers=2]:cached, with --variant (rtc kata, rtc render, pytest)."
+    )
 
 
-def _chapters(names: frozenset[str]) -> str:
-    chapters = sorted({BOOK_API[name] for name in names if name in BOOK_API})
-    return ", ".join(str(c) for c in chapters) if chapters else "nothing (the reference)"
+def overrides_by_chapter(names: frozenset[str]) -> str:
+    """``"ch 5: sphere; ch 9: plane, test_shape"`` (names outside the book API last)."""
+    chapters: dict[int | None, list[str]] = defaultdict(list)
+    for name in sorted(names):
+        chapters[BOOK_API.get(name)].append(name)
+    parts = [
+        f"ch {chapter}: {', '.join(chapters[chapter])}"
+        for chapter in sorted(c for c in chapters if c is not None)
+    ]
+    if None in chapters:
+        parts.append(f"not in the book: {', '.join(chapters[None])}")
+    return "; ".join(parts)
+
+
+def _wrapped(text: str) -> list[str]:
+    return textwrap.wrap(
+        text, WIDTH, initial_indent=INDENT, subsequent_indent=INDENT + "  ", break_on_hyphens=False
+    )
+
+
+def _parts_wrapped(head: str, parts: list[str]) -> list[str]:
+    """``head`` then the parts joined by "; ", breaking lines between parts."""
+    lines = [head]
+    for number, part in enumerate(parts):
+        text = part + (";" if number < len(parts) - 1 else "")
+        if lines[-1] != head and len(INDENT) + len(lines[-1]) + 1 + len(text) > WIDTH:
+            lines.append("  " + text)
+        else:
+            lines[-1] += ("" if lines[-1] == head else " ") + text
+    return [INDENT + line for line in lines]
+
+
+def _standalone(v: Variant) -> list[str]:
+    """A tracer that does not build on the reference (``rtc new``): what is written, what
+    is still a stub, what is not defined."""
+    from variants.learner import stub_names
+
+    if v.overrides:
+        lines = _parts_wrapped("written ", overrides_by_chapter(v.overrides).split("; "))
+    else:
+        lines = _wrapped("written: nothing yet")
+    stubs = stub_names(v.api)
+    if stubs:
+        first = stubs[0]
+        lines += _wrapped(f"stubs to write: {len(stubs)}, the first {first} (ch {BOOK_API[first]})")
+    absent = [name for name in BOOK_API if name not in v.api]
+    if absent:
+        lines += _wrapped(f"not defined (undefined in rtc kata): {', '.join(absent)}")
+    return lines
+
+
+def describe(entry_name: str, v: Variant) -> list[str]:
+    """The lines for one available variant."""
+    lines = [f"{entry_name:<12} available   {v.summary}"]
+    if v.name != entry_name:
+        lines += _wrapped(f"default name: {v.name}")
+    if v.base is None and v.name != "naive":  # builds on nothing: e.g. a learner's own
+        lines += _standalone(v)
+    elif v.overrides:
+        lines += _parts_wrapped("overrides ", overrides_by_chapter(v.overrides).split("; "))
+        lines += _wrapped("inherits every other book name from the reference")
+    elif v.name == "naive":
+        lines += _wrapped("is the reference: every book name is its own")
+    else:
+        lines += _wrapped("overrides nothing: every book name is the reference's")
+    lines += _wrapped(f"options: {v.usage}")
+    return lines
 
 
 def run(args: argparse.Namespace) -> int:
     del args
     for entry in registry():
         if entry.variant is None:
-            print(f"{entry.name:<12} unavailable: {entry.reason}")
+            print(f"{entry.name:<12} unavailable {entry.reason}")
             continue
-        v = entry.variant
-        print(f"{v.name:<12} {v.summary}")
-        overrides = ", ".join(sorted(v.overrides)) or "-"
-        print(f"{'':<12} overrides chapters {_chapters(v.overrides)}: {overrides}")
+        print("\n".join(describe(entry.name, entry.variant)))
     return 0

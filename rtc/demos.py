@@ -1,4 +1,4 @@
-"""The "putting it together" programs of chapters 1 to 11, drawn with the reference tracer.
+"""The "putting it together" programs of chapters 1 to 16, drawn with the reference tracer.
 
 Each demo takes the canvas size and returns the picture (a ``Canvas``), or None for chapter
 3, which only prints. Demos print what they compute as they go. The scenes are this
@@ -12,9 +12,14 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from raytracer import (
+    CSG,
     Camera,
     Canvas,
     Color,
+    Cone,
+    Cube,
+    Cylinder,
+    Group,
     Material,
     Pattern,
     Plane,
@@ -22,10 +27,13 @@ from raytracer import (
     Sphere,
     Tuple,
     World,
+    add_child,
     canvas,
     checkers_pattern,
     color,
+    csg,
     gradient_pattern,
+    group,
     hit,
     identity_matrix,
     intersect,
@@ -35,6 +43,7 @@ from raytracer import (
     matrix,
     normal_at,
     normalize,
+    parse_obj_file,
     point,
     point_light,
     position,
@@ -43,6 +52,7 @@ from raytracer import (
     ring_pattern,
     rotation_x,
     rotation_y,
+    rotation_z,
     scaling,
     set_pattern_transform,
     shearing,
@@ -448,6 +458,222 @@ def chapter11(width: int, height: int) -> Canvas:
     return render(cam, w)
 
 
+# --- chapter 12: cubes -----------------------------------------------------------------
+
+
+def chapter12(width: int, height: int) -> Canvas:
+    """A table in a room, all of it cubes: the room is one big cube seen from inside."""
+    room = Cube(
+        transform=translation(0, 3, 0) * scaling(5, 3, 5),
+        material=_patterned(
+            checkers_pattern(color(0.85, 0.8, 0.7), color(0.65, 0.6, 0.52)),
+            scaling(0.1, 0.1667, 0.1),  # one-unit checks in world space
+            specular=0,
+        ),
+    )
+    wood = material(color=color(0.55, 0.33, 0.18), diffuse=0.8, specular=0.2)
+    top = Cube(transform=translation(0, 1.5, 0) * scaling(1.5, 0.08, 1), material=wood)
+    legs = [
+        Cube(transform=translation(x, 0.71, z) * scaling(0.08, 0.71, 0.08), material=wood)
+        for x in (-1.35, 1.35)
+        for z in (-0.85, 0.85)
+    ]
+    red_box = Cube(
+        transform=translation(0.6, 1.83, 0.1) * rotation_y(0.5) * scaling(0.25, 0.25, 0.25),
+        material=material(color=color(0.85, 0.15, 0.1), specular=0.5),
+    )
+    blue_box = Cube(
+        transform=translation(-0.5, 1.73, -0.3) * rotation_y(-0.4) * scaling(0.15, 0.15, 0.15),
+        material=material(color=color(0.15, 0.35, 0.85), specular=0.5),
+    )
+    w = World(
+        [room, top, *legs, red_box, blue_box],
+        point_light(point(-2.5, 5, -3.5), color(1, 1, 1)),
+    )
+    print(f"  {len(w.objects)} cubes")
+    cam = Camera(
+        width, height, math.pi / 3,
+        view_transform(point(0.8, 3, -4.5), point(0, 1.2, 0), vector(0, 1, 0)),
+    )  # fmt: skip
+    return render(cam, w)
+
+
+# --- chapter 13: cylinders and cones ----------------------------------------------------
+
+
+def chapter13(width: int, height: int) -> Canvas:
+    """A can, an open pipe, a coin, a traffic cone and an hourglass (a double cone)."""
+    floor = Plane(material=material(color=color(0.8, 0.85, 0.8), specular=0))
+    can = Cylinder(
+        minimum=0, maximum=1, closed=True,
+        transform=translation(-1.9, 0, 0.8) * scaling(0.5, 1.2, 0.5),
+        material=material(color=color(0.85, 0.2, 0.15), specular=0.6),
+    )  # fmt: skip
+    pipe = Cylinder(  # open: the inside shows
+        minimum=0, maximum=0.7,
+        transform=translation(-0.3, 0, 1.4) * scaling(0.6, 1, 0.6),
+        material=material(color=color(0.2, 0.65, 0.3), specular=0.3),
+    )  # fmt: skip
+    coin = Cylinder(
+        minimum=0, maximum=0.08, closed=True,
+        transform=translation(-0.9, 0, -1.0) * scaling(0.4, 1, 0.4),
+        material=material(color=color(0.9, 0.75, 0.2), specular=0.9, reflective=0.2),
+    )  # fmt: skip
+    traffic_cone = Cone(  # the lower half, tip up, widest (radius 1) at the floor
+        minimum=-1, maximum=0, closed=True,
+        transform=translation(1.5, 1.4, 0.8) * scaling(0.5, 1.4, 0.5),
+        material=material(color=color(1, 0.5, 0.05), specular=0.4),
+    )  # fmt: skip
+    hourglass = Cone(
+        minimum=-1, maximum=1, closed=True,
+        transform=translation(0.5, 0.6, -0.8) * scaling(0.35, 0.6, 0.35),
+        material=material(color=color(0.3, 0.4, 0.9), specular=0.6),
+    )  # fmt: skip
+    w = World(
+        [floor, can, pipe, coin, traffic_cone, hourglass],
+        point_light(point(-5, 8, -6), color(1, 1, 1)),
+    )
+    cam = Camera(
+        width, height, math.pi / 3,
+        view_transform(point(0, 2.3, -4.3), point(0, 0.55, 0.3), vector(0, 1, 0)),
+    )  # fmt: skip
+    return render(cam, w)
+
+
+# --- chapter 14: groups -----------------------------------------------------------------
+
+
+def _hexagon() -> Group:
+    """The chapter's hexagon: six sides, each a group of a corner sphere and an edge
+    cylinder, turned into place around y; corners gold, edges silver."""
+    hexagon = group()
+    for n in range(6):
+        corner = Sphere(
+            transform=translation(0, 0, -1) * scaling(0.25, 0.25, 0.25),
+            material=material(color=color(0.9, 0.7, 0.2), specular=0.8),
+        )
+        edge = Cylinder(
+            minimum=0, maximum=1,
+            transform=translation(0, 0, -1) * rotation_y(-math.pi / 6)
+            * rotation_z(-math.pi / 2) * scaling(0.25, 1, 0.25),
+            material=material(color=color(0.75, 0.78, 0.85), specular=0.8),
+        )  # fmt: skip
+        side = group()
+        side.transform = rotation_y(n * math.pi / 3)
+        add_child(side, corner)
+        add_child(side, edge)
+        add_child(hexagon, side)
+    return hexagon
+
+
+def chapter14(width: int, height: int) -> Canvas:
+    """The hexagon of spheres and cylinders, one group of six groups, tilted over a floor."""
+    hexagon = _hexagon()
+    hexagon.transform = translation(0, 1, 0) * rotation_x(-math.pi / 5)
+    leaves = sum(len(side.children) for side in hexagon.children if isinstance(side, Group))
+    print(f"  1 group of {len(hexagon.children)} groups, {leaves} shapes in all")
+    floor = Plane(material=material(color=color(0.3, 0.35, 0.45), specular=0))
+    w = World([floor, hexagon], point_light(point(-4, 8, -6), color(1, 1, 1)))
+    cam = Camera(
+        width, height, math.pi / 3,
+        view_transform(point(0, 2.4, -3.8), point(0, 0.75, 0), vector(0, 1, 0)),
+    )  # fmt: skip
+    return render(cam, w)
+
+
+# --- chapter 15: triangles and OBJ files ------------------------------------------------
+
+
+def icosahedron_obj() -> str:
+    """OBJ text for a unit icosahedron, twice: group ``Flat`` has plain faces, group
+    ``Smooth`` names a normal at every corner (pointing away from the centre)."""
+    phi = (1 + math.sqrt(5)) / 2
+    corners = [
+        (-1, phi, 0), (1, phi, 0), (-1, -phi, 0), (1, -phi, 0),
+        (0, -1, phi), (0, 1, phi), (0, -1, -phi), (0, 1, -phi),
+        (phi, 0, -1), (phi, 0, 1), (-phi, 0, -1), (-phi, 0, 1),
+    ]  # fmt: skip
+    faces = [
+        (1, 12, 6), (1, 6, 2), (1, 2, 8), (1, 8, 11), (1, 11, 12),
+        (2, 6, 10), (6, 12, 5), (12, 11, 3), (11, 8, 7), (8, 2, 9),
+        (4, 10, 5), (4, 5, 3), (4, 3, 7), (4, 7, 9), (4, 9, 10),
+        (5, 10, 6), (3, 5, 12), (7, 3, 11), (9, 7, 8), (10, 9, 2),
+    ]  # fmt: skip
+    length = math.sqrt(1 + phi * phi)
+    lines = ["# an icosahedron, generated by rtc demo 15", "o icosahedron"]
+    lines += [f"v {x / length:.6f} {y / length:.6f} {z / length:.6f}" for x, y, z in corners]
+    lines += [f"vn {x / length:.6f} {y / length:.6f} {z / length:.6f}" for x, y, z in corners]
+    lines += ["g Flat"] + [f"f {a} {b} {c}" for a, b, c in faces]
+    lines += ["g Smooth"] + [f"f {a}//{a} {b}//{b} {c}//{c}" for a, b, c in faces]
+    return "\n".join(lines) + "\n"
+
+
+def chapter15(width: int, height: int) -> Canvas:
+    """One icosahedron read from OBJ text twice: flat triangles on the left, smooth triangles
+    (vertex normals) on the right."""
+    parser = parse_obj_file(icosahedron_obj())
+    flat, smooth = parser.groups["Flat"], parser.groups["Smooth"]
+    print(
+        f"  parsed {len(parser.vertices) - 1} vertices, {len(parser.normals) - 1} normals, "
+        f"{len(flat.children)} + {len(smooth.children)} triangles; "
+        f"{parser.ignored_lines} line ignored"
+    )
+    paint = material(color=color(0.25, 0.6, 0.9), diffuse=0.8, specular=0.6, shininess=100)
+    for mesh, x in ((flat, -1.15), (smooth, 1.15)):
+        mesh.transform = translation(x, 0, 0) * rotation_y(0.3)
+        for face in mesh.children:
+            face.material = paint
+    w = World([flat, smooth], point_light(point(-6, 6, -8), color(1, 1, 1)))
+    cam = Camera(
+        width, height, math.pi / 3,
+        view_transform(point(0, 0.9, -4.4), point(0, 0, 0), vector(0, 1, 0)),
+    )  # fmt: skip
+    return render(cam, w)
+
+
+# --- chapter 16: constructive solid geometry --------------------------------------------
+
+
+def die() -> CSG:
+    """A die: a cube with its edges rounded off by a sphere (an intersection), minus a group
+    of small spheres for the pips (a difference). Faces 1 (front), 2 (top), 3 (right)."""
+    ivory = material(color=color(0.95, 0.93, 0.85), diffuse=0.8, specular=0.4)
+    ink = material(color=color(0.1, 0.1, 0.15), specular=0.2)
+    body = csg("intersection", Cube(material=ivory), Sphere(
+        transform=scaling(1.5, 1.5, 1.5), material=ivory
+    ))  # fmt: skip
+    pips = group()
+    centres = [
+        (0, 0, -1),  # one on the front
+        (-0.45, 1, 0.45), (0.45, 1, -0.45),  # two on top
+        (1, 0.45, -0.45), (1, 0, 0), (1, -0.45, 0.45),  # three on the right
+    ]  # fmt: skip
+    for x, y, z in centres:
+        add_child(pips, Sphere(
+            transform=translation(x, y, z) * scaling(0.2, 0.2, 0.2), material=ink
+        ))  # fmt: skip
+    return csg("difference", body, pips)
+
+
+def chapter16(width: int, height: int) -> Canvas:
+    """A die carved by CSG, resting on a floor."""
+    shape = die()
+    shape.transform = translation(0, 0.7, 0) * rotation_y(0.2) * scaling(0.7, 0.7, 0.7)
+    print("  difference(intersection(cube, sphere), group of 6 spheres)")
+    floor = Plane(
+        material=material(
+            pattern=checkers_pattern(color(0.35, 0.5, 0.35), color(0.25, 0.38, 0.25)),
+            specular=0,
+        )
+    )
+    w = World([floor, shape], point_light(point(5, 7, -5), color(1, 1, 1)))
+    cam = Camera(
+        width, height, math.pi / 4,
+        view_transform(point(1.9, 2.3, -2.7), point(0, 0.62, 0), vector(0, 1, 0)),
+    )  # fmt: skip
+    return render(cam, w)
+
+
 DEMOS: dict[int, Demo] = {
     demo.chapter: demo
     for demo in [
@@ -462,5 +688,10 @@ DEMOS: dict[int, Demo] = {
         Demo(9, "spheres on planes", (100, 50), chapter9),
         Demo(10, "patterns", (100, 50), chapter10),
         Demo(11, "reflection and refraction", (64, 32), chapter11),
+        Demo(12, "a table in a room, all cubes", (80, 40), chapter12),
+        Demo(13, "cylinders and cones", (80, 40), chapter13),
+        Demo(14, "a hexagon of groups", (64, 32), chapter14),
+        Demo(15, "an OBJ icosahedron, flat and smooth", (48, 24), chapter15),
+        Demo(16, "a die made by CSG", (56, 40), chapter16),
     ]
 }

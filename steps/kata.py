@@ -2,7 +2,9 @@
 
 ``run_kata(path)`` writes a throw-away test module that calls ``scenarios(path)``, runs it
 in-process with the step plugin and a small collector, and returns one ``ScenarioResult``
-per scenario and variant. ``progress_table`` and ``as_json`` present them chapter by chapter.
+per scenario and variant: passed, failed, to do (the tracer raised ``NotImplementedError``,
+e.g. a stub from ``rtc new``) or undefined. ``progress_table`` and ``as_json`` present them
+chapter by chapter; ``next_report`` shows the first scenario not passing, in book order.
 Any folder works: the project's ``features/`` or the book's own download.
 """
 
@@ -12,6 +14,7 @@ import json
 import re
 import sys
 import tempfile
+import textwrap
 import uuid
 from collections import Counter
 from collections.abc import Generator, Iterable, Sequence
@@ -23,20 +26,24 @@ import pytest
 from pytest_bdd.exceptions import StepDefinitionNotFoundError
 from pytest_bdd.scenario import scenario_wrapper_template_registry
 
-from raytracer.api import CHAPTER_TITLES
+from raytracer.api import BOOK_API, CHAPTER_TITLES, naive_api
 from steps.chapters import chapter_of
-from steps.plugin import UNDEFINED, failed_step, select_variants
+from steps.plugin import TODO, UNDEFINED, failed_step, select_variants
+from variants.learner import chapter_label, spelled, stub_names
+from variants.registry import Variant
 
 PROJECT_FEATURES = Path(__file__).resolve().parent.parent / "features"
-STATUSES = ("passed", "failed", UNDEFINED)
+STATUSES = ("passed", "failed", TODO, UNDEFINED)
 
 
 @dataclass(frozen=True)
 class ScenarioResult:
     """One scenario run against one variant.
 
-    status: passed, failed, undefined or skipped; message: the first failure's message;
-    line: the scenario's line; step_line: the failing step's line, if a step failed.
+    status: passed, failed, todo, undefined or skipped; message: the first failure's
+    message; line: the scenario's line; step_line, step: the failing step's line and text;
+    missing: for a to do, the book name not written yet (if known); origin: for a to do or
+    an exception from the tracer, where it was raised (``file:line in function()``).
     """
 
     variant: str
@@ -49,6 +56,9 @@ class ScenarioResult:
     message: str = ""
     step_line: int | None = None
     test: str = ""
+    step: str = ""
+    missing: str | None = None
+    origin: str = ""
 
 
 @dataclass
@@ -61,6 +71,9 @@ class KataRun:
     errors: list[str] = field(default_factory=list)
     pytest_exit_code: int = 0
     warnings: list[str] = field(default_factory=list)
+    own: dict[str, list[str]] = field(default_factory=dict)  # variant -> book names it overrides
+    stubs: dict[str, list[str]] = field(default_factory=dict)  # variant -> names still stubs
+    absent: dict[str, list[str]] = field(default_factory=dict)  # variant -> names not defined
 
     @property
     def ok(self) -> bool:
@@ -93,10 +106,19 @@ def item_chapter(item: pytest.Item) -> int | None:
 class _Collector:
     """A pytest plugin that keeps one ``ScenarioResult`` per scenario test."""
 
-    def __init__(self, chapters: Iterable[int]) -> None:
+    def __init__(self, chapters: Iterable[int], verbose: bool = False) -> None:
         self.chapters = set(chapters)
+        self.verbose = verbose
         self.results: list[ScenarioResult] = []
         self.errors: list[str] = []
+
+    def pytest_collection_finish(self, session: pytest.Session) -> None:
+        # The results come from the exceptions themselves; pytest's own long tracebacks
+        # (it parses every source file of every frame) cost ~0.15 s per failing scenario,
+        # which adds up for a learner whose every scenario is still "to do". Collection
+        # errors, reported before this, keep pytest's short style (``_last_error`` reads it).
+        if not self.verbose:
+            session.config.option.tbstyle = "native"
 
     def pytest_collection_modifyitems(
         self, config: pytest.Config, items: list[pytest.Item]
@@ -145,6 +167,8 @@ def _result(
         status = "passed"
     elif report.skipped:
         status = "skipped"
+    elif detail is not None and detail["kind"] == TODO:
+        status = TODO
     elif (detail is not None and detail["kind"] == UNDEFINED) or (
         call.excinfo is not None and call.excinfo.errisinstance(StepDefinitionNotFoundError)
     ):
@@ -167,7 +191,24 @@ def _result(
         message=message,
         step_line=detail["line"] if detail else None,
         test=item.name,
+        step=detail["step"] if detail else "",
+        missing=detail.get("missing") if detail else None,
+        origin=detail.get("origin", "") if detail else "",
     )
+
+
+def own_names(variant: Variant) -> list[str]:
+    """The book names whose code is the variant's own: those it declares in ``overrides``,
+    and any whose callable is not the reference's (so an undeclared override still counts);
+    a stub not written yet (``variants.learner.is_stub``) does not count."""
+    reference = naive_api()
+    differing = {
+        name
+        for name, value in variant.api.items()
+        if name in BOOK_API and (name not in reference or value is not reference[name])
+    }
+    own = (set(variant.overrides) & set(BOOK_API)) | differing
+    return sorted(own - set(stub_names(variant.api)))
 
 
 def run_kata(
@@ -188,7 +229,7 @@ def run_kata(
     selected, _ = select_variants(list(variants))
     names = [variant.name for variant in selected]
     _forget_parsed_features(folder)
-    collector = _Collector(chapters)
+    collector = _Collector(chapters, verbose)
     with tempfile.TemporaryDirectory(prefix="rtc-kata-") as scratch:
         # A fresh module name per run: pytest would reuse an imported module of the same name.
         module = Path(scratch) / f"test_kata_{uuid.uuid4().hex}.py"
@@ -213,7 +254,20 @@ def run_kata(
         finally:
             sys.modules.pop(module.stem, None)
     warnings = duplicate_titles(folder)
-    return KataRun(str(folder), names, collector.results, collector.errors, exit_code, warnings)
+    own = {variant.name: own_names(variant) for variant in selected}
+    stubs = {variant.name: stub_names(variant.api) for variant in selected}
+    absent = {variant.name: [n for n in BOOK_API if n not in variant.api] for variant in selected}
+    return KataRun(
+        str(folder),
+        names,
+        collector.results,
+        collector.errors,
+        exit_code,
+        warnings,
+        own,
+        stubs,
+        absent,
+    )
 
 
 SCENARIO_LINE = re.compile(r"^\s*(?:Scenario(?: Outline| Template)?|Example):\s*(?P<title>.*?)\s*$")
@@ -264,7 +318,8 @@ def _relative(file: str) -> str:
 
 
 def summary(run: KataRun) -> list[dict[str, Any]]:
-    """One row per chapter and variant: counts and the first failure, in book order."""
+    """One row per chapter and variant, in book order: counts, the first failed (else
+    undefined) scenario, and ``to_write``: the book names its to-do scenarios reached."""
     rows: list[dict[str, Any]] = []
     chapters = sorted({result.chapter for result in run.results}, key=_chapter_key)
     for chapter in chapters:
@@ -273,17 +328,59 @@ def summary(run: KataRun) -> list[dict[str, Any]]:
             if not mine:
                 continue
             counts = Counter(result.status for result in mine)
-            first = next((r for r in mine if r.status in ("failed", UNDEFINED)), None)
+            first = next((r for r in mine if r.status == "failed"), None) or next(
+                (r for r in mine if r.status == UNDEFINED), None
+            )
             rows.append(
                 {
                     "chapter": chapter,
                     "title": CHAPTER_TITLES.get(chapter, "") if chapter else "(no chapter)",
                     "variant": variant,
+                    **chapter_code(run, variant, chapter),
                     **{status: counts.get(status, 0) for status in (*STATUSES, "skipped")},
                     "first_failure": None if first is None else _failure(first),
+                    "to_write": to_write(mine),
                 }
             )
     return rows
+
+
+def to_write(results: Iterable[ScenarioResult]) -> list[str]:
+    """The book names the to-do scenarios reached, in chapter order (unknown ones last)."""
+    names = {r.missing for r in results if r.status == TODO and r.missing}
+    order = list(BOOK_API)
+    return sorted(
+        names, key=lambda name: (order.index(name) if name in order else len(order), name)
+    )
+
+
+def chapter_code(run: KataRun, variant: str, chapter: int | None) -> dict[str, Any]:
+    """Whose code a chapter's scenarios ran for a variant: ``code`` is ``reference`` (the
+    reference itself), ``own k/n`` (the variant's own code for k of the chapter's n book
+    names, listed in ``own``; the others are the reference's, stubs not written yet, listed
+    in ``stubs``, or not defined) or ``inherited`` (all n are the reference's)."""
+    if chapter is None or variant not in run.own:
+        return {"code": "-", "own": [], "stubs": []}
+    names = [name for name, introduced in BOOK_API.items() if introduced == chapter]
+    own = [name for name in run.own[variant] if name in names]
+    stubs = [name for name in run.stubs.get(variant, []) if name in names]
+    absent = [name for name in run.absent.get(variant, []) if name in names]
+    if variant == "naive":
+        code = "reference"
+    elif own or stubs or absent:
+        code = f"own {len(own)}/{len(names)}"
+    else:
+        code = "inherited"
+    return {"code": code, "own": own, "stubs": stubs}
+
+
+CODE_LEGEND = (
+    "code: whose code ran. reference = the reference tracer; own k/n = the variant's own code "
+    "for k of the chapter's n book names (the others: the reference's, or stubs not written "
+    "yet); inherited = all n are the reference's, so passing re-tests it. to do = the scenario "
+    "reached code that raises NotImplementedError (a stub from rtc new); undefined = a step "
+    "the step library cannot read, or a book name the variant does not define."
+)
 
 
 def _failure(result: ScenarioResult) -> dict[str, Any]:
@@ -296,14 +393,29 @@ def _failure(result: ScenarioResult) -> dict[str, Any]:
     }
 
 
-def progress_table(run: KataRun) -> str:
-    """The progress table: chapter by chapter, variant by variant."""
-    lines = [f"{'chapter':<40} {'variant':<12} {'passed':>6} {'failed':>6} {'undefined':>9}"]
+def first_unfinished(run: KataRun, variant: str) -> dict[str, Any] | None:
+    """The first summary row (book order) of ``variant`` where not every scenario passed."""
     for row in summary(run):
-        label = f"{row['chapter'] or '?':>2} {row['title']}"
+        if row["variant"] == variant and any(row[status] for status in STATUSES[1:]):
+            return row
+    return None
+
+
+def progress_table(run: KataRun) -> str:
+    """The progress table: chapter by chapter in book order, variant by variant, with whose
+    code ran; under a row its first failure (expected and actual) and what is to write."""
+    width = max([len("variant"), *(len(name) for name in run.variants)])
+    header = f"{'chapter':<40} {'variant':<{width}} {'code':<10}"
+    lines = [f"{header} {'passed':>6} {'failed':>6} {'to do':>6} {'undefined':>9}"]
+    shown_chapter: object = object()
+    for row in summary(run):
+        label = (
+            f"{row['chapter'] or '?':>2} {row['title']}" if row["chapter"] != shown_chapter else ""
+        )
+        shown_chapter = row["chapter"]
         lines.append(
-            f"{label:<40} {row['variant']:<12} {row['passed']:>6} {row['failed']:>6}"
-            f" {row[UNDEFINED]:>9}"
+            f"{label:<40} {row['variant']:<{width}} {row['code']:<10} {row['passed']:>6}"
+            f" {row['failed']:>6} {row[TODO]:>6} {row[UNDEFINED]:>9}"
         )
         failure = row["first_failure"]
         if failure:
@@ -312,17 +424,33 @@ def progress_table(run: KataRun) -> str:
                 f"     first {failure['status']}: {failure['where']}  {failure['scenario']}"
             )
             lines += [f"       {text}" for text in first_line]
-    totals = Counter(result.status for result in run.results)
-    lines.append(
-        f"{'total':<40} {', '.join(run.variants):<12} {totals['passed']:>6}"
-        f" {totals['failed']:>6} {totals[UNDEFINED]:>9}"
-    )
+        if row["to_write"]:
+            names = ", ".join(spelled(name) for name in row["to_write"])
+            lines += textwrap.wrap(
+                f"to write: {names}", 100, initial_indent="     ", subsequent_indent="       "
+            )
+    for number, variant in enumerate(run.variants):
+        totals = Counter(result.status for result in run.results if result.variant == variant)
+        label = "total" if number == 0 else ""
+        lines.append(
+            f"{label:<40} {variant:<{width}} {'':<10} {totals['passed']:>6}"
+            f" {totals['failed']:>6} {totals[TODO]:>6} {totals[UNDEFINED]:>9}"
+        )
     for error in run.errors:
         lines.append(
             f"collection error: {error.strip().splitlines()[-1] if error.strip() else error}"
         )
     if not run.results and not run.errors:
         lines.append(f"no scenarios found under {run.path}")
+    elif run.own:
+        lines += textwrap.wrap(CODE_LEGEND, 100)
+    for variant in run.variants:
+        unfinished = first_unfinished(run, variant)
+        if unfinished is not None:
+            lines.append(
+                f"next for {variant}: {chapter_label(unfinished['chapter'])}"
+                f"  (rtc kata --variant {variant} --next)"
+            )
     return "\n".join(lines)
 
 
@@ -336,5 +464,7 @@ def as_json(run: KataRun) -> str:
         "results": [asdict(result) for result in run.results],
         "errors": run.errors,
         "warnings": run.warnings,
+        "own": run.own,
+        "stubs": run.stubs,
     }
     return json.dumps(data, indent=2, ensure_ascii=False)

@@ -1,14 +1,15 @@
 """The pytest plugin: ``--variant``, the ``variant`` and ``book`` fixtures, the catch-all steps.
 
 - ``--variant NAME`` (repeatable, ``all`` = every available variant, default ``naive``) picks
-  the tracers; every pytest-bdd scenario runs once per variant (``test_x[naive]``), other
-  tests run once.
+  the tracers, named in the grammar of ``variants.registry`` (``pooled[workers=2]:cached``);
+  every pytest-bdd scenario runs once per variant (``test_x[naive]``), other tests run once.
 - ``book`` is a fresh namespace per scenario, bound to the variant's API.
 - One catch-all step for Given/When and one for Then hand the text to ``steps.phrases``,
   which dispatches over an ordered table of forms (so no two patterns compete).
 - Each scenario's feature, file, line, chapter and variant go into
   ``request.node.user_properties``; a failing step adds ``("failed_step", {...})`` with its
-  line and kind (``failed`` or ``undefined``), so reports can group and explain.
+  line and kind (``failed``, ``undefined``, or ``todo`` when the tracer raised
+  ``NotImplementedError``: a stub not written yet), so reports can group and explain.
 """
 
 from __future__ import annotations
@@ -27,12 +28,20 @@ from raytracer.api import CHAPTER_TITLES
 from steps import phrases
 from steps.book import Book
 from steps.chapters import chapter_of, chapter_tag
-from steps.errors import CheckFailed, EvaluationError, NotImplementedByVariant
+from steps.errors import (
+    CheckFailed,
+    EvaluationError,
+    NotImplementedByVariant,
+    NotWrittenYet,
+    StepError,
+    raised_at,
+)
 from variants.registry import Variant, load_variant, registry
 
 VARIANTS = pytest.StashKey[list[Variant]]()
 UNAVAILABLE = pytest.StashKey[list[str]]()
 UNDEFINED = "undefined"
+TODO = "todo"  # the tracer raised NotImplementedError (a learner's stub): not written yet
 
 
 def pytest_addoption(parser: pytest.Parser) -> None:
@@ -43,27 +52,31 @@ def pytest_addoption(parser: pytest.Parser) -> None:
         dest="rtc_variants",
         default=None,
         metavar="NAME",
-        help="run the book's scenarios against variant NAME (repeatable; 'all' = every "
+        help="run the book's scenarios against variant NAME (repeatable; NAME, "
+        "NAME[opt=value,flag] or NAME[...]:INNER, e.g. pooled:cached; 'all' = every "
         "available variant; default: naive)",
     )
 
 
 def select_variants(names: list[str] | None) -> tuple[list[Variant], list[str]]:
-    """The variants named (``all`` = every available one), and notes on unavailable ones.
+    """The variants named (``all`` = every available one with default options), each once
+    by canonical name, and notes on the unavailable ones that ``all`` skipped.
 
-    An unknown or unavailable name raises ``LookupError`` with a clear message.
+    names: variant names in the grammar of ``variants.registry`` (``pooled[workers=2]:cached``).
+    A malformed, unknown or unavailable name raises ``LookupError`` with a clear message.
     """
     selected: dict[str, Variant] = {}
     notes: list[str] = []
     for name in names or ["naive"]:
-        if name == "all":
+        if name.strip() == "all":
             for entry in registry():
                 if entry.variant is not None:
-                    selected.setdefault(entry.name, entry.variant)
+                    selected.setdefault(entry.variant.name, entry.variant)
                 else:
                     notes.append(f"{entry.name}: {entry.reason}")
-        elif name not in selected:
-            selected[name] = load_variant(name)
+        else:
+            loaded = load_variant(name)
+            selected.setdefault(loaded.name, loaded)
     if not selected:
         raise LookupError("no variant is available here: " + "; ".join(notes))
     return list(selected.values()), notes
@@ -153,7 +166,12 @@ def pytest_bdd_before_scenario(
 
 
 def _record_failed_step(request: pytest.FixtureRequest, step: Step, error: BaseException) -> None:
-    kind = UNDEFINED if isinstance(error, StepDefinitionNotFoundError) else "failed"
+    if isinstance(error, NotWrittenYet):
+        kind = TODO
+    elif isinstance(error, StepDefinitionNotFoundError):
+        kind = UNDEFINED
+    else:
+        kind = "failed"
     detail = {
         "line": step.line_number,
         "step": f"{step.keyword} {step.name}".strip(),
@@ -165,6 +183,14 @@ def _record_failed_step(request: pytest.FixtureRequest, step: Step, error: BaseE
         ),
         "message": str(error),
     }
+    if isinstance(error, NotWrittenYet):
+        detail["missing"] = error.name
+        detail["chapter"] = error.chapter
+    cause = error.__cause__
+    if isinstance(error, NotWrittenYet | StepError) and cause is not None:
+        where = raised_at(cause)
+        if where is not None:
+            detail["origin"] = f"{where[0]}:{where[1]} in {where[2]}()"
     request.node.user_properties.append(("failed_step", detail))
 
 
@@ -197,7 +223,7 @@ def pytest_runtest_makereport(
     """A failed check or an unreadable step is shown as the step and the message alone;
     an exception from the tracer keeps its traceback."""
     report = yield
-    concise = (CheckFailed, StepDefinitionNotFoundError, EvaluationError)
+    concise = (CheckFailed, StepDefinitionNotFoundError, EvaluationError, NotWrittenYet)
     if (
         report.failed
         and call.excinfo is not None
@@ -233,11 +259,14 @@ def failed_step(report: pytest.TestReport) -> dict[str, Any] | None:
 def pytest_report_teststatus(
     report: pytest.TestReport, config: pytest.Config
 ) -> tuple[str, str, str] | None:
-    """An undefined step is reported as ``undefined`` (U), not as a plain failure."""
+    """An undefined step is reported as ``undefined`` (U), a step that reached code not
+    written yet as ``todo`` (T), not as plain failures."""
     if report.when == "call" and report.failed:
         detail = failed_step(report)
         if detail is not None and detail["kind"] == UNDEFINED:
             return UNDEFINED, "U", "UNDEFINED"
+        if detail is not None and detail["kind"] == TODO:
+            return TODO, "T", "TO DO"
     return None
 
 

@@ -1,33 +1,83 @@
-"""The variant registry: variants are discovered through the ``rtc.variants`` entry points.
+"""The variant registry: variants are found through the ``rtc.variants`` entry points, and
+named everywhere by one small grammar (docs/architecture.md, "Variant names, options and
+composition")::
 
-An entry point names a zero-argument factory that returns a ``Variant``. A factory whose
-optional dependency is missing raises ``ImportError`` (or ``Unavailable``); the registry then
-reports that variant as unavailable, with the reason, and the others still load.
+    spec    := "all" | variant
+    variant := NAME [ "[" option ("," option)* "]" ] [ ":" variant ]
+    option  := KEY "=" VALUE | FLAG
+
+``naive``, ``numba[float32,fastmath,threads=1]``, ``pooled[workers=2]:cached`` and
+``pooled:pooled:naive`` are names; ``all`` (only at the top) means every available variant
+with its default options.
+
+An entry point names a factory ``variant(inner: Variant | None = None, **options: str)
+-> Variant``. Option values reach it as strings (a bare ``FLAG`` as ``"true"``); the inner
+variant, if the name has ``:INNER``, is already loaded. The factory checks both with the
+helpers below (``reject_inner``, ``check_options``, ``parse_bool``, ``parse_int``), raising
+``VariantError`` for anything it does not accept, and returns a ``Variant`` whose ``name`` is
+the canonical spelling (``canonical_name``): options sorted, so that every spelling of the
+same configuration gives the same name and result rows and test ids say exactly what ran.
+
+A factory whose optional dependency is missing raises ``ImportError`` (or ``Unavailable``);
+the registry then reports that variant as unavailable, with the reason, and the others
+still load.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+import inspect
+import re
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from importlib.metadata import entry_points
 from typing import Any
 
 GROUP = "rtc.variants"
+ALL = "all"
+TRUE_WORDS = ("true", "on", "yes", "1")
+FALSE_WORDS = ("false", "off", "no", "0")
 
 
 class Unavailable(Exception):
     """Raised by a variant factory that cannot run here; the message says why."""
 
 
+class VariantError(LookupError, ValueError):
+    """A variant name that cannot be used: bad syntax, an unknown variant, an option or an
+    inner variant the factory does not accept, a bad option value, or a variant that is not
+    available here. The message names the variant and what it accepts."""
+
+
 @dataclass(frozen=True)
 class Variant:
     """A tracer that answers the book's API.
 
-    name: what ``--variant`` calls it.
+    name: the canonical name (what ``--variant`` accepts and test ids show).
     summary: one line for ``rtc variants``.
     api: the book's names (see ``raytracer.api.BOOK_API``) mapped to callables and constants.
-    overrides: the book names whose implementation differs from the reference's.
-    base: the variant this one builds on, if any.
+    overrides: the book names whose implementation differs from the reference's (a wrapper
+        includes its inner variant's).
+    base: the variant this one builds on or wraps (its canonical name), if any.
+    usage: the options and inner variant the factory accepts, for ``rtc variants``.
+    tolerance: the largest difference from ``naive``'s image, per colour channel, that this
+        variant accepts (0: identical pixels, as every pure-Python float64 variant gives).
+    bench_configs: option sets ``rtc bench --variants all`` measures besides the defaults,
+        spelled in the grammar below, e.g. ``("numba[threads=1]", "numba[float32]")``; a
+        ``workers=`` or ``threads=`` option among them also puts the variant in the
+        scaling-with-workers plot.
+    count_rays: optional hook ``count_rays(camera, world, settings) -> {kind: count}``: render
+        once with counting on and return every ray cast by kind (``camera``, ``shadow``,
+        ``secondary`` ...); the harness calls it in an untimed render. Without it, only a
+        variant that renders through the reference's ``render`` gets its rays counted.
+    explain: optional hook ``explain(world) -> str``: what a render of ``world`` would run
+        (``rtc render --explain`` prints it; e.g. the feature set a compiled kernel is
+        specialized to).
+    region_renderer: optional hook ``region_renderer(camera, world, settings) -> trace``
+        where ``trace(x0, y0, x1, y1)`` returns the pixels of that rectangle (x1, y1
+        exclusive) as row-major ``[r, g, b, r, g, b, ...]`` floats, identical to what
+        ``render`` gives. It prepares once (packs the world, builds scratch) and traces
+        many regions: what a ``pooled`` worker calls per job. Without it, a worker traces
+        each pixel through the API's ``ray_for_pixel`` and ``color_at``.
     """
 
     name: str
@@ -35,11 +85,21 @@ class Variant:
     api: Mapping[str, Any] = field(repr=False)
     overrides: frozenset[str] = frozenset()
     base: str | None = None
+    usage: str = "none"
+    tolerance: float = 0.0
+    bench_configs: tuple[str, ...] = ()
+    count_rays: Callable[[Any, Any, Any], Mapping[str, int]] | None = field(
+        default=None, repr=False, compare=False
+    )
+    explain: Callable[[Any], str] | None = field(default=None, repr=False, compare=False)
+    region_renderer: Callable[[Any, Any, Any], Callable[[int, int, int, int], Any]] | None = field(
+        default=None, repr=False, compare=False
+    )
 
 
 @dataclass(frozen=True)
 class VariantEntry:
-    """One registry entry: a variant, or the reason it is not available."""
+    """One registry entry: a variant with its default options, or why it is unavailable."""
 
     name: str
     variant: Variant | None
@@ -48,6 +108,189 @@ class VariantEntry:
     @property
     def available(self) -> bool:
         return self.variant is not None
+
+
+# ------------------------------------------------------------------------------ the grammar
+
+
+@dataclass(frozen=True)
+class VariantSpec:
+    """A parsed variant name: ``NAME[options]:INNER``.
+
+    options: (key, value) pairs in the order written (a flag's value is ``"true"``).
+    """
+
+    name: str
+    options: tuple[tuple[str, str], ...] = ()
+    inner: VariantSpec | None = None
+
+    def __str__(self) -> str:
+        text = self.name
+        if self.options:
+            text += "[" + ",".join(f"{key}={value}" for key, value in self.options) + "]"
+        return text + (f":{self.inner}" if self.inner is not None else "")
+
+
+_WORD = re.compile(r"[A-Za-z_][A-Za-z0-9_.\-]*")
+_VALUE = re.compile(r"[A-Za-z0-9_.+\-]+")
+
+
+class _Parser:
+    """A recursive-descent reader of one variant name; errors point at the column."""
+
+    def __init__(self, text: str) -> None:
+        self.text = text
+        self.at = 0
+
+    def fail(self, expected: str) -> VariantError:
+        found = repr(self.text[self.at]) if self.at < len(self.text) else "the end"
+        return VariantError(
+            f"bad variant name {self.text!r}: expected {expected} at column {self.at + 1}, "
+            f"found {found} (the form is NAME, NAME[opt=value,flag] or NAME[...]:INNER)"
+        )
+
+    def skip_spaces(self) -> None:
+        while self.at < len(self.text) and self.text[self.at].isspace():
+            self.at += 1
+
+    def take(self, pattern: re.Pattern[str], expected: str) -> str:
+        self.skip_spaces()
+        match = pattern.match(self.text, self.at)
+        if not match:
+            raise self.fail(expected)
+        self.at = match.end()
+        return match.group()
+
+    def peek(self, char: str) -> bool:
+        self.skip_spaces()
+        if self.text.startswith(char, self.at):
+            self.at += 1
+            return True
+        return False
+
+    def variant(self) -> VariantSpec:
+        name = self.take(_WORD, "a variant name")
+        if name == ALL:
+            self.at -= len(name)
+            raise self.fail(
+                "a variant name ('all' stands alone: it cannot be wrapped or take options)"
+            )
+        options: list[tuple[str, str]] = []
+        if self.peek("["):
+            options.append(self.option(options))
+            while self.peek(","):
+                options.append(self.option(options))
+            if not self.peek("]"):
+                raise self.fail("',' or ']'")
+        inner = self.variant() if self.peek(":") else None
+        return VariantSpec(name, tuple(options), inner)
+
+    def option(self, before: list[tuple[str, str]]) -> tuple[str, str]:
+        start = self.at
+        key = self.take(_WORD, "an option (key=value or a flag)")
+        if any(key == seen for seen, _ in before):
+            self.at = start
+            self.skip_spaces()
+            raise VariantError(f"bad variant name {self.text!r}: option {key!r} is given twice")
+        value = self.take(_VALUE, "a value after '='") if self.peek("=") else "true"
+        return key, value
+
+    def parse(self) -> VariantSpec:
+        spec = self.variant()
+        self.skip_spaces()
+        if self.at != len(self.text):
+            raise self.fail("the end of the name, '[' or ':'")
+        return spec
+
+
+def parse_variant_name(text: str) -> VariantSpec:
+    """``"pooled[workers=2]:cached"`` -> ``VariantSpec("pooled", (("workers", "2"),),
+    VariantSpec("cached"))``; a ``VariantError`` pointing at the column for anything else."""
+    if not text.strip():
+        raise VariantError("empty variant name: name one, e.g. naive, cached or pooled:cached")
+    return _Parser(text).parse()
+
+
+# ------------------------------------------------------------------ helpers for factories
+
+
+def canonical_name(
+    name: str, options: Mapping[str, object] | None = None, inner: Variant | None = None
+) -> str:
+    """The canonical spelling: ``name[key=value,...]:inner`` with keys sorted, True as a bare
+    flag, False as ``key=off``; no brackets without options. None values are left out."""
+    parts = []
+    for key in sorted(options or {}):
+        value = (options or {})[key]
+        if value is None:
+            continue
+        if value is True:
+            parts.append(key)
+        elif value is False:
+            parts.append(f"{key}=off")
+        else:
+            parts.append(f"{key}={value}")
+    text = name + (f"[{','.join(parts)}]" if parts else "")
+    return text + (f":{inner.name}" if inner is not None else "")
+
+
+def reject_inner(name: str, inner: Variant | None) -> None:
+    """For a factory that is not a wrapper: an inner variant is a ``VariantError``."""
+    if inner is not None:
+        raise VariantError(
+            f"variant {name!r} does not wrap another variant, so '{name}:{inner.name}' "
+            f"means nothing; write {name!r} alone"
+        )
+
+
+def check_options(name: str, options: Mapping[str, str], accepted: Iterable[str] = ()) -> None:
+    """A ``VariantError`` for any option not in ``accepted`` (naming the ones it takes)."""
+    known = sorted(accepted)
+    unknown = sorted(set(options) - set(known))
+    if unknown:
+        takes = f"it accepts {', '.join(known)}" if known else "it takes no options"
+        raise VariantError(
+            f"variant {name!r} has no option {', '.join(repr(u) for u in unknown)}; {takes}"
+        )
+
+
+def parse_bool(name: str, key: str, value: str) -> bool:
+    """An option's text as a boolean (true/on/yes/1, false/off/no/0)."""
+    word = value.strip().lower()
+    if word in TRUE_WORDS:
+        return True
+    if word in FALSE_WORDS:
+        return False
+    raise VariantError(
+        f"variant {name!r}: option {key}={value!r} must be on or off "
+        f"({'/'.join(TRUE_WORDS)} or {'/'.join(FALSE_WORDS)})"
+    )
+
+
+def parse_int(name: str, key: str, value: str, low: int, high: int) -> int:
+    """An option's text as a whole number from ``low`` to ``high``."""
+    try:
+        number = int(value)
+    except ValueError:
+        number = None
+    if number is None or not low <= number <= high:
+        raise VariantError(
+            f"variant {name!r}: option {key}={value!r} must be a whole number {low} to {high}"
+        )
+    return number
+
+
+def parse_choice(name: str, key: str, value: str, choices: Iterable[str]) -> str:
+    """An option's text, which must be one of ``choices``."""
+    allowed = list(choices)
+    if value not in allowed:
+        raise VariantError(
+            f"variant {name!r}: option {key}={value!r} must be one of {', '.join(allowed)}"
+        )
+    return value
+
+
+# ---------------------------------------------------------------------------- the registry
 
 
 def _entry_points() -> dict[str, Any]:
@@ -60,30 +303,85 @@ def variant_names() -> list[str]:
     return list(_entry_points())
 
 
+def _factory(name: str, ep: Any) -> Callable[..., Variant]:
+    """The entry point's factory; ``Unavailable`` (with the reason) if it cannot be loaded."""
+    try:
+        factory: Callable[..., Variant] = ep.load()
+    except Exception as error:  # a missing dependency, or a module that does not load
+        raise Unavailable(f"{type(error).__name__}: {error}") from error
+    if not callable(factory):
+        raise Unavailable(f"entry point {ep.value!r} is not a factory function")
+    return factory
+
+
+def _call(
+    name: str, factory: Callable[..., Variant], inner: Variant | None, options: dict[str, str]
+) -> Variant:
+    """Call a factory; a factory whose signature cannot take the options or the inner
+    variant (a learner's ``def variant()``) gets a ``VariantError`` saying so."""
+    arguments: dict[str, Any] = dict(options)
+    if inner is not None:
+        arguments["inner"] = inner
+    try:
+        inspect.signature(factory).bind(**arguments)
+    except TypeError as error:
+        if inner is not None:
+            reject_inner(name, inner)
+        check_options(name, options)
+        raise VariantError(
+            f"variant {name!r}: its factory cannot be called as "
+            f"variant(inner=None, **options): {error}"
+        ) from None
+    except ValueError:  # no signature (a builtin): just call it
+        pass
+    return factory(**arguments)
+
+
+def build_variant(spec: VariantSpec) -> Variant:
+    """The variant a parsed name describes (its inner variant first)."""
+    eps = _entry_points()
+    if spec.name not in eps:
+        known = ", ".join(eps) or "none"
+        raise VariantError(f"unknown variant {spec.name!r}; registered variants: {known}")
+    inner = build_variant(spec.inner) if spec.inner is not None else None
+    try:
+        factory = _factory(spec.name, eps[spec.name])
+        built = _call(spec.name, factory, inner, dict(spec.options))
+    except (ImportError, Unavailable) as error:
+        reason = (
+            error.args[0] if isinstance(error, Unavailable) else f"{type(error).__name__}: {error}"
+        )
+        raise VariantError(f"variant {spec.name!r} is not available here: {reason}") from None
+    if not isinstance(built, Variant):
+        raise VariantError(
+            f"variant {spec.name!r}: its factory returned {type(built).__name__}, not a Variant"
+        )
+    return built
+
+
+def load_variant(name: str) -> Variant:
+    """The variant called ``name`` (the grammar above; not ``all``); a ``VariantError``
+    (a ``LookupError``) if it is malformed, unknown, unavailable or given bad options."""
+    if name.strip() == ALL:
+        raise VariantError("'all' names several variants; pick one here, e.g. naive or cached")
+    return build_variant(parse_variant_name(name))
+
+
 def _load_entry(name: str, ep: Any) -> VariantEntry:
     try:
-        factory: Callable[[], Variant] = ep.load()
-        return VariantEntry(name, factory())
-    except (ImportError, Unavailable) as error:
+        return VariantEntry(name, _call(name, _factory(name, ep), None, {}))
+    except Unavailable as error:
+        return VariantEntry(name, None, str(error))
+    except Exception as error:  # a broken factory must not hide the other variants
         return VariantEntry(name, None, f"{type(error).__name__}: {error}")
 
 
 def registry() -> list[VariantEntry]:
-    """Load every registered variant; broken ones are reported, not raised."""
+    """Every registered variant with its default options; broken ones are reported, not
+    raised."""
     return [_load_entry(name, ep) for name, ep in _entry_points().items()]
 
 
 def available_variants() -> list[Variant]:
+    """Every available variant with its default options (what ``all`` means)."""
     return [entry.variant for entry in registry() if entry.variant is not None]
-
-
-def load_variant(name: str) -> Variant:
-    """The variant called ``name``; a clear error if it is unknown or unavailable."""
-    eps = _entry_points()
-    if name not in eps:
-        known = ", ".join(eps) or "none"
-        raise LookupError(f"unknown variant {name!r}; registered variants: {known}")
-    entry = _load_entry(name, eps[name])
-    if entry.variant is None:
-        raise LookupError(f"variant {name!r} is not available here: {entry.reason}")
-    return entry.variant

@@ -44,9 +44,10 @@ __all__ = [
 ]
 
 
-@dataclass(slots=True, eq=True)
+@dataclass(slots=True, eq=True, kw_only=True)
 class Shape(ABC):
-    """Chapter 9: what every shape has.
+    """Chapter 9: what every shape has (keyword-only, so that a subclass's own fields, such
+    as a triangle's corners, come first and positionally).
 
     transform: object space to world space (default: the identity);
     material: how the surface looks (default: ``material()``);

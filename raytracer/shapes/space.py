@@ -24,9 +24,15 @@ def world_to_object(shape: Shape, point: Tuple) -> Tuple:
 
 
 def normal_to_world(shape: Shape, normal: Tuple) -> Tuple:
-    """Chapter 14: an object-space normal of ``shape`` in world space, normalized."""
+    """Chapter 14: an object-space normal of ``shape`` in world space, normalized.
+
+    A zero normal (the tip of a cone, chapter 13) has no direction and stays zero, where
+    dividing by its length would fail.
+    """
     normal = shape.inverse_transpose * normal
-    normal = normalize(vector(normal.x, normal.y, normal.z))  # drop the translated w
+    normal = vector(normal.x, normal.y, normal.z)  # drop the translated w
+    if normal.x != 0 or normal.y != 0 or normal.z != 0:
+        normal = normalize(normal)
     if shape.parent is not None:
         normal = normal_to_world(shape.parent, normal)
     return normal

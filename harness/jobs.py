@@ -1,0 +1,77 @@
+"""Running a measurement job in a fresh process (``harness.child``) and reading its results.
+
+The measuring process gets ``NUMBA_NRT_STATS=1`` (numba counts its allocations),
+``NUMBA_NUM_THREADS`` when ``--threads`` is given, and the worker hook folder on
+``PYTHONPATH`` (worker processes count their allocations, see ``harness.alloccount``).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from harness.alloccount import WORKER_HOOK_PATH
+
+
+@dataclass
+class JobOutcome:
+    """What a job returned: ``result`` (the child's JSON) and where its images are."""
+
+    folder: Path
+    result: dict[str, Any]
+
+    @property
+    def ok(self) -> bool:
+        return "error" not in self.result
+
+    def image(self, name: str) -> np.ndarray:
+        return np.asarray(np.load(self.folder / name))
+
+    def discard(self) -> None:
+        shutil.rmtree(self.folder, ignore_errors=True)
+
+
+def child_environment(threads: int | None) -> dict[str, str]:
+    env = dict(os.environ)
+    env["NUMBA_NRT_STATS"] = "1"
+    if threads:
+        env["NUMBA_NUM_THREADS"] = str(threads)
+    paths = [WORKER_HOOK_PATH, *filter(None, env.get("PYTHONPATH", "").split(os.pathsep))]
+    env["PYTHONPATH"] = os.pathsep.join(paths)
+    env.pop("RTC_ALLOCCOUNT_DIR", None)
+    return env
+
+
+def run_job(folder: Path, job: Mapping[str, Any]) -> JobOutcome:
+    """Run one job in ``folder`` (created); the child's progress goes to our stderr."""
+    folder.mkdir(parents=True)
+    job_path = folder / "job.json"
+    job_path.write_text(json.dumps(job))
+    process = subprocess.Popen(
+        [sys.executable, "-m", "harness.child", str(job_path)],
+        env=child_environment(job.get("threads")),
+    )
+    try:
+        code = process.wait()
+    except BaseException:
+        process.terminate()
+        try:
+            process.wait(timeout=5)
+        except subprocess.TimeoutExpired:
+            process.kill()
+        raise
+    result_path = folder / "result.json"
+    if result_path.exists():
+        result = json.loads(result_path.read_text())
+    else:
+        result = {"variant": job["variant"], "error": f"the measuring process exited with {code}"}
+    return JobOutcome(folder, result)

@@ -1,0 +1,187 @@
+"""The report's plots (matplotlib, Agg backend): error against time with the Pareto front,
+time against pixel count, throughput against worker or thread count, speed-ups."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+from matplotlib.figure import Figure
+
+from harness import figures
+
+
+def _save(figure: Figure, path: Path) -> Path:
+    """Write ``figure`` as a PNG atomically."""
+    fd, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    os.close(fd)
+    try:
+        figure.savefig(temporary, format="png", dpi=110, bbox_inches="tight")
+        os.chmod(temporary, 0o644)
+        os.replace(temporary, path)
+    finally:
+        plt.close(figure)
+        Path(temporary).unlink(missing_ok=True)
+    return path
+
+
+def _caption(run: Mapping[str, Any]) -> str:
+    m = run["machine"]
+    return f"{m['cpu_model']}, {m['cores_available']} cores, Python {m['python']}"
+
+
+def sweep_plot(run: Mapping[str, Any], path: Path) -> Path | None:
+    """Each (configuration, samples) as a point of time against RMSE from the ground truth;
+    the Pareto front (nothing both faster and more accurate) joined by a line."""
+    entries = [e for e in run["series"] if e["section"] == "sweep" and e["status"] == "ok"]
+    points: list[tuple[float, float]] = []
+    labels: list[str] = []
+    figure, axes = plt.subplots(figsize=(7.5, 5))
+    for entry in entries:
+        measured = [p for p in entry["points"] if "wall" in p and p.get("error")]
+        if not measured:
+            continue
+        xs = [p["wall"] for p in measured]
+        ys = [max(p["error"]["rmse"], 1e-7) for p in measured]
+        axes.plot(xs, ys, marker="o", label=entry["name"])
+        for p, x, y in zip(measured, xs, ys, strict=True):
+            axes.annotate(
+                str(p["samples"]), (x, y), textcoords="offset points", xytext=(4, 3), fontsize=7
+            )
+            points.append((x, y))
+            labels.append(f"{entry['name']} {p['samples']} spp")
+    if not points:
+        plt.close(figure)
+        return None
+    front = sorted((points[i] for i in figures.pareto_front(points)), key=lambda p: p[0])
+    axes.plot(
+        [p[0] for p in front],
+        [p[1] for p in front],
+        color="black",
+        linestyle="--",
+        linewidth=1.2,
+        label="Pareto front",
+        zorder=0,
+    )
+    axes.scatter(
+        [p[0] for p in front],
+        [p[1] for p in front],
+        s=120,
+        facecolors="none",
+        edgecolors="black",
+        zorder=3,
+    )
+    axes.set_xscale("log")
+    axes.set_yscale("log")
+    axes.set_xlabel("render time (s)")
+    axes.set_ylabel("RMSE against the ground truth")
+    truth = next((e for e in run["series"] if e["section"] == "truth"), None)
+    if truth is not None:
+        w, h = truth["points"][0]["size"]
+        axes.set_title(
+            f"Error against time, {w}x{h}, labels = samples per pixel\n"
+            f"ground truth: {truth['name']} at {truth['points'][0]['samples']} spp; "
+            f"{_caption(run)}",
+            fontsize=9,
+        )
+    axes.grid(True, which="both", alpha=0.3)
+    axes.legend(fontsize=7)
+    return _save(figure, path)
+
+
+def pixels_plot(run: Mapping[str, Any], path: Path) -> Path | None:
+    """Render time against pixel count, one line per variant (log-log)."""
+    entries = [e for e in run["series"] if e["section"] == "sizes" and e["status"] == "ok"]
+    figure, axes = plt.subplots(figsize=(7.5, 5))
+    drawn = False
+    for entry in entries:
+        measured = [p for p in entry["points"] if "wall" in p]
+        if not measured:
+            continue
+        xs = [p["size"][0] * p["size"][1] for p in measured]
+        axes.plot(xs, [p["wall"] for p in measured], marker="o", label=entry["name"])
+        drawn = True
+    if not drawn:
+        plt.close(figure)
+        return None
+    axes.set_xscale("log")
+    axes.set_yscale("log")
+    axes.set_xlabel("pixels")
+    axes.set_ylabel("render time (s)")
+    axes.set_title(
+        f"Time against pixel count (points over the budget skipped)\n{_caption(run)}", fontsize=9
+    )
+    axes.grid(True, which="both", alpha=0.3)
+    axes.legend(fontsize=7)
+    return _save(figure, path)
+
+
+def threads_plot(run: Mapping[str, Any], path: Path) -> Path | None:
+    """Throughput relative to one worker or thread against the count, one line per variant
+    option, with the linear ideal dotted (absolute MRay/s are in the report's table)."""
+    rows = [r for r in run["rows"] if r["section"] == "threads" and r["status"] == "ok"]
+    groups: dict[str, list[dict[str, Any]]] = {}
+    for row in rows:
+        groups.setdefault(row["group"], []).append(row)
+    groups = {k: v for k, v in groups.items() if any(r["count"] == 1 for r in v)}
+    if not groups:
+        return None
+    figure, axes = plt.subplots(figsize=(7.5, 5))
+    counts = sorted({r["count"] for r in rows})
+    axes.plot(counts, counts, linestyle=":", color="gray", label="linear (ideal)")
+    for label, members in groups.items():
+        members.sort(key=lambda r: r["count"])
+        one = figures.mrays(next(r for r in members if r["count"] == 1))
+        axes.plot(
+            [r["count"] for r in members],
+            [figures.mrays(r) / one for r in members],
+            marker="o",
+            label=f"{label}: {one:.3g} MRay/s with 1",
+        )
+    axes.set_xlabel("workers / threads")
+    axes.set_ylabel("throughput relative to 1 worker / thread")
+    axes.set_xticks(counts)
+    axes.set_title(
+        f"Throughput against parallelism (sizes may differ: per-pixel ratios)\n{_caption(run)}",
+        fontsize=9,
+    )
+    axes.grid(True, alpha=0.3)
+    axes.legend(fontsize=7)
+    return _save(figure, path)
+
+
+def speedup_plot(run: Mapping[str, Any], path: Path) -> Path | None:
+    """The table's speed-ups over naive as horizontal bars (log scale)."""
+    rows = [r for r in run["rows"] if r["section"] == "table" and r.get("speedup")]
+    if not rows:
+        return None
+    figure, axes = plt.subplots(figsize=(7.5, 0.4 * len(rows) + 1.2))
+    names = [r["name"] for r in rows]
+    values = [r["speedup"]["value"] for r in rows]
+    axes.barh(names, values, color="#4477aa")
+    axes.set_xscale("log")
+    axes.invert_yaxis()
+    axes.set_xlabel("speed-up over naive (throughput ratio, log scale)")
+    for i, (row, value) in enumerate(zip(rows, values, strict=True)):
+        mark = "" if row["speedup"]["basis"] == "same size" else " *"
+        axes.annotate(
+            f"{value:.3g}x{mark}",
+            (value, i),
+            xytext=(3, -3),
+            textcoords="offset points",
+            fontsize=7,
+        )
+    axes.set_title(
+        "Speed-up over naive, same run (* measured at another size than naive: per pixel)\n"
+        + _caption(run),
+        fontsize=9,
+    )
+    axes.grid(True, axis="x", which="both", alpha=0.3)
+    return _save(figure, path)

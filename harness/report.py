@@ -1,0 +1,667 @@
+"""``rtc report``: ``results/README.md`` and ``results/report.html`` from the run history.
+
+The latest run gives the tables (time; cost and accuracy), the pictures beside their heat
+maps, the plots (``results/report/*.png``), the C++ workload and the chapter progress; every
+earlier run is summarized in the history. The machine and the settings are printed beside
+every table. The HTML page holds the same content with the images inlined.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import tempfile
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+from harness import figures, plots
+from harness.alloccount import FREE_LIST_NOTE, METHOD_NOTES
+from harness.document import (
+    Block,
+    Bullets,
+    Gallery,
+    Heading,
+    Para,
+    Picture,
+    Table,
+    to_html,
+    to_markdown,
+)
+from harness.results import ResultFileError, list_runs, load_run
+
+REPORT_DIR = "report"
+C_PLUS_PLUS_ANCHOR = "the C++ report reached 44.9 MRay/s on this workload, on a whole lab machine"
+
+Run = Mapping[str, Any]
+
+
+def _rows(run: Run, section: str) -> list[Mapping[str, Any]]:
+    return [r for r in run["rows"] if r["section"] == section]
+
+
+def _size(row: Mapping[str, Any]) -> str:
+    return "x".join(str(v) for v in row["size"])
+
+
+def _git(run: Run) -> str:
+    m = run["machine"]
+    commit = (m.get("commit") or "unknown")[:10]
+    return f"{commit}{' (dirty tree)' if m.get('dirty') else ''}"
+
+
+def machine_line(run: Run) -> str:
+    m = run["machine"]
+    load = m.get("load_average")
+    load_text = f", load average {load[0]:.2f} at start" if load else ""
+    return (
+        f"Machine: `{m['hostname']}`, {m['cpu_model']}, {m['cores_available']} of "
+        f"{m['cpu_count']} cores{load_text}; Python {m['python']}, numpy {m.get('numpy')}, "
+        f"numba {m.get('numba')}; commit {_git(run)}; run `{run['stem']}` started "
+        f"{run['started'][:19]} UTC, took {run['seconds']:.0f} s."
+    )
+
+
+def context_line(run: Run) -> str:
+    """The machine and run in one line, repeated beside every section's numbers."""
+    m = run["machine"]
+    load = m.get("load_average")
+    load_text = f", load {load[0]:.1f} at start" if load else ""
+    return (
+        f"Measured on `{m['hostname']}` ({m['cpu_model']}, {m['cores_available']} cores"
+        f"{load_text}), Python {m['python']}, numba {m.get('numba')}, commit {_git(run)}, "
+        f"run `{run['stem']}`, budget {run['settings']['budget'] or 0:g} s per row "
+        f"(naive: 3x), mode {run['settings']['mode']['name']}."
+    )
+
+
+def settings_line(run: Run, section: str = "table") -> str:
+    s = run["settings"]
+    threads = s["threads"] or "all"
+    budget = f"{s['budget']:g} s" if s["budget"] else "none"
+    if section == "preset":
+        scene = s.get("preset", "cpp-spheres")
+        return (
+            f"Settings: scene `{scene}`, requested {s['mode']['preset_size'][0]}x"
+            f"{s['mode']['preset_size'][1]}, 8 samples per pixel, depth 5, "
+            f"{s['mode']['side_repeat']} timed render(s) per row, budget {budget} per row, "
+            f"CPUs: {threads}."
+        )
+    return (
+        f"Settings: scene `{s['scene']['name']}`, requested {s['size'][0]}x{s['size'][1]}, "
+        f"{s['samples']} sample(s) per pixel, depth {s['depth']}, seed {s['seed']}, "
+        f"epsilon {s.get('epsilon') or 'the book default (0.0001)'}, "
+        f"{s['repeat']} timed renders per row, budget {budget} per row (naive: 3x), mode "
+        f"{s['mode']['name']}, CPUs: {threads}."
+    )
+
+
+# ----------------------------------------------------------------- the table's cells
+
+
+def _error_cells(row: Mapping[str, Any]) -> list[str]:
+    error = row.get("error_vs_naive")
+    if row["name"] == "naive":
+        return ["(the reference)", "", "", "", ""]
+    if not error:
+        return ["-"] * 5
+    psnr = "∞ (identical)" if error["psnr"] is None else f"{error['psnr']:.1f} dB"
+    return [
+        f"{error['max_abs']:.3g}",
+        f"{error['mean_abs']:.3g}",
+        f"{error['rmse']:.3g}",
+        psnr,
+        f"{error['pixels_over_one_step']} of {error['pixels']}",
+    ]
+
+
+def _alloc_cells(row: Mapping[str, Any]) -> list[str]:
+    found = row.get("allocations")
+    if not found:
+        return ["-", "-", "-"]
+    count = figures.count_text(found["count"])
+    size = figures.bytes_text(found["bytes"])
+    method = found["method"]
+    extra = []
+    if found.get("workers"):
+        n = found["workers"]["processes"]
+        extra.append(f"incl. {n} worker process{'es' if n != 1 else ''}")
+    if found.get("nrt") is not None:
+        extra.append(f"+ {figures.count_text(found['nrt'])} numba NRT")
+    if method == "tracemalloc":
+        count, size = f"≥{count} (net)", f"≥{size}"
+    return [count, size, method + (f" ({'; '.join(extra)})" if extra else "")]
+
+
+def _peak_cell(row: Mapping[str, Any]) -> str:
+    peak = row.get("peak_memory")
+    if not peak:
+        return "-"
+    text = figures.bytes_text(peak["main"])
+    if peak.get("workers"):
+        text += f" + workers {figures.bytes_text(peak['workers'])}"
+    return text
+
+
+def _speedup_cell(row: Mapping[str, Any]) -> str:
+    found = row.get("speedup")
+    if not found:
+        return "-"
+    mark = "" if found["basis"] == "same size" else " (per pixel)"
+    return f"{found['value']:.3g}x{mark}"
+
+
+def _rays_cells(row: Mapping[str, Any]) -> list[str]:
+    rays = row.get("rays")
+    if not rays:
+        return ["-", "-"]
+    parts = ", ".join(
+        f"{k} {figures.count_text(rays[k])}" for k in ("camera", "shadow", "secondary") if k in rays
+    )
+    camera = rays.get("camera")
+    ratio = f"{rays['total'] / camera:.2f}" if camera else "-"
+    return [f"{figures.count_text(rays['total'])} ({parts})", ratio]
+
+
+def _notes(rows: list[Mapping[str, Any]]) -> tuple[dict[str, str], list[str]]:
+    """Footnote marks per row name (rows the budget rule shrank), and the footnotes."""
+    marks: dict[str, str] = {}
+    notes: list[str] = []
+    for row in rows:
+        if row.get("reduced"):
+            notes.append(f"[{len(notes) + 1}] `{row['name']}`: {row['budget_note']}")
+            marks[row["name"]] = f" [{len(notes)}]"
+    return marks, notes
+
+
+def time_table(rows: list[Mapping[str, Any]]) -> Table:
+    marks, _ = _notes(rows)
+    body = []
+    for row in rows:
+        name = f"`{row['name']}`{marks.get(row['name'], '')}"
+        if row["status"] != "ok":
+            body.append([name, "failed", row.get("error", "")[:200], *["-"] * 7])
+            continue
+        w = row["wall"]
+        warm = row.get("warmup", {})
+        first = warm.get("first", 0.0) - warm.get("second", 0.0)
+        body.append(
+            [
+                name,
+                _size(row),
+                figures.seconds_text(figures.median_wall(row)),
+                figures.seconds_text(min(w)),
+                figures.seconds_text(max(w)),
+                f"{figures.cpu_share(row):.2f} of {row['cores']}",
+                _speedup_cell(row),
+                f"{figures.mrays(row):.3g}",
+                _peak_cell(row),
+                figures.seconds_text(max(first, 0.0)),
+            ]
+        )
+    header = [
+        "variant",
+        "size",
+        "median",
+        "min",
+        "max",
+        "CPU (cores busy)",
+        "speed-up",
+        "MRay/s",
+        "peak memory (RSS)",
+        "first-call extra (JIT)",
+    ]
+    return Table(header, body, right={2, 3, 4, 5, 6, 7, 8, 9})
+
+
+def cost_table(rows: list[Mapping[str, Any]]) -> Table:
+    marks, _ = _notes(rows)
+    body = []
+    for row in rows:
+        if row["status"] != "ok":
+            continue
+        name = f"`{row['name']}`{marks.get(row['name'], '')}"
+        body.append([name, *_rays_cells(row), *_alloc_cells(row), *_error_cells(row)])
+    header = [
+        "variant",
+        "rays cast (all kinds)",
+        "rays per camera ray",
+        "allocations",
+        "bytes allocated",
+        "counted by",
+        "max abs error",
+        "mean abs error",
+        "RMSE",
+        "PSNR",
+        "pixels off > 1/255",
+    ]
+    return Table(header, body, right={2, 3, 4, 6, 7, 8, 9, 10})
+
+
+# ----------------------------------------------------------------- sections
+
+
+def _gallery(rows: list[Mapping[str, Any]], full_scale: float) -> list[Block]:
+    entries = []
+    for row in rows:
+        if row["status"] != "ok" or not row.get("image"):
+            continue
+        picture = Picture(f"runs/{row['image']}", row["name"], 240)
+        compare = row.get("compare_image")
+        compare_pic = (
+            Picture(f"runs/{compare}", f"{row['name']} at comparison size", 240)
+            if compare
+            else None
+        )
+        heat = row.get("heatmap")
+        heat_pic = (
+            Picture(f"runs/{heat}", f"difference {row['name']} - naive", 240) if heat else None
+        )
+        caption = f"`{row['name']}` ({_size(row)})"
+        entries.append((caption, [picture, compare_pic, heat_pic]))
+    if not entries:
+        return []
+    return [
+        Para(
+            "Each variant's picture at its measured size, the picture at the comparison size "
+            "where that differs, and a heat map of its difference from naive's picture at the "
+            f"comparison size (black: identical; brightest: {full_scale * 255:.0f}/255 or "
+            "more in some channel)."
+        ),
+        Gallery(["variant", "picture", "at comparison size", "difference from naive"], entries),
+    ]
+
+
+def _skip_reason(points: list[Mapping[str, Any]]) -> str:
+    """One reason for several skipped points: the first one's (the cheapest)."""
+    reason = str(points[0]["skipped"])
+    return reason if len(points) == 1 else f"{reason} (the cheapest of them)"
+
+
+def _sweep_blocks(run: Run, plot: Path | None) -> list[Block]:
+    truth = next((e for e in run["series"] if e["section"] == "truth"), None)
+    sweeps = [e for e in run["series"] if e["section"] == "sweep"]
+    if truth is None and not sweeps:
+        return []
+    blocks: list[Block] = [Heading(2, "Error against run time"), Para(context_line(run))]
+    if truth is not None and truth.get("points") and "wall" in truth["points"][0]:
+        p = truth["points"][0]
+        blocks.append(
+            Para(
+                f"Ground truth: `{truth['name']}` (the fastest variant whose table picture equals "
+                f"naive's) at {p['size'][0]}x{p['size'][1]} with {p['samples']} samples per pixel "
+                f"({figures.seconds_text(p['wall'])}). Sample positions are a pure function of "
+                "(seed, pixel, sample), so exact variants render the same pictures and differ only "
+                "in time; float32 and fastmath options also differ in error. One render per point."
+            )
+        )
+    if plot is not None:
+        blocks.append(Picture(f"{REPORT_DIR}/{plot.name}", "error against time"))
+    body = []
+    for entry in sweeps:
+        for p in entry.get("points", []):
+            if "wall" in p and p.get("error"):
+                e = p["error"]
+                psnr = "∞" if e["psnr"] is None else f"{e['psnr']:.1f}"
+                body.append(
+                    [
+                        f"`{entry['name']}`",
+                        str(p["samples"]),
+                        figures.seconds_text(p["wall"]),
+                        f"{e['rmse']:.4g}",
+                        psnr,
+                        f"{e['max_abs']:.3g}",
+                    ]
+                )
+        skipped = [p for p in entry.get("points", []) if p.get("skipped")]
+        if skipped:
+            spp = ", ".join(str(p["samples"]) for p in skipped)
+            body.append(
+                [f"`{entry['name']}`", spp, "skipped: " + _skip_reason(skipped), "-", "-", "-"]
+            )
+        if entry["status"] != "ok":
+            body.append(
+                [f"`{entry['name']}`", "-", "failed: " + entry.get("error", ""), "-", "-", "-"]
+            )
+    if body:
+        blocks.append(
+            Table(
+                ["configuration", "samples/pixel", "time", "RMSE", "PSNR (dB)", "max abs error"],
+                body,
+                right={1, 2, 3, 4, 5},
+            )
+        )
+    return blocks
+
+
+def _scaling_blocks(run: Run, pixels_png: Path | None, threads_png: Path | None) -> list[Block]:
+    sizes = [e for e in run["series"] if e["section"] == "sizes"]
+    threads = _rows(run, "threads")
+    if not sizes and not threads:
+        return []
+    blocks: list[Block] = [Heading(2, "Scaling"), Para(context_line(run))]
+    if pixels_png is not None:
+        blocks.append(Picture(f"{REPORT_DIR}/{pixels_png.name}", "time against pixel count"))
+    body = []
+    for entry in sizes:
+        for p in entry.get("points", []):
+            w, h = p["size"]
+            if "wall" in p:
+                per_pixel = p["wall"] / (w * h)
+                body.append(
+                    [
+                        f"`{entry['name']}`",
+                        f"{w}x{h}",
+                        figures.seconds_text(p["wall"]),
+                        f"{per_pixel * 1e6:.3g}",
+                    ]
+                )
+        skipped = [p for p in entry.get("points", []) if p.get("skipped")]
+        if skipped:
+            sizes_text = ", ".join("x".join(map(str, p["size"])) for p in skipped)
+            body.append(
+                [f"`{entry['name']}`", sizes_text, "skipped: " + _skip_reason(skipped), "-"]
+            )
+    if body:
+        blocks.append(Table(["variant", "size", "time", "µs per pixel"], body, right={2, 3}))
+    if threads_png is not None:
+        blocks.append(Picture(f"{REPORT_DIR}/{threads_png.name}", "throughput against workers"))
+    if threads:
+        body = []
+        ones = {r["group"]: r for r in threads if r["count"] == 1 and r["status"] == "ok"}
+        for row in threads:
+            if row["status"] != "ok":
+                body.append(
+                    [row["group"], str(row["count"]), f"`{row['name']}`", "failed", "-", "-", "-"]
+                )
+                continue
+            one = ones.get(row["group"])
+            gain = f"{figures.mrays(row) / figures.mrays(one):.2f}x" if one else "-"
+            body.append(
+                [
+                    row["group"],
+                    str(row["count"]),
+                    f"`{row['name']}`",
+                    _size(row),
+                    f"{figures.mrays(row):.3g}",
+                    gain,
+                    f"{figures.cpu_share(row):.2f}",
+                ]
+            )
+        blocks.append(
+            Table(
+                [
+                    "variant (option)",
+                    "count",
+                    "name",
+                    "size",
+                    "MRay/s",
+                    "over 1",
+                    "CPU (cores busy)",
+                ],
+                body,
+                right={1, 4, 5, 6},
+            )
+        )
+    return blocks
+
+
+def _preset_blocks(run: Run) -> list[Block]:
+    rows = _rows(run, "preset")
+    if not rows:
+        return []
+    body = []
+    for row in rows:
+        if row["status"] != "ok":
+            body.append([f"`{row['name']}`", "failed", row.get("error", "")[:120], "-", "-", "-"])
+            continue
+        note = row["budget_note"] if row.get("reduced") else ""
+        body.append(
+            [
+                f"`{row['name']}`",
+                _size(row),
+                figures.seconds_text(figures.median_wall(row)),
+                f"{figures.mrays(row):.3g}",
+                _speedup_cell(row),
+                note,
+            ]
+        )
+    return [
+        Heading(2, "The C++ report's workload (cpp-spheres)"),
+        Para(context_line(run)),
+        Para(settings_line(run, "preset") + f" For scale: {C_PLUS_PLUS_ANCHOR}."),
+        Table(["variant", "size", "median", "MRay/s", "speed-up", "note"], body, right={2, 3, 4}),
+    ]
+
+
+def _kata_blocks(run: Run) -> list[Block]:
+    kata = run.get("kata")
+    if not kata or not kata.get("summary"):
+        return []
+    variants = list(kata.get("variants") or [])
+    chapters: dict[Any, dict[str, Mapping[str, Any]]] = {}
+    titles: dict[Any, str] = {}
+    for entry in kata["summary"]:
+        chapters.setdefault(entry["chapter"], {})[entry["variant"]] = entry
+        titles[entry["chapter"]] = entry["title"]
+    body = []
+    for chapter, by_variant in chapters.items():
+        cells = []
+        for variant in variants:
+            e = by_variant.get(variant)
+            if e is None:
+                cells.append("-")
+                continue
+            total = e["passed"] + e["failed"] + e["undefined"] + e.get("skipped", 0)
+            total += e.get("todo", 0)  # stubs not written yet (rtc new)
+            mark = "✓" if e["passed"] == total else "✗"
+            cells.append(f"{mark} {e['passed']}/{total}")
+        body.append([f"{chapter or '?'} {titles[chapter]}", *cells])
+    return [
+        Heading(2, "Chapter progress"),
+        Para(
+            "Scenarios passed per chapter and variant (`rtc kata --variant all`), "
+            "at the commit of the latest run."
+        ),
+        Table(["chapter", *[f"`{v}`" for v in variants]], body),
+    ]
+
+
+def _history_blocks(runs: list[Run]) -> list[Block]:
+    body = []
+    for run in reversed(runs):
+        table = [r for r in _rows(run, "table") if r["status"] == "ok"]
+        naive = next((r for r in table if r["name"] == "naive"), None)
+        best = max(
+            (r for r in table if r.get("speedup")),
+            key=lambda r: r["speedup"]["value"],
+            default=None,
+        )
+        s = run["settings"]
+        m = run["machine"]
+        body.append(
+            [
+                run["started"][:16].replace("T", " "),
+                f"`{run['stem']}`",
+                s["mode"]["name"],
+                f"{s['size'][0]}x{s['size'][1]}, {s['samples']} spp",
+                f"{m['hostname']}, {m['cores_available']} cores",
+                _git(run),
+                f"{figures.median_wall(naive) / figures.pixels(naive) * 1e3:.3g} ms"
+                if naive
+                else "-",
+                f"`{best['name']}` {best['speedup']['value']:.3g}x" if best else "-",
+            ]
+        )
+    return [
+        Heading(2, "History"),
+        Para(f"Every run kept in `runs/` ({len(runs)}), newest first."),
+        Table(
+            [
+                "started (UTC)",
+                "run",
+                "mode",
+                "table size",
+                "machine",
+                "commit",
+                "naive per pixel",
+                "fastest (speed-up)",
+            ],
+            body,
+        ),
+    ]
+
+
+def build_blocks(runs: list[Run], plot_files: Mapping[str, Path | None]) -> list[Block]:
+    latest = runs[-1]
+    table_rows = list(_rows(latest, "table"))
+    blocks: list[Block] = [
+        Heading(1, "Benchmark results"),
+        Para(
+            "Generated by `rtc report` from the run files in `results/runs/` (one per "
+            "`rtc bench`, never overwritten). The latest run is shown in full; earlier runs "
+            "are summarized under History. Timings are wall-clock seconds of whole renders "
+            "in a fresh process per variant; treat them as valid for the machine named."
+        ),
+        Para(machine_line(latest)),
+    ]
+    if table_rows:
+        _, notes = _notes(table_rows)
+        methods = sorted(
+            {str(r["allocations"]["method"]) for r in table_rows if r.get("allocations")}
+        )
+        compare = "x".join(str(v) for v in latest["compare_size"])
+        blocks += [
+            Heading(2, "Time"),
+            Para(settings_line(latest)),
+            time_table(table_rows),
+        ]
+        speedup_png = plot_files.get("speedup")
+        if speedup_png is not None:
+            blocks.append(Picture(f"{REPORT_DIR}/{speedup_png.name}", "speed-ups"))
+        blocks += [
+            Heading(2, "Cost and accuracy"),
+            Para(
+                f"One untimed render per variant at the comparison size {compare} (the same "
+                "for every row, so the figures compare): the rays it cast, the allocations it "
+                "made, and its picture's error against naive's picture at the same size and "
+                "settings (colors clamped to [0, 1])."
+            ),
+            cost_table(table_rows),
+            Bullets(
+                [
+                    *notes,
+                    "Speed-up: throughput (pixels x samples per second) over naive's, measured in "
+                    "this run; '(per pixel)' where the two were measured at different sizes.",
+                    "MRay/s: width x height x samples per second / 1e6 (camera samples, as the C++ "
+                    "report counts).",
+                    "Rays cast: every ray, camera, shadow and secondary (reflected and refracted), "
+                    "counted in a separate untimed render where the variant can be counted "
+                    "(its own count_rays hook, or the reference instrumented when the variant "
+                    "renders through it); '-' where it cannot.",
+                    "CPU (cores busy): CPU seconds of the process and its workers per wall second "
+                    "of the timed renders; below the core count means the run did not get them.",
+                    "First-call extra: first tiny render minus the second (JIT compilation and "
+                    "first-use costs), excluded from the timings.",
+                    *[f"Allocations counted by {m}: {METHOD_NOTES.get(m, m)}." for m in methods],
+                    "Worker processes count their own allocations (they are included, and named "
+                    "in the 'counted by' column); allocations made while a worker's interpreter "
+                    "starts, before the counters are installed, are not.",
+                    f"Not counted: {FREE_LIST_NOTE}.",
+                    "Peak memory: the resident-set high-water mark of the measuring process during "
+                    "the timed renders, and the largest of its worker processes'.",
+                ]
+            ),
+        ]
+        blocks += [Heading(2, "Pictures")]
+        blocks += _gallery(table_rows, float(latest.get("heat_full_scale", 16 / 255)))
+    unavailable = latest.get("unavailable") or {}
+    if unavailable:
+        blocks += [
+            Heading(3, "Variants not available on this machine"),
+            Bullets([f"`{name}`: {why}" for name, why in unavailable.items()]),
+        ]
+    blocks += _sweep_blocks(latest, plot_files.get("sweep"))
+    blocks += _scaling_blocks(latest, plot_files.get("pixels"), plot_files.get("threads"))
+    blocks += _preset_blocks(latest)
+    blocks += _kata_blocks(latest)
+    if latest.get("notes"):
+        blocks += [Heading(2, "Notes"), Bullets(list(latest["notes"]))]
+    blocks += _history_blocks(runs)
+    return blocks
+
+
+def _write_text(path: Path, text: str) -> None:
+    fd, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as out:
+            out.write(text)
+        os.chmod(temporary, 0o644)
+        os.replace(temporary, path)
+    finally:
+        Path(temporary).unlink(missing_ok=True)
+
+
+def load_history(results: Path) -> tuple[list[Run], list[str]]:
+    """Every readable run, oldest first, and a message for each unreadable one."""
+    runs: list[Run] = []
+    problems: list[str] = []
+    for path in list_runs(results):
+        try:
+            runs.append(load_run(path)["rtc"])
+        except ResultFileError as error:
+            problems.append(str(error))
+    return runs, problems
+
+
+def build_report(results: Path) -> tuple[Path, Path, list[str]]:
+    """Write README.md, report.html and the plots; returns their paths and any problems."""
+    runs, problems = load_history(results)
+    if not runs:
+        raise FileNotFoundError(f"no bench results in {results / 'runs'}; run `rtc bench` first")
+    latest = runs[-1]
+    folder = results / REPORT_DIR
+    folder.mkdir(parents=True, exist_ok=True)
+    plot_files = {
+        "speedup": plots.speedup_plot(latest, folder / "speedup.png"),
+        "sweep": plots.sweep_plot(latest, folder / "error-vs-time.png"),
+        "pixels": plots.pixels_plot(latest, folder / "time-vs-pixels.png"),
+        "threads": plots.threads_plot(latest, folder / "throughput-vs-workers.png"),
+    }
+    blocks = build_blocks(runs, plot_files)
+    if problems:
+        blocks += [Heading(2, "Unreadable result files"), Bullets(problems)]
+    readme, page = results / "README.md", results / "report.html"
+    _write_text(readme, to_markdown(blocks))
+    _write_text(page, to_html(blocks, results, "Benchmark results"))
+    return readme, page, problems
+
+
+def console_table(run: Run) -> str:
+    """The table's main figures as plain text, for the terminal after ``rtc bench``."""
+    lines = [
+        f"{'variant':<44} {'size':>9} {'median':>9} {'speed-up':>14} {'MRay/s':>8} "
+        f"{'allocs':>8} {'RMSE':>9}"
+    ]
+    for row in _rows(run, "table"):
+        if row["status"] != "ok":
+            lines.append(f"{row['name']:<44} failed: {row.get('error', '')[:60]}")
+            continue
+        error = row.get("error_vs_naive")
+        rmse = "-" if not error else f"{error['rmse']:.3g}"
+        allocs = figures.count_text((row.get("allocations") or {}).get("count"))
+        lines.append(
+            f"{row['name']:<44} {_size(row):>9} "
+            f"{figures.seconds_text(figures.median_wall(row)):>9} {_speedup_cell(row):>14} "
+            f"{figures.mrays(row):>8.3g} {allocs:>8} {rmse:>9}"
+        )
+    for row in _rows(run, "preset"):
+        if row["status"] == "ok":
+            lines.append(
+                f"cpp-spheres {row['name']:<32} {_size(row):>9} "
+                f"{figures.seconds_text(figures.median_wall(row)):>9} {'':>14} "
+                f"{figures.mrays(row):>8.3g}"
+            )
+    if math.isfinite(run["seconds"]):
+        lines.append(f"(the run took {run['seconds']:.0f} s)")
+    return "\n".join(lines)

@@ -1,0 +1,29 @@
+"""The book's YAML scene description format: a camera, a light and shapes, built through any
+variant's API: ``load_scene(path, variant.api, variant=variant.name)``.
+
+The format, as this loader reads it (top level: a list of items, read in order):
+
+- ``- add: camera`` (width, height, field-of-view, from, to, up) and ``- add: light`` (at,
+  intensity): exactly one of each. A second light is an error: the book's world has one.
+- ``- add: sphere | plane | cube | cylinder | cone | group | obj | csg`` with ``transform``,
+  ``material``, ``shadow`` (false: casts no shadow); ``min``, ``max``, ``closed``
+  (cylinders, cones); ``children`` (groups); ``file`` (obj: relative to the scene file);
+  ``operation``, ``left``, ``right`` (csg).
+- ``- define: NAME`` with ``value:`` a material mapping, a transform list or a shape, and
+  ``extend: OTHER`` (materials: OTHER's properties, then these; transforms: OTHER's, then
+  these). A name is usable only below its definition.
+- ``- add: NAME`` adds a new copy of a defined shape; its own keys replace the definition's,
+  except ``transform``, which applies after the definition's.
+- A transform list is applied entry by entry: ``[A, B]`` is ``B * A``.
+- A material or ``shadow: false`` on a group, OBJ model or CSG applies to every shape inside
+  it that does not set its own.
+
+Every mistake in a scene file is one ``SceneError``: ``file:line: what is wrong, what was
+expected``. Modules: ``reader`` (YAML with lines), ``transforms``, ``materials``, ``shapes``,
+``loader`` (the top level).
+"""
+
+from harness.scenefile.errors import SceneError
+from harness.scenefile.loader import Scene, load_scene, load_scene_text
+
+__all__ = ["Scene", "SceneError", "load_scene", "load_scene_text"]

@@ -1,0 +1,88 @@
+"""What every part of the loader needs: the reader, the variant's API, and the defined names."""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+from yaml.nodes import Node
+
+from harness.scenefile.reader import Reader
+from raytracer.api import BOOK_API
+
+Kind = Literal["material", "transform", "shape"]
+
+
+@dataclass(frozen=True)
+class Definition:
+    """A ``- define: NAME`` item.
+
+    kind: what the value is; value: material properties (a dict of the book's names), a
+    transform (a matrix), or a resolved shape description (``ShapeSpec``); line: where.
+    """
+
+    name: str
+    kind: Kind
+    value: Any
+    line: int
+
+
+@dataclass
+class Context:
+    """The state of one load.
+
+    reader: the scene file's YAML reader; api: the variant's book API; variant: its name
+    (for errors); scope: the names defined so far, in file order; depth: how deep the shape
+    being read is nested in groups and CSGs.
+    """
+
+    reader: Reader
+    api: Mapping[str, Any]
+    variant: str
+    scope: dict[str, Definition] = field(default_factory=dict)
+    depth: int = 0
+
+    def need(self, name: str, node: Node, purpose: str) -> Any:
+        """The variant's ``name``; a ``SceneError`` at ``node`` if the variant lacks it."""
+        if name not in self.api:
+            chapter = BOOK_API.get(name)
+            where = f" (chapter {chapter} of the book)" if chapter else ""
+            self.reader.fail(
+                node,
+                f"the variant {self.variant!r} has no {name!r}{where}, which {purpose} needs; "
+                "choose a variant that implements it",
+            )
+        return self.api[name]
+
+    def lookup(self, node: Node, kind: Kind, what: str) -> Definition:
+        """The definition a name refers to; it must exist already and be of ``kind``."""
+        name = self.reader.string(node, what)
+        definition = self.scope.get(name)
+        if definition is None:
+            known = sorted(n for n, d in self.scope.items() if d.kind == kind)
+            listed = f"defined {kind}s: {', '.join(known)}" if known else f"no {kind} is defined"
+            self.reader.fail(
+                node,
+                f"{what}: {name!r} is not defined above this line ({listed}); "
+                f"expected a name given earlier with '- define: {name}'",
+            )
+        if definition.kind != kind:
+            self.reader.fail(
+                node,
+                f"{what}: {name!r} (defined at line {definition.line}) is a {definition.kind}, "
+                f"not a {kind}",
+            )
+        return definition
+
+
+def updated(value: Any, **changes: Any) -> Any:
+    """``value`` with some attributes changed: a replaced copy of a frozen dataclass (the
+    reference's ``Camera``, ``Material``), else the same object changed in place."""
+    params = getattr(type(value), "__dataclass_params__", None)
+    if params is not None and params.frozen:
+        return dataclasses.replace(value, **changes)
+    for name, new in changes.items():
+        setattr(value, name, new)
+    return value

@@ -1,0 +1,263 @@
+"""The top level of a scene file: a list of ``- add:`` and ``- define:`` items, read in order.
+
+``- add: camera`` and ``- add: light`` (one of each: the book's world has one light), shapes
+added to the world as they come, and ``- define: NAME`` for materials, transforms and shapes
+used further down (``extend: OTHER`` builds on an earlier definition).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
+
+from harness.scenefile.context import Context, Definition, Kind, updated
+from harness.scenefile.errors import SceneError
+from harness.scenefile.materials import read_color, read_material_properties
+from harness.scenefile.reader import Entry, Reader, compose, describe, line_of
+from harness.scenefile.shapes import SHAPES, ShapeSpec, build_shape, read_shape
+from harness.scenefile.transforms import read_transform
+
+CAMERA_KEYS = ("add", "width", "height", "field-of-view", "from", "to", "up")
+LIGHT_KEYS = ("add", "at", "intensity")
+DEFINE_KEYS = ("define", "value", "extend")
+MAX_SIDE = 16384  # as the canvas allows
+
+
+@dataclass
+class Scene:
+    """A loaded scene file.
+
+    path: the scene file; camera and world: built with the variant's API; variant: its name;
+    api: the variant's API (to resize the camera); camera_line, light_line: where they are;
+    obj_files: the OBJ models the scene reads.
+    """
+
+    path: Path
+    camera: Any
+    world: Any
+    variant: str
+    api: Mapping[str, Any] = field(repr=False, compare=False)
+    camera_line: int = 0
+    light_line: int = 0
+    obj_files: tuple[Path, ...] = ()
+
+    def resized(self, width: int, height: int) -> Scene:
+        """The same scene seen by a camera of another size, with the same field of view."""
+        c = self.camera
+        camera = updated(self.api["camera"](width, height, c.field_of_view), transform=c.transform)
+        return Scene(
+            self.path, camera, self.world, self.variant, self.api,
+            self.camera_line, self.light_line, self.obj_files,
+        )  # fmt: skip
+
+
+@dataclass
+class _Loading:
+    """What the top level has seen so far."""
+
+    ctx: Context
+    world: Any
+    camera: Any = None
+    camera_line: int = 0
+    light_line: int = 0
+    obj_files: list[Path] = field(default_factory=list)
+
+
+def load_scene(path: str | Path, api: Mapping[str, Any], *, variant: str = "this variant") -> Scene:
+    """Chapter 7's camera and world from a scene file in the book's YAML format.
+
+    api: a variant's book API (every object is built with it); variant: its name, for errors.
+    Any mistake in the file is a ``SceneError`` naming the file and line.
+    """
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as error:
+        raise SceneError(path, None, f"cannot read the scene file: {error.strerror}") from None
+    except UnicodeDecodeError as error:
+        raise SceneError(path, None, f"the scene file is not UTF-8 text: {error}") from None
+    return load_scene_text(text, api, path=path, variant=variant)
+
+
+def load_scene_text(
+    text: str, api: Mapping[str, Any], *, path: str | Path = "<scene>",
+    variant: str = "this variant",
+) -> Scene:  # fmt: skip
+    """Like ``load_scene`` for text already read; ``path`` names it and locates OBJ files."""
+    path = Path(path)
+    reader = Reader(path)
+    root = compose(text, path)
+    if root is None:
+        reader.fail(None, "the scene file is empty; expected a list of '- add:' and '- define:'")
+    items = reader.sequence(root, "a scene file (its top level)")
+    ctx = Context(reader, api, variant)
+    state = _Loading(ctx, ctx.need("world", root, "the scene")())
+    for item in items:
+        _item(state, item)
+    if state.camera is None:
+        reader.fail(
+            None, "the scene has no camera; expected '- add: camera' with width, height, "
+            "field-of-view, from, to and up"
+        )  # fmt: skip
+    if state.world.light is None:
+        reader.fail(None, "the scene has no light; expected '- add: light' with at and intensity")
+    return Scene(
+        path, state.camera, state.world, variant, api,
+        state.camera_line, state.light_line, tuple(state.obj_files),
+    )  # fmt: skip
+
+
+def _item(state: _Loading, node: Node) -> None:
+    reader = state.ctx.reader
+    if not isinstance(node, MappingNode):
+        reader.fail(node, f"expected an item '- add: ...' or '- define: ...', got {describe(node)}")
+    entries = reader.mapping(node, "an item")
+    if "add" in entries and "define" in entries:
+        reader.fail(node, "an item has both 'add' and 'define'; expected one of them")
+    if "define" in entries:
+        _define(state.ctx, node, entries)
+        return
+    if "add" not in entries:
+        first = next(iter(entries.values()), None)
+        reader.fail(
+            first.key_node if first else node,
+            "expected an item '- add: ...' or '- define: ...'; "
+            f"this one has {', '.join(entries) or 'no keys'}",
+        )
+    kind = entries["add"].value
+    if isinstance(kind, ScalarNode) and kind.value == "camera":
+        _camera(state, node, entries)
+    elif isinstance(kind, ScalarNode) and kind.value == "light":
+        _light(state, node, entries)
+    else:
+        spec = read_shape(state.ctx, node)
+        for obj_file in _obj_files(spec):
+            if obj_file not in state.obj_files:
+                state.obj_files.append(obj_file)
+        state.world.objects.append(build_shape(state.ctx, spec))
+
+
+def _obj_files(spec: ShapeSpec) -> list[Path]:
+    found = [spec.obj_file] if spec.obj_file is not None else []
+    for child in (*spec.children, spec.left, spec.right):
+        if child is not None:
+            found.extend(_obj_files(child))
+    return found
+
+
+def _camera(state: _Loading, node: Node, entries: dict[str, Entry]) -> None:
+    """``- add: camera``: chapter 7's camera and view transformation."""
+    ctx, reader = state.ctx, state.ctx.reader
+    if state.camera is not None:
+        reader.fail(
+            node, f"a second camera (the first is at line {state.camera_line}); "
+            "a scene has one camera"
+        )  # fmt: skip
+    reader.check_keys(entries, CAMERA_KEYS, "the camera")
+    value = {key: reader.require(entries, key, node, "the camera") for key in CAMERA_KEYS}
+    width = reader.whole(value["width"], "the camera's width", 1, MAX_SIDE)
+    height = reader.whole(value["height"], "the camera's height", 1, MAX_SIDE)
+    fov = reader.number(value["field-of-view"], "the camera's field-of-view")
+    if not 0 < fov < math.pi:
+        reader.fail(
+            value["field-of-view"],
+            f"the camera's field-of-view must be between 0 and π radians (3.14159...), got {fov}",
+        )
+    eye, to, up = (reader.numbers(value[k], f"the camera's {k}", 3) for k in ("from", "to", "up"))
+    forward = [b - a for a, b in zip(eye, to, strict=True)]
+    if not any(forward):
+        reader.fail(value["to"], "the camera's 'to' equals its 'from'; expected another point")
+    left = (forward[1] * up[2] - forward[2] * up[1], forward[2] * up[0] - forward[0] * up[2],
+            forward[0] * up[1] - forward[1] * up[0])  # fmt: skip
+    if not any(left):
+        reader.fail(
+            value["up"], "the camera's 'up' is zero or points along the line from 'from' to "
+            "'to'; expected a direction across it, e.g. [0, 1, 0]"
+        )  # fmt: skip
+    point, vector = ctx.need("point", node, "the camera"), ctx.need("vector", node, "the camera")
+    view = ctx.need("view_transform", node, "the camera")(point(*eye), point(*to), vector(*up))
+    camera = ctx.need("camera", node, "the camera")(width, height, fov)
+    state.camera = updated(camera, transform=view)
+    state.camera_line = line_of(node)
+
+
+def _light(state: _Loading, node: Node, entries: dict[str, Entry]) -> None:
+    """``- add: light``: chapter 6's point light. The book's world has exactly one."""
+    ctx, reader = state.ctx, state.ctx.reader
+    if state.world.light is not None:
+        reader.fail(
+            node,
+            f"a second light (the first is at line {state.light_line}): the book's world has "
+            "one light; expected a single '- add: light'",
+        )
+    reader.check_keys(entries, LIGHT_KEYS, "the light")
+    at = reader.numbers(reader.require(entries, "at", node, "the light"), "the light's at", 3)
+    intensity = read_color(
+        ctx, reader.require(entries, "intensity", node, "the light"), "the light's intensity"
+    )
+    position = ctx.need("point", node, "the light")(*at)
+    state.world.light = ctx.need("point_light", node, "the light")(position, intensity)
+    state.light_line = line_of(node)
+
+
+RESERVED = ("camera", "light", *SHAPES)
+
+
+def _define(ctx: Context, node: Node, entries: dict[str, Entry]) -> None:
+    """``- define: NAME`` with ``value:`` (a material, a transform list or a shape) and an
+    optional ``extend: OTHER`` (an earlier definition of the same kind to build on)."""
+    reader = ctx.reader
+    reader.check_keys(entries, DEFINE_KEYS, "a define")
+    name_node = entries["define"].value
+    name = reader.string(name_node, "define")
+    if name in RESERVED:
+        reader.fail(name_node, f"cannot define {name!r}: it is a built-in; choose another name")
+    if "value" not in entries:
+        if "extend" not in entries:
+            reader.fail(node, f"define {name!r} has no 'value'; expected value: (or extend:)")
+        alias_node = entries["extend"].value
+        alias = reader.string(alias_node, "extend")
+        if alias not in ctx.scope:
+            reader.fail(alias_node, f"extend: {alias!r} is not defined above this line")
+        ctx.scope[name] = Definition(name, ctx.scope[alias].kind, ctx.scope[alias].value,
+                                     line_of(node))  # fmt: skip
+        return
+    value = entries["value"].value
+    kind = _kind_of(ctx, value, name)
+    base: Definition | None = None
+    if "extend" in entries:
+        base = ctx.lookup(entries["extend"].value, kind, f"define {name!r}: extend")
+    what = f"define {name!r}"
+    result: Any
+    if kind == "material":
+        result = {**(base.value if base else {}), **read_material_properties(ctx, value, what)}
+    elif kind == "transform":
+        m = read_transform(ctx, value, what)
+        result = m * base.value if base else m
+    else:
+        if base is not None:
+            reader.fail(
+                entries["extend"].key_node,
+                f"{what}: 'extend' works for materials and transforms; to build on the shape "
+                f"{base.name!r}, write 'add: {base.name}' in the value instead",
+            )
+        result = read_shape(ctx, value)
+    ctx.scope[name] = Definition(name, kind, result, line_of(node))
+
+
+def _kind_of(ctx: Context, value: Node, name: str) -> Kind:
+    if isinstance(value, SequenceNode):
+        return "transform"
+    if isinstance(value, MappingNode):
+        keys = {k.value for k, _ in value.value if isinstance(k, ScalarNode)}
+        return "shape" if "add" in keys else "material"
+    ctx.reader.fail(
+        value,
+        f"define {name!r}: the value must be a material (a mapping), a transform list, "
+        f"or a shape (a mapping with 'add'), got {describe(value)}",
+    )

@@ -1,0 +1,103 @@
+"""Materials (chapters 6, 10 and 11) and their patterns, as the scene format writes them.
+
+A material is read into a dict of the book's property names (``refractive_index`` for the
+format's ``refractive-index``), so that ``define ... extend`` can merge them; ``make_material``
+turns the dict into the variant's material.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from yaml.nodes import Node, ScalarNode
+
+from harness.scenefile.context import Context, updated
+from harness.scenefile.reader import line_of
+from harness.scenefile.transforms import is_invertible, read_transform
+
+# the format's key -> the book's material property
+NUMBER_PROPERTIES = {
+    "ambient": "ambient",
+    "diffuse": "diffuse",
+    "specular": "specular",
+    "shininess": "shininess",
+    "reflective": "reflective",
+    "transparency": "transparency",
+    "refractive-index": "refractive_index",
+}
+MATERIAL_KEYS = ("color", *NUMBER_PROPERTIES, "pattern")
+PATTERNS = {
+    "stripes": "stripe_pattern",
+    "gradient": "gradient_pattern",
+    "rings": "ring_pattern",
+    "checkers": "checkers_pattern",
+}
+PATTERN_KEYS = ("type", "colors", "transform")
+
+
+def read_color(ctx: Context, node: Node, what: str) -> Any:
+    """``[r, g, b]`` as the variant's color."""
+    r, g, b = ctx.reader.numbers(node, what, 3)
+    return ctx.need("color", node, what)(r, g, b)
+
+
+def read_pattern(ctx: Context, node: Node) -> Any:
+    """``{type: checkers, colors: [[1, 1, 1], [0, 0, 0]], transform: [...]}`` as a pattern."""
+    reader = ctx.reader
+    entries = reader.mapping(node, "a pattern")
+    reader.check_keys(entries, PATTERN_KEYS, "a pattern")
+    type_node = reader.require(entries, "type", node, "the pattern")
+    kind = reader.string(type_node, "the pattern's type")
+    if kind not in PATTERNS:
+        reader.fail(type_node, f"unknown pattern type {kind!r}; known: {', '.join(PATTERNS)}")
+    colors_node = reader.require(entries, "colors", node, f"the {kind} pattern")
+    colors = reader.sequence(colors_node, f"the {kind} pattern's colors")
+    if len(colors) != 2:
+        reader.fail(
+            colors_node,
+            f"the {kind} pattern takes 2 colors ([[r, g, b], [r, g, b]]), got {len(colors)}",
+        )
+    a, b = (read_color(ctx, c, f"the {kind} pattern's color") for c in colors)
+    pattern = ctx.need(PATTERNS[kind], type_node, f"a {kind} pattern")(a, b)
+    if "transform" in entries:
+        transform_node = entries["transform"].value
+        m = read_transform(ctx, transform_node, f"the {kind} pattern's transform")
+        if not is_invertible(ctx, m):
+            reader.fail(
+                transform_node,
+                f"the transform of the {kind} pattern at line {line_of(node)} is not "
+                "invertible (determinant 0: a scale by 0?); expected an invertible transform",
+            )
+        ctx.need("set_pattern_transform", transform_node, "a pattern transform")(pattern, m)
+    return pattern
+
+
+def read_material_properties(ctx: Context, node: Node, what: str) -> dict[str, Any]:
+    """A material mapping as ``{book property: value}`` (only the properties it gives)."""
+    reader = ctx.reader
+    entries = reader.mapping(node, what)
+    reader.check_keys(entries, MATERIAL_KEYS, what)
+    properties: dict[str, Any] = {}
+    for key, entry in entries.items():
+        if key == "color":
+            properties["color"] = read_color(ctx, entry.value, f"{what}: color")
+        elif key == "pattern":
+            properties["pattern"] = read_pattern(ctx, entry.value)
+        else:
+            value = reader.number(entry.value, f"{what}: {key}")
+            if key == "refractive-index" and value <= 0:
+                reader.fail(entry.value, f"{what}: refractive-index must be above 0, got {value}")
+            properties[NUMBER_PROPERTIES[key]] = value
+    return properties
+
+
+def read_material(ctx: Context, node: Node, what: str) -> dict[str, Any]:
+    """A shape's ``material:``: a mapping, or the name of a material defined earlier."""
+    if isinstance(node, ScalarNode):
+        return dict(ctx.lookup(node, "material", what).value)
+    return read_material_properties(ctx, node, what)
+
+
+def make_material(ctx: Context, properties: dict[str, Any]) -> Any:
+    """The variant's default ``material()`` with ``properties`` replaced."""
+    return updated(ctx.api["material"](), **properties)

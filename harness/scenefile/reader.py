@@ -1,0 +1,177 @@
+"""Reading the YAML of a scene file while keeping every node's line (``yaml.compose``).
+
+``Reader`` turns YAML nodes into numbers, strings, booleans and triples, and raises a
+``SceneError`` naming the node's line for anything that is not what the format expects.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+import re
+from collections.abc import Iterable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import NoReturn
+
+import yaml
+from yaml.constructor import ConstructorError, SafeConstructor
+from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
+
+from harness.scenefile.errors import SceneError
+
+INDENTATION_HINT = (
+    "check the indentation: the keys of one item line up, and every item of a list starts with '- '"
+)
+# YAML 1.1 (PyYAML) reads 1e-3 as a string; the scene format means a number.
+_NUMBER_TEXT = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
+_STR_TAG = "tag:yaml.org,2002:str"
+
+
+def compose(text: str, path: Path) -> Node | None:
+    """The YAML node tree of ``text`` (None for an empty document); YAML's own errors become
+    a ``SceneError`` at the line YAML reports."""
+    try:
+        return yaml.compose(text, Loader=yaml.SafeLoader)
+    except yaml.MarkedYAMLError as error:
+        mark = error.problem_mark or error.context_mark
+        problem = error.problem or "cannot be read"
+        context = ""
+        if error.context and error.context_mark is not None:
+            context = f" ({error.context} at line {error.context_mark.line + 1})"
+        line = mark.line + 1 if mark is not None else None
+        raise SceneError(
+            path, line, f"invalid YAML: {problem}{context}; {INDENTATION_HINT}"
+        ) from None
+    except yaml.YAMLError as error:
+        raise SceneError(path, None, f"invalid YAML: {error}") from None
+
+
+def line_of(node: Node) -> int:
+    """The 1-based line where ``node`` starts."""
+    return int(node.start_mark.line) + 1
+
+
+def describe(node: Node) -> str:
+    """A short account of a node for an error message: its text, or what kind it is."""
+    if isinstance(node, ScalarNode):
+        return repr(node.value) if node.tag == _STR_TAG else str(node.value)
+    if isinstance(node, SequenceNode):
+        return "a list"
+    return "a mapping"
+
+
+@dataclass(frozen=True)
+class Entry:
+    """One ``key: value`` of a mapping, with the key's node (for its line)."""
+
+    key: str
+    key_node: Node
+    value: Node
+
+
+class Reader:
+    """Typed access to the nodes of one scene file; every mistake is a ``SceneError``.
+
+    path: the scene file, named in every error.
+    """
+
+    def __init__(self, path: Path) -> None:
+        self.path = path
+        self._constructor = SafeConstructor()
+
+    def fail(self, at: Node | int | None, message: str) -> NoReturn:
+        """Raise a ``SceneError`` at a node's line, at a line number, or for the whole file."""
+        line = line_of(at) if isinstance(at, Node) else at
+        raise SceneError(self.path, line, message)
+
+    def mapping(self, node: Node, what: str) -> dict[str, Entry]:
+        """A mapping's entries by key; keys must be unique strings."""
+        if not isinstance(node, MappingNode):
+            self.fail(node, f"{what} must be a mapping of 'key: value' lines, got {describe(node)}")
+        try:
+            self._constructor.flatten_mapping(node)  # YAML merge keys (<<: *anchor)
+        except ConstructorError as error:
+            self.fail(node, f"invalid YAML merge in {what}: {error.problem}")
+        entries: dict[str, Entry] = {}
+        for key_node, value_node in node.value:
+            if not isinstance(key_node, ScalarNode) or key_node.tag != _STR_TAG:
+                self.fail(key_node, f"{what} has a key {describe(key_node)}; keys are words")
+            key = str(key_node.value)
+            if key in entries:
+                first = line_of(entries[key].key_node)
+                self.fail(key_node, f"{what} gives '{key}' twice (first at line {first})")
+            entries[key] = Entry(key, key_node, value_node)
+        return entries
+
+    def check_keys(self, entries: dict[str, Entry], known: Iterable[str], what: str) -> None:
+        """Every key of ``entries`` must be one of ``known``; the error lists the known ones."""
+        known = list(known)
+        for entry in entries.values():
+            if entry.key not in known:
+                close = difflib.get_close_matches(entry.key, known, n=1)
+                hint = f" (did you mean '{close[0]}'?)" if close else ""
+                self.fail(
+                    entry.key_node,
+                    f"unknown key '{entry.key}' in {what}{hint}; known keys: {', '.join(known)}",
+                )
+
+    def require(self, entries: dict[str, Entry], key: str, owner: Node, what: str) -> Node:
+        """The value of a key that must be present."""
+        if key not in entries:
+            self.fail(owner, f"{what} has no '{key}'; it needs one")
+        return entries[key].value
+
+    def sequence(self, node: Node, what: str) -> list[Node]:
+        if not isinstance(node, SequenceNode):
+            self.fail(node, f"{what} must be a list, got {describe(node)}")
+        return list(node.value)
+
+    def scalar(self, node: Node, what: str) -> object:
+        """A scalar's Python value (YAML 1.1 rules, as PyYAML's safe loader reads it)."""
+        if not isinstance(node, ScalarNode):
+            self.fail(node, f"{what} must be a single value, got {describe(node)}")
+        try:
+            return self._constructor.construct_object(node, deep=True)
+        except (ConstructorError, ValueError) as error:
+            self.fail(node, f"{what}: cannot read {describe(node)}: {error}")
+
+    def string(self, node: Node, what: str) -> str:
+        if not isinstance(node, ScalarNode) or node.tag != _STR_TAG:
+            self.fail(node, f"{what} must be a name, got {describe(node)}")
+        return str(node.value)
+
+    def boolean(self, node: Node, what: str) -> bool:
+        value = self.scalar(node, what)
+        if not isinstance(value, bool):
+            self.fail(node, f"{what} must be true or false, got {describe(node)}")
+        return value
+
+    def number(self, node: Node, what: str, *, allow_infinity: bool = False) -> float:
+        """A finite number (or ±infinity when allowed); never NaN, never a boolean."""
+        value = self.scalar(node, what)
+        if isinstance(value, str) and _NUMBER_TEXT.fullmatch(value.strip()):
+            value = float(value)
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            self.fail(node, f"{what} must be a number, got {describe(node)}")
+        number = float(value)
+        if math.isnan(number):
+            self.fail(node, f"{what} must be a number, got NaN")
+        if math.isinf(number) and not allow_infinity:
+            sign = "-" if number < 0 else ""
+            self.fail(node, f"{what} must be a finite number, got {sign}infinity")
+        return number if isinstance(value, float) else value  # keep ints as ints
+
+    def whole(self, node: Node, what: str, low: int, high: int) -> int:
+        """A whole number from ``low`` to ``high`` (3.0 counts as 3)."""
+        number = self.number(node, what)
+        if number != int(number) or not low <= number <= high:
+            self.fail(node, f"{what} must be a whole number from {low} to {high}, got {number}")
+        return int(number)
+
+    def numbers(self, node: Node, what: str, count: int) -> list[float]:
+        """A list of exactly ``count`` finite numbers, e.g. ``[1, 0.5, 0]``."""
+        items = self.sequence(node, what)
+        if len(items) != count:
+            self.fail(node, f"{what} must be a list of {count} numbers, got {len(items)}")
+        return [self.number(item, f"{what}[{i}]") for i, item in enumerate(items)]

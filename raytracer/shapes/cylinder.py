@@ -1,0 +1,82 @@
+"""The cylinder (chapter 13): radius 1 around the y axis, optionally truncated and capped."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from raytracer.intersections import Intersection
+from raytracer.rays import Ray
+from raytracer.shapes.shape import Shape
+from raytracer.tolerance import epsilon
+from raytracer.tuples import Tuple, vector
+
+
+def _within_radius(ray: Ray, t: float, radius: float) -> bool:
+    """Chapter 13: True when the ray at ``t`` is within ``radius`` of the y axis (a cap)."""
+    x = ray.origin.x + t * ray.direction.x
+    z = ray.origin.z + t * ray.direction.z
+    return x * x + z * z <= radius * radius
+
+
+@dataclass(slots=True, eq=True)
+class Cylinder(Shape):
+    """Chapter 13: x² + z² = 1 in object space.
+
+    minimum, maximum: where the cylinder is cut off along y (exclusive; default unbounded);
+    closed: True puts flat caps on the cut ends.
+    """
+
+    minimum: float = -math.inf
+    maximum: float = math.inf
+    closed: bool = False
+
+    def local_intersect(self, local_ray: Ray) -> list[Intersection]:
+        """Chapter 13: the side (a quadratic in x and z, kept where minimum < y < maximum),
+        then the caps."""
+        origin, direction = local_ray.origin, local_ray.direction
+        xs: list[Intersection] = []
+        a = direction.x * direction.x + direction.z * direction.z
+        if abs(a) >= epsilon():  # not parallel to the y axis
+            b = 2 * origin.x * direction.x + 2 * origin.z * direction.z
+            c = origin.x * origin.x + origin.z * origin.z - 1
+            discriminant = b * b - 4 * a * c
+            if discriminant < 0:
+                return []  # outside the infinite cylinder, so the caps are missed too
+            root = math.sqrt(discriminant)
+            t0 = (-b - root) / (2 * a)
+            t1 = (-b + root) / (2 * a)
+            if t0 > t1:
+                t0, t1 = t1, t0
+            for t in (t0, t1):
+                y = origin.y + t * direction.y
+                if self.minimum < y < self.maximum:
+                    xs.append(Intersection(t, self))
+        xs.extend(self._intersect_caps(local_ray))
+        return xs
+
+    def _intersect_caps(self, local_ray: Ray) -> list[Intersection]:
+        """Chapter 13: the caps at minimum and maximum, for a closed cylinder."""
+        direction_y = local_ray.direction.y
+        if not self.closed or abs(direction_y) < epsilon():
+            return []
+        xs: list[Intersection] = []
+        for y in (self.minimum, self.maximum):
+            t = (y - local_ray.origin.y) / direction_y
+            if _within_radius(local_ray, t, 1.0):
+                xs.append(Intersection(t, self))
+        return xs
+
+    def local_normal_at(self, local_point: Tuple, hit: Intersection | None = None) -> Tuple:
+        """Chapter 13: straight up or down on a cap, else away from the y axis."""
+        distance = local_point.x * local_point.x + local_point.z * local_point.z
+        if distance < 1 and local_point.y >= self.maximum - epsilon():
+            return vector(0, 1, 0)
+        if distance < 1 and local_point.y <= self.minimum + epsilon():
+            return vector(0, -1, 0)
+        return vector(local_point.x, 0, local_point.z)
+
+
+def cylinder() -> Cylinder:
+    """Chapter 13: a new open cylinder, infinitely long."""
+    return Cylinder()

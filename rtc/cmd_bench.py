@@ -1,0 +1,156 @@
+"""``rtc bench``: measure every variant on the reference scene; one new result file per run."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from rtc.cli import UserError
+
+if TYPE_CHECKING:
+    from harness.plan import BenchSettings
+
+NAME = "bench"
+HELP = "time, count allocations and measure image error per variant; writes results/runs/"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    from harness.plan import SECTIONS
+
+    parser.add_argument(
+        "--scene",
+        default="reference",
+        metavar="FILE",
+        help="a scene file, or a preset: reference (default), cpp-spheres, default-world",
+    )
+    sizes = parser.add_mutually_exclusive_group()
+    sizes.add_argument("--size", metavar="WxH", help="the table's canvas size, e.g. 320x240")
+    sizes.add_argument(
+        "--quick",
+        action="store_true",
+        help="the default: 160x120, 3 repeats, 6 s budget per row (18 s for naive); a few "
+        "minutes on 2 cores",
+    )
+    sizes.add_argument(
+        "--full",
+        action="store_true",
+        help="640x480, 5 repeats, 300 s budget per row (900 s for naive)",
+    )
+    parser.add_argument(
+        "--variants",
+        default="all",
+        metavar="A,B|all",
+        help="variant names (the registry's grammar), comma-separated; 'all' (default) = every "
+        "available variant and the option sets it advertises; naive is always measured",
+    )
+    parser.add_argument("--spp", type=int, default=1, metavar="N", help="samples per pixel")
+    parser.add_argument("--depth", type=int, default=5, metavar="N", help="recursion depth")
+    parser.add_argument("--seed", type=int, default=0, metavar="N", help="sampling seed")
+    parser.add_argument(
+        "--epsilon", type=float, default=None, metavar="E",
+        help="the over/under-point offset (default: the book's 0.0001; the Go renderer the "
+        "reference scene comes from used 0.001)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--threads",
+        type=int,
+        default=None,
+        metavar="N",
+        help="CPUs each measuring process may use (pinned; default: all)",
+    )
+    parser.add_argument("--repeat", type=int, default=None, metavar="N", help="timed renders")
+    parser.add_argument(
+        "--budget",
+        type=float,
+        default=None,
+        metavar="SECONDS",
+        help="seconds the timed renders of one row may take (naive: three times that); a "
+        "slower variant is measured at a smaller size and its row says so (0: no limit)",
+    )
+    parser.add_argument(
+        "--sections",
+        default=",".join(SECTIONS),
+        metavar="A,B",
+        help=f"which parts to run (default all: {', '.join(SECTIONS)})",
+    )
+    parser.add_argument(
+        "--results-dir",
+        type=Path,
+        default=Path("results"),
+        metavar="DIR",
+        help="where the run file goes (DIR/runs/; default ./results)",
+    )
+
+
+def settings_from(args: argparse.Namespace) -> BenchSettings:
+    """The run's settings from the command line; ``UserError`` for a bad value."""
+    from harness.plan import FULL, QUICK, SECTIONS, BenchSettings, expand_variants
+    from harness.presets import resolve_scene
+    from harness.sizes import parse_size
+
+    mode = FULL if args.full else QUICK
+    try:
+        scene = resolve_scene(args.scene)
+        size = parse_size(args.size) if args.size else mode.size
+    except ValueError as error:
+        raise UserError(str(error)) from None
+    for flag, value, low, high in (
+        ("--spp", args.spp, 1, 1 << 20),
+        ("--depth", args.depth, 0, 100),
+        ("--seed", args.seed, 0, 2**64 - 1),
+        ("--repeat", args.repeat, 1, 1000),
+        ("--threads", args.threads, 1, 4096),
+    ):
+        if value is not None and not low <= value <= high:
+            raise UserError(f"{flag} {value}: expected a whole number {low} to {high}")
+    if args.epsilon is not None and not 0 < args.epsilon < 1:
+        raise UserError(f"--epsilon {args.epsilon}: expected a number between 0 and 1")
+    if args.budget is not None and args.budget < 0:
+        raise UserError(f"--budget {args.budget}: expected seconds, 0 or more (0: no limit)")
+    sections = tuple(s.strip() for s in args.sections.split(",") if s.strip())
+    unknown = [s for s in sections if s not in SECTIONS]
+    if unknown or not sections:
+        raise UserError(f"--sections {args.sections!r}: choose from {', '.join(SECTIONS)}")
+    try:
+        names, unavailable = expand_variants(args.variants)
+    except LookupError as error:
+        raise UserError(f"--variants: {error.args[0]}") from None
+    budget = mode.budget if args.budget is None else (args.budget or None)
+    return BenchSettings(
+        scene=scene,
+        size=size,
+        samples=args.spp,
+        depth=args.depth,
+        seed=args.seed,
+        threads=args.threads,
+        repeat=args.repeat or mode.repeat,
+        budget=budget,
+        variants=names,
+        sections=sections,
+        mode=mode,
+        results=args.results_dir,
+        unavailable=unavailable,
+        epsilon=args.epsilon,
+    )
+
+
+def run(args: argparse.Namespace) -> int:
+    from harness.bench import run_bench
+    from harness.report import console_table
+    from harness.results import load_run
+
+    settings = settings_from(args)
+
+    started = time.monotonic()
+
+    def log(message: str) -> None:
+        elapsed = time.monotonic() - started
+        print(f"rtc bench [{elapsed:5.0f} s]: {message}", file=sys.stderr, flush=True)
+
+    path = run_bench(settings, log)
+    print(console_table(load_run(path)["rtc"]))
+    print(f"rtc bench: wrote {path}")
+    return 0

@@ -1,0 +1,131 @@
+"""``rtc render SCENE.yml -o OUT.png``: render a scene file (the book's YAML format) with a
+variant, as PNG or PPM."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from harness.images import FORMATS, write_image
+from harness.scenefile import SceneError, load_scene
+from raytracer.camera import RenderSettings
+from rtc.cli import UserError
+from rtc.cmd_demo import parse_size
+
+NAME = "render"
+HELP = "render a scene file (the book's YAML scene format) to a PNG or PPM image"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("scene", type=Path, metavar="SCENE.yml", help="the scene file")
+    parser.add_argument(
+        "-o", "--output", required=True, type=Path, metavar="OUT.png",
+        help="the image to write: .png or .ppm",
+    )  # fmt: skip
+    parser.add_argument(
+        "--size", metavar="WxH",
+        help="image size in pixels, e.g. 160x120 (default: the camera's width and height; "
+        "the field of view stays)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--variant", default="naive", metavar="V", help="the tracer to use (default: naive)"
+    )
+    parser.add_argument(
+        "--depth", type=int, default=5, metavar="N",
+        help="how many times a ray may be reflected or refracted (default: 5, the book's)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--epsilon", type=float, default=None, metavar="E",
+        help="the offset for over_point/under_point (default: the book's 0.0001; "
+        "0.001 matches the Go renderer's reference image)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--samples", type=int, default=1, metavar="N",
+        help="rays per pixel (default: 1, through the pixel centre as in the book)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--seed", type=int, default=0, metavar="N",
+        help="chooses the sample positions when --samples is above 1 (default: 0)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--explain", action="store_true",
+        help="print what the variant will run for this scene (e.g. the features a compiled "
+        "kernel is specialized to) before rendering",
+    )  # fmt: skip
+
+
+def _settings(args: argparse.Namespace) -> RenderSettings:
+    options: dict[str, Any] = {"depth": args.depth, "samples": args.samples, "seed": args.seed}
+    if args.epsilon is not None:
+        options["epsilon"] = args.epsilon
+    try:
+        return RenderSettings(**options)
+    except ValueError as error:
+        message = str(error).removeprefix("RenderSettings: ")
+        raise UserError(f"bad option: {message}") from None
+
+
+def _check_output(output: Path) -> None:
+    if output.suffix.lower() not in FORMATS:
+        raise UserError(
+            f"cannot write {str(output)!r}: unknown image extension {output.suffix or '(none)'}; "
+            f"use {' or '.join(FORMATS)}"
+        )
+    folder = output.parent
+    if not folder.is_dir():
+        raise UserError(f"cannot write {str(output)!r}: no folder {str(folder)!r}")
+
+
+def _progress_bar(rows: int) -> tuple[Callable[[int], object] | None, Callable[[], None]]:
+    """A tqdm bar on stderr counting rows, only when stderr is a terminal; (update, close)."""
+    if not sys.stderr.isatty():
+        return None, lambda: None
+    from tqdm import tqdm
+
+    bar = tqdm(total=rows, unit="row", file=sys.stderr, leave=False, dynamic_ncols=True)
+    return bar.update, bar.close
+
+
+def run(args: argparse.Namespace) -> int:
+    from variants.registry import load_variant
+
+    settings = _settings(args)
+    size = parse_size(args.size) if args.size else None
+    _check_output(args.output)
+    try:
+        variant = load_variant(args.variant)
+    except LookupError as error:
+        raise UserError(f"--variant: {error.args[0] if error.args else error}") from None
+    try:
+        scene = load_scene(args.scene, variant.api, variant=variant.name)
+    except SceneError as error:
+        raise UserError(str(error)) from None
+    if size is not None:
+        scene = scene.resized(*size)
+    camera = scene.camera
+    print(
+        f"rendering {args.scene} at {camera.hsize}x{camera.vsize} with {variant.name} "
+        f"(depth {settings.depth}, epsilon {settings.epsilon:g}, "
+        f"{settings.samples} sample{'s' if settings.samples > 1 else ''} per pixel)",
+        flush=True,
+    )
+    if args.explain:
+        explain = getattr(variant, "explain", None)
+        print(explain(scene.world) if explain else f"{variant.name}: nothing to explain")
+    update, close = _progress_bar(camera.vsize)
+    start = time.perf_counter()
+    try:
+        image = variant.api["render"](camera, scene.world, settings, update)
+    finally:
+        close()
+    elapsed = time.perf_counter() - start
+    try:
+        write_image(image, args.output)
+    except OSError as error:
+        raise UserError(f"cannot write {str(args.output)!r}: {error.strerror or error}") from None
+    print(f"rendered in {elapsed:.2f} s -> {args.output}")
+    return 0

@@ -1,0 +1,156 @@
+"""Render equivalence: small scenes through every available variant, compared with ``naive``.
+
+A variant whose ``tolerance`` is 0 (every pure-Python float64 variant) must give identical
+pixels; any other must stay within its stated tolerance per colour channel. Every comparison
+prints the maximum and mean difference (``pytest -s`` or ``-rA`` shows them).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from harness.scenefile import load_scene
+from raytracer.camera import RenderSettings
+from variants.registry import Variant, available_variants, load_variant
+
+REFERENCE_SCENE = Path(__file__).resolve().parent.parent / "harness" / "scenes" / "reference.yml"
+# Compositions beyond the defaults that ``all`` gives: the pool over another variant, and
+# each job granularity.
+COMPOSED = (
+    "pooled[workers=2]:cached",
+    "pooled[granularity=pixel,workers=2]:cached",
+    "pooled[granularity=tile,tile=5,workers=2]:cached",
+)
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A scene built through a variant's API: ``build(api) -> (camera, world)``."""
+
+    name: str
+    build: Callable[[Any], tuple[Any, Any]]
+    settings: RenderSettings = field(default_factory=RenderSettings)
+
+
+def _look(api: Any, c: Any, eye: tuple[float, float, float], to: tuple[float, float, float]) -> Any:
+    view = api["view_transform"](api["point"](*eye), api["point"](*to), api["vector"](0, 1, 0))
+    return replace(c, transform=view)
+
+
+def default_world(api: Any, size: int = 24) -> tuple[Any, Any]:
+    """Chapter 7's default world seen from the book's test position (0, 0, -5), at 24x24,
+    with a field of view that the spheres fill."""
+    c = _look(api, api["camera"](size, size, 0.5), (0, 0, -5), (0, 0, 0))
+    return c, api["default_world"]()
+
+
+def small_default_world(api: Any) -> tuple[Any, Any]:
+    """The default world at 12x12 (for several samples per pixel)."""
+    return default_world(api, 12)
+
+
+def patterns_mirrors_glass(api: Any) -> tuple[Any, Any]:
+    """Chapters 9-11: a checkered reflective floor, a striped wall, a ringed sphere, a glass
+    sphere in front of them, at 20x15."""
+    white, black = api["color"](1, 1, 1), api["color"](0.1, 0.1, 0.1)
+    floor = api["plane"]()
+    checks = api["checkers_pattern"](white, black)
+    api["set_pattern_transform"](checks, api["scaling"](0.5, 0.5, 0.5))
+    floor.material = api["material"]()
+    floor.material = replace(floor.material, pattern=checks, reflective=0.3, specular=0)
+    wall = api["plane"]()
+    api["set_transform"](wall, api["translation"](0, 0, 4) * api["rotation_x"](math.pi / 2))
+    stripes = api["stripe_pattern"](api["color"](0.9, 0.5, 0.2), api["color"](0.2, 0.3, 0.8))
+    api["set_pattern_transform"](stripes, api["rotation_y"](0.6) * api["scaling"](0.3, 1, 1))
+    wall.material = replace(wall.material, pattern=stripes)
+    ringed = api["sphere"]()
+    api["set_transform"](ringed, api["translation"](1.2, 1, 1.5))
+    rings = api["ring_pattern"](white, api["color"](0.8, 0.1, 0.1))
+    api["set_pattern_transform"](rings, api["scaling"](0.2, 0.2, 0.2))
+    ringed.material = replace(ringed.material, pattern=rings, reflective=0.2)
+    glass = api["glass_sphere"]()
+    api["set_transform"](glass, api["translation"](-0.6, 0.8, 0) * api["scaling"](0.8, 0.8, 0.8))
+    glass.material = replace(glass.material, reflective=0.9, diffuse=0.1, ambient=0.05)
+    w = api["world"]()
+    w.objects.extend([floor, wall, ringed, glass])
+    w.light = api["point_light"](api["point"](-4, 6, -6), api["color"](1, 1, 1))
+    c = _look(api, api["camera"](20, 15, math.pi / 3), (0, 1.5, -5), (0, 0.8, 0))
+    return c, w
+
+
+def reference_scene(api: Any) -> tuple[Any, Any]:
+    """The reference scene file (cylinders, groups, glass) at 16x12."""
+    scene = load_scene(REFERENCE_SCENE, api).resized(16, 12)
+    return scene.camera, scene.world
+
+
+SCENES = [
+    Scene("default-world", default_world),
+    Scene("default-world-12x12-3spp", small_default_world, RenderSettings(samples=3, seed=11)),
+    Scene("patterns-mirrors-glass", patterns_mirrors_glass),
+    Scene("reference-16x12", reference_scene, RenderSettings(epsilon=0.001)),
+]
+
+
+def _variants() -> list[str]:
+    names = [variant.name for variant in available_variants() if variant.name != "naive"]
+    return names + [name for name in COMPOSED if name not in names]
+
+
+def _pixels(variant: Variant, scene: Scene) -> list[tuple[float, float, float]]:
+    camera, world = scene.build(variant.api)
+    image = variant.api["render"](camera, world, scene.settings)
+    pixel_at = variant.api["pixel_at"]
+    colors = [pixel_at(image, x, y) for y in range(image.height) for x in range(image.width)]
+    return [(float(c.red), float(c.green), float(c.blue)) for c in colors]
+
+
+_NAIVE: dict[str, list[tuple[float, float, float]]] = {}
+
+
+def _naive_pixels(scene: Scene) -> list[tuple[float, float, float]]:
+    if scene.name not in _NAIVE:
+        _NAIVE[scene.name] = _pixels(load_variant("naive"), scene)
+    return _NAIVE[scene.name]
+
+
+def test_the_scenes_are_not_blank() -> None:
+    """A comparison of black images would prove nothing."""
+    for scene in SCENES:
+        pixels = _naive_pixels(scene)
+        distinct = {tuple(round(v, 3) for v in p) for p in pixels}
+        assert len(distinct) > 5, f"{scene.name}: only {len(distinct)} distinct colours"
+
+
+@pytest.mark.parametrize("scene", SCENES, ids=[scene.name for scene in SCENES])
+@pytest.mark.parametrize("name", _variants())
+def test_every_variant_renders_what_naive_renders(name: str, scene: Scene) -> None:
+    variant = load_variant(name)
+    expected = _naive_pixels(scene)
+    got = _pixels(variant, scene)
+    assert len(got) == len(expected)
+    differences = [
+        abs(a - b) for p, q in zip(got, expected, strict=True) for a, b in zip(p, q, strict=True)
+    ]
+    worst = max(differences)
+    mean = sum(differences) / len(differences)
+    identical = got == expected
+    print(
+        f"{scene.name} {variant.name}: max difference {worst:.3g}, mean {mean:.3g}, "
+        f"tolerance {variant.tolerance:g}, {'identical' if identical else 'not identical'}"
+    )
+    if variant.tolerance == 0:
+        assert identical, (
+            f"{variant.name} differs from naive by up to {worst:.3g} (mean {mean:.3g})"
+        )
+    else:
+        assert worst <= variant.tolerance, (
+            f"{variant.name} differs from naive by up to {worst:.3g} (mean {mean:.3g}), "
+            f"more than its tolerance {variant.tolerance:g}"
+        )

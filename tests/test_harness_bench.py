@@ -1,0 +1,180 @@
+"""``rtc bench`` and ``rtc report`` end to end on the book's default world at 8x6 pixels:
+a row per variant, the budget rule in a row, two runs kept, a killed run leaves no file."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from harness.report import build_report
+from harness.results import STAGING_PREFIX, list_runs, load_run
+from rtc.cli import main
+
+TINY = ["--scene", "default-world", "--size", "8x6", "--repeat", "1"]
+
+
+def _bench(results: Path, *extra: str) -> int:
+    return main(["bench", *TINY, "--results-dir", str(results), *extra])
+
+
+@pytest.fixture(scope="module")
+def two_runs(tmp_path_factory) -> Path:
+    """Two bench runs into one results folder: naive and cached, then a starved budget."""
+    results = tmp_path_factory.mktemp("results")
+    assert _bench(results, "--variants", "naive,cached", "--sections", "table") == 0
+    assert _bench(results, "--variants", "naive", "--sections", "table", "--budget", "0.01") == 0
+    return results
+
+
+def test_two_runs_in_a_row_leave_two_files(two_runs):
+    runs = list_runs(two_runs)
+    assert len(runs) == 2
+    assert all((path.parent / path.stem).is_dir() for path in runs)  # their pictures
+    assert not list((two_runs / "runs").glob(f"{STAGING_PREFIX}*"))
+
+
+def test_a_run_has_a_row_per_variant_with_every_figure(two_runs):
+    rtc = load_run(list_runs(two_runs)[0])["rtc"]
+    rows = {row["name"]: row for row in rtc["rows"]}
+    assert list(rows) == ["naive", "cached"]
+    for row in rows.values():
+        assert row["status"] == "ok"
+        assert row["size"] == [8, 6]
+        assert len(row["wall"]) == 1 and row["wall"][0] > 0
+        assert row["allocations"]["count"] > 0
+        assert row["rays"]["camera"] == 48
+        assert row["compare_size"] == [8, 6]
+        assert (two_runs / "runs" / row["image"]).is_file()
+    assert rows["naive"]["error_vs_naive"] is None  # the reference itself
+    assert rows["cached"]["error_vs_naive"]["max_abs"] == 0  # cached renders naive's picture
+    assert rows["cached"]["error_vs_naive"]["pixels"] == 48
+    assert (two_runs / "runs" / rows["cached"]["heatmap"]).is_file()
+    assert rows["naive"]["speedup"]["value"] == pytest.approx(1.0)
+    assert rtc["machine"]["cpu_count"] >= 1
+    assert rtc["settings"]["variants"] == ["naive", "cached"]
+
+
+def test_the_budget_rule_shrinks_a_row_and_the_row_says_so(two_runs):
+    rtc = load_run(list_runs(two_runs)[1])["rtc"]
+    (row,) = rtc["rows"]
+    assert row["reduced"] is True
+    assert row["requested_size"] == [8, 6]
+    width, height = row["size"]
+    assert width * height < 48 and width * 3 == height * 4
+    assert f"measured at {width}x{height} instead of 8x6" in row["budget_note"]
+
+
+def test_the_report_shows_every_variant_the_images_and_the_history(two_runs):
+    readme, page, problems = build_report(two_runs)
+    assert problems == []
+    text = readme.read_text()
+    assert "`naive`" in text  # the latest run: naive alone, starved
+    assert "measured at" in text and "instead of 8x6" in text
+    assert "## History" in text
+    assert text.count("| `bench-") == 2  # both runs in the history
+    for target in [line.split('src="')[1].split('"')[0] for line in text.splitlines()
+                   if 'src="' in line]:  # fmt: skip
+        assert (two_runs / target).is_file(), target
+    html = page.read_text()
+    assert "data:image/png;base64," in html
+    assert 'src="runs/' not in html  # self-contained: every image inlined
+
+
+def test_the_report_of_a_full_table(tmp_path, two_runs):
+    # the report of the first run alone: a row per variant in both tables
+    (tmp_path / "runs").mkdir()
+    first = list_runs(two_runs)[0]
+    (tmp_path / "runs" / first.name).write_bytes(first.read_bytes())
+    readme, _, _ = build_report(tmp_path)
+    text = readme.read_text()
+    time_table = text.split("## Time")[1].split("## Cost")[0]
+    cost_table = text.split("## Cost and accuracy")[1].split("## Pictures")[0]
+    for name in ("naive", "cached"):
+        assert f"| `{name}` | 8x6 |" in time_table
+        assert f"| `{name}` |" in cost_table
+
+
+def test_user_mistakes_are_one_line_errors(tmp_path, capsys):
+    assert main(["bench", "--size", "10", "--results-dir", str(tmp_path)]) == 2
+    assert "bad size '10'" in capsys.readouterr().err
+    assert main(["bench", "--variants", "nosuch", "--results-dir", str(tmp_path)]) == 2
+    assert "unknown variant 'nosuch'" in capsys.readouterr().err
+    assert main(["bench", "--sections", "tables", "--results-dir", str(tmp_path)]) == 2
+    assert "--sections 'tables'" in capsys.readouterr().err
+    assert main(["report", "--results-dir", str(tmp_path)]) == 2
+    assert "run `rtc bench` first" in capsys.readouterr().err
+    assert not list(tmp_path.rglob("*.json"))
+
+
+@pytest.mark.parametrize("how", [signal.SIGKILL, signal.SIGTERM])
+def test_a_killed_run_leaves_no_result_file(tmp_path, how):
+    command = [sys.executable, "-m", "rtc.cli", "bench", "--scene", "default-world",
+               "--size", "40x30", "--variants", "naive", "--sections", "table",
+               "--repeat", "50", "--budget", "0", "--results-dir", str(tmp_path)]  # fmt: skip
+    process = subprocess.Popen(command, stderr=subprocess.PIPE, text=True)
+    staging: list[Path] = []
+    deadline = time.monotonic() + 60
+    while not staging and time.monotonic() < deadline:  # wait until it is measuring
+        time.sleep(0.1)
+        staging = list((tmp_path / "runs").glob(f"{STAGING_PREFIX}*/jobs/*/job.json"))
+    assert staging, "the bench never started measuring"
+    time.sleep(1.0)
+    measuring = _children_of(process.pid)
+    assert measuring, "no measuring process found"
+    process.send_signal(how)
+    process.wait(timeout=30)
+    process.stderr.close()  # type: ignore[union-attr]
+    assert list_runs(tmp_path) == []
+    visible = [p for p in (tmp_path / "runs").iterdir() if not p.name.startswith(".")]
+    assert visible == []
+    if how == signal.SIGTERM:  # cleaned up at once
+        assert process.returncode == 130
+        assert list((tmp_path / "runs").iterdir()) == []
+    # the measuring process does not outlive its parent for long
+    deadline = time.monotonic() + 10
+    while any(_running(pid) for pid in measuring) and time.monotonic() < deadline:
+        time.sleep(0.2)
+    assert not any(_running(pid) for pid in measuring)
+    # and the next run removes what a SIGKILL left behind
+    assert main(["bench", *TINY, "--variants", "naive", "--sections", "table",
+                 "--results-dir", str(tmp_path)]) == 0  # fmt: skip
+    assert [p.name.startswith(STAGING_PREFIX) for p in (tmp_path / "runs").iterdir()] == [
+        False,
+        False,
+    ]
+
+
+def _running(pid: int) -> bool:
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return False
+    return stat[stat.rfind(")") + 2] != "Z"
+
+
+def _children_of(pid: int) -> list[int]:
+    """Processes still running whose parent was ``pid`` (Linux /proc)."""
+    found = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                stat = (entry / "stat").read_text()
+            except OSError:
+                continue
+            fields = stat[stat.rfind(")") + 2 :].split()
+            if int(fields[1]) == pid and fields[0] != "Z":
+                found.append(int(entry.name))
+    return found
+
+
+@pytest.fixture(autouse=True)
+def _no_numba_env_leak(monkeypatch):
+    monkeypatch.delenv("RTC_ALLOCCOUNT_DIR", raising=False)
+    yield
+    assert "RTC_ALLOCCOUNT_DIR" not in os.environ

@@ -1,0 +1,116 @@
+"""Harness building blocks: sizes and the budget rule, image error, Pareto front, rays."""
+
+from __future__ import annotations
+
+import math
+import sys
+
+import numpy as np
+import pytest
+
+import raytracer
+from harness import figures
+from harness.imagediff import image_error
+from harness.plan import split_names
+from harness.presets import BUILTIN_DEFAULT_WORLD, SceneRef, build_scene
+from harness.raycount import count_rays
+from harness.sizes import Estimate, Size, fit_to_budget, parse_size, scaled, smaller_sizes
+from raytracer.camera import RenderSettings
+from variants.registry import load_variant
+
+
+def test_sizes_parse_and_name_bad_input():
+    assert parse_size("160x120") == Size(160, 120)
+    assert parse_size(" 64 X 48 ") == Size(64, 48)
+    with pytest.raises(ValueError, match=r"bad size '160': expected WIDTHxHEIGHT"):
+        parse_size("160")
+    with pytest.raises(ValueError, match="1 to 16384"):
+        parse_size("0x10")
+
+
+def test_scaling_keeps_the_aspect_ratio():
+    assert scaled(Size(640, 480), 0.5) == Size(320, 240)
+    assert scaled(Size(640, 480), 0.1) == Size(64, 48)
+    assert scaled(Size(160, 120), 0.07) == Size(8, 6)
+    assert scaled(Size(640, 480), 2.0) == Size(640, 480)
+    odd = scaled(Size(173, 101), 0.5)  # no common factor: width scaled, height rounded
+    assert odd == Size(86, 50)
+    assert smaller_sizes(Size(160, 120), 3) == [Size(40, 30), Size(80, 60), Size(160, 120)]
+
+
+def test_the_budget_rule_keeps_the_size_when_it_fits():
+    choice = fit_to_budget(Size(160, 120), Estimate(0.0, 1e-5), 3, budget=10)
+    assert choice.size == Size(160, 120)
+    assert not choice.reduced
+    assert choice.note == ""
+    assert fit_to_budget(Size(160, 120), Estimate(0.0, 1.0), 3, budget=None).size == Size(160, 120)
+
+
+def test_the_budget_rule_picks_a_smaller_size_of_the_same_aspect_and_says_so():
+    estimate = Estimate(fixed=0.5, per_pixel=0.01)  # 160x120: 192.5 s a render
+    choice = fit_to_budget(Size(160, 120), estimate, renders=4, budget=20)
+    w, h = choice.size.width, choice.size.height
+    assert choice.reduced
+    assert w * 3 == h * 4
+    assert estimate.seconds(choice.size) * 4 <= 20
+    bigger = scaled(Size(160, 120), (w + 4) / 160)  # the next size up would not fit
+    assert estimate.seconds(bigger) * 4 > 20
+    assert choice.estimate == pytest.approx(192.5 * 4)
+    assert f"measured at {w}x{h} instead of 160x120" in choice.note
+    assert "over the 20 s budget" in choice.note
+
+
+def test_an_estimate_separates_a_fixed_cost_from_the_cost_per_pixel():
+    probes = [(Size(8, 6), 1.0 + 48 * 0.002), (Size(16, 12), 1.0 + 192 * 0.002)]
+    estimate = Estimate.from_probes(probes)
+    assert estimate.fixed == pytest.approx(1.0)
+    assert estimate.per_pixel == pytest.approx(0.002)
+    single = Estimate.from_probes(probes[:1])
+    assert single.fixed == 0 and single.per_pixel == pytest.approx(1.096 / 48)
+
+
+def test_image_error_figures():
+    reference = np.zeros((2, 2, 3))
+    same = image_error(reference.copy(), reference)
+    assert same.max_abs == 0 and same.rmse == 0 and math.isinf(same.psnr)
+    assert same.as_dict()["psnr"] is None
+    image = reference.copy()
+    image[0, 0, 0] = 0.5  # one channel of one pixel
+    image[1, 1, 2] = 1.5  # clamped to 1 before comparing
+    error = image_error(image, reference)
+    assert error.max_abs == 1.0
+    assert error.mean_abs == pytest.approx(1.5 / 12)
+    assert error.rmse == pytest.approx(math.sqrt(1.25 / 12))
+    assert error.psnr == pytest.approx(20 * math.log10(1 / error.rmse))
+    assert error.pixels_over_one_step == 2
+    with pytest.raises(ValueError, match="sizes differ, 3x2 against 2x2"):
+        image_error(np.zeros((2, 3, 3)), reference)
+
+
+def test_pareto_front_keeps_the_points_nothing_beats_in_both():
+    points = [(1.0, 0.5), (2.0, 0.2), (3.0, 0.3), (4.0, 0.1), (1.5, 0.6)]
+    assert figures.pareto_front(points) == [0, 1, 3]
+
+
+def test_variant_lists_split_on_commas_outside_brackets():
+    assert split_names("numba[float32,threads=1], cached,pooled[workers=2]:naive") == [
+        "numba[float32,threads=1]",
+        "cached",
+        "pooled[workers=2]:naive",
+    ]
+
+
+def test_rays_of_the_reference_are_counted_by_kind():
+    naive = load_variant("naive")
+    camera, world = build_scene(
+        SceneRef(BUILTIN_DEFAULT_WORLD, None), naive.api, "naive", Size(8, 6)
+    )
+    counted = count_rays(naive, camera, world, RenderSettings(samples=2))
+    assert counted is not None
+    assert counted["camera"] == 8 * 6 * 2
+    assert counted["shadow"] > 0  # the default world's spheres are lit: every hit asks
+    assert counted["total"] == counted["camera"] + counted["shadow"] + counted["secondary"]
+    # the instrumentation is removed afterwards: the reference's functions are back
+    assert sys.modules["raytracer.world"].color_at is raytracer.color_at
+    assert sys.modules["raytracer.world"].is_shadowed is raytracer.is_shadowed
+    assert sys.modules["raytracer.camera"].color_at is raytracer.color_at

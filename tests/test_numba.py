@@ -1,0 +1,401 @@
+"""The numba variant (issue 5): same pictures as ``naive``, refusals, specialization, no
+allocation per pixel, ray counts, options, and its array-backed canvas.
+
+Pictures: small scenes rendered by ``naive`` and by ``numba``, compared channel by channel
+after clamping to [0, 1] (as the PNG shows them). Every comparison prints the maximum and
+mean difference and the number of pixels differing by more than 1/255 (``pytest -s``).
+Stated tolerances:
+
+- float64 (the default): at most ``FLOAT64_PIXELS`` pixels may differ by more than 1/255
+  (the kernels repeat the reference's arithmetic; only group transforms, composed once, and
+  the order reflections are summed in differ, in the last bits), and the mean difference is
+  below 1e-9;
+- float32 and fastmath: at most 2% of the pixels differ by more than 1/255, none by more
+  than 0.5 (a shadow or acne decision may flip at an edge).
+
+The first run compiles a kernel per scene feature set (tens of seconds each); they are then
+cached on disk (``variants.numba.specialize``).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import subprocess
+import sys
+from collections.abc import Callable
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+from harness.scenefile import load_scene
+from raytracer.camera import RenderSettings
+from raytracer.canvas import canvas_to_ppm, canvas_to_rgb8
+from raytracer.materials import material
+from raytracer.matrices import Matrix
+from raytracer.patterns import Pattern
+from raytracer.shapes.sphere import Sphere
+from raytracer.tuples import Tuple
+from variants.numba.canvas import ArrayCanvas
+from variants.numba.features import analyse
+from variants.numba.pack import PackError, pack_world
+from variants.registry import Variant, VariantError, load_variant
+
+ROOT = Path(__file__).resolve().parent.parent
+SCENES = ROOT / "harness" / "scenes"
+ONE_STEP = 1.0 / 255.0
+FLOAT64_PIXELS = 2
+APPROXIMATE_SHARE = 0.02
+
+Build = Callable[[Any], tuple[Any, Any]]
+
+
+def _look(api: Any, c: Any, eye: tuple[float, ...], to: tuple[float, ...]) -> Any:
+    view = api["view_transform"](api["point"](*eye), api["point"](*to), api["vector"](0, 1, 0))
+    return replace(c, transform=view)
+
+
+def default_world(api: Any) -> tuple[Any, Any]:
+    """Chapter 7's default world, 16x16."""
+    c = _look(api, api["camera"](16, 16, math.pi / 2), (0, 0, -5), (0, 0, 0))
+    return c, api["default_world"]()
+
+
+def everything(api: Any) -> tuple[Any, Any]:
+    """Chapters 9-16 in one small scene: patterned reflective floor, a glass sphere (Schlick),
+    a group with a cube, a capped cylinder and a cone, a CSG shape, flat and smooth
+    triangles; 20x15."""
+    c = api["color"]
+    floor = api["plane"]()
+    checks = api["checkers_pattern"](c(1, 1, 1), c(0.1, 0.1, 0.1))
+    api["set_pattern_transform"](checks, api["scaling"](0.5, 0.5, 0.5))
+    floor.material = material(pattern=checks, reflective=0.3, specular=0)
+    wall = api["plane"]()
+    api["set_transform"](wall, api["translation"](0, 0, 5) * api["rotation_x"](math.pi / 2))
+    rings = api["ring_pattern"](c(0.9, 0.5, 0.2), c(0.2, 0.3, 0.8))
+    api["set_pattern_transform"](rings, api["scaling"](0.3, 0.3, 0.3))
+    wall.material = material(pattern=rings)
+    glass = api["glass_sphere"]()
+    api["set_transform"](glass, api["translation"](-1.2, 1, 0) * api["scaling"](0.7, 0.7, 0.7))
+    glass.material = replace(glass.material, reflective=0.8, diffuse=0.1, ambient=0.05)
+    g = api["group"]()
+    api["set_transform"](g, api["translation"](1.2, 0, 1) * api["rotation_y"](0.5))
+    cube = api["cube"]()
+    api["set_transform"](cube, api["translation"](0, 0.4, 0) * api["scaling"](0.4, 0.4, 0.4))
+    stripes = api["stripe_pattern"](c(1, 0.2, 0.2), c(1, 1, 1))
+    api["set_pattern_transform"](stripes, api["scaling"](0.2, 0.2, 0.2))
+    cube.material = material(pattern=stripes)
+    cyl = api["cylinder"]()
+    cyl.minimum, cyl.maximum, cyl.closed = 0.0, 1.5, True
+    api["set_transform"](cyl, api["translation"](0.9, 0, 0) * api["scaling"](0.3, 1, 0.3))
+    cone = api["cone"]()
+    cone.minimum, cone.maximum, cone.closed = -1.0, 0.0, True
+    api["set_transform"](cone, api["translation"](-0.8, 1, -0.5) * api["scaling"](0.4, 1, 0.4))
+    gradient = api["gradient_pattern"](c(0.2, 0.9, 0.2), c(0.1, 0.1, 0.8))
+    cone.material = material(pattern=gradient, transparency=0.5, refractive_index=1.3)
+    for shape in (cube, cyl, cone):
+        api["add_child"](g, shape)
+    left = api["cube"]()
+    right = api["sphere"]()
+    api["set_transform"](right, api["scaling"](1.3, 1.3, 1.3))
+    carved = api["csg"]("difference", left, right)
+    api["set_transform"](carved, api["translation"](0.2, 0.5, -1.8) * api["scaling"](0.4, 0.4, 0.4))
+    carved.material = material(color=c(0.3, 0.5, 0.9))
+    left.material = carved.material
+    right.material = carved.material
+    p = api["point"]
+    v = api["vector"]
+    flat = api["triangle"](p(-2.5, 0, 1), p(-1.5, 1.5, 1.5), p(-0.8, 0, 2))
+    smooth = api["smooth_triangle"](
+        p(0.5, 1.6, -0.8), p(-0.3, 1.2, -0.4), p(0.4, 0.9, -0.2),
+        v(0, 1, -1), v(-1, 0, -1), v(1, 0, -1),
+    )  # fmt: skip
+    w = api["world"]()
+    w.objects.extend([floor, wall, glass, g, carved, flat, smooth])
+    w.light = api["point_light"](api["point"](-4, 6, -6), c(1, 1, 1))
+    return _look(api, api["camera"](20, 15, math.pi / 3), (0, 1.6, -5), (0, 0.7, 0)), w
+
+
+def scene_file(name: str, size: tuple[int, int]) -> Build:
+    def build(api: Any) -> tuple[Any, Any]:
+        scene = load_scene(SCENES / name, api).resized(*size)
+        return scene.camera, scene.world
+
+    return build
+
+
+PICTURES: dict[str, tuple[Build, RenderSettings]] = {
+    "default-world": (default_world, RenderSettings()),
+    "default-world-3spp": (default_world, RenderSettings(samples=3, seed=7, depth=2)),
+    "everything": (everything, RenderSettings()),
+    "reference-16x12": (scene_file("reference.yml", (16, 12)), RenderSettings(epsilon=0.001)),
+    "shapes-16x12": (scene_file("shapes.yml", (16, 12)), RenderSettings()),
+    "csg-16x12": (scene_file("csg.yml", (16, 12)), RenderSettings()),
+}
+_NAIVE: dict[str, np.ndarray] = {}
+
+
+def _pixels(variant: Variant, picture: str) -> np.ndarray:
+    build, settings = PICTURES[picture]
+    camera, world = build(variant.api)
+    image = variant.api["render"](camera, world, settings)
+    pixel_at = variant.api["pixel_at"]
+    rows = [
+        [(p.red, p.green, p.blue) for p in (pixel_at(image, x, y) for x in range(image.width))]
+        for y in range(image.height)
+    ]
+    return np.clip(np.array(rows, dtype=np.float64), 0.0, 1.0)
+
+
+def _naive(picture: str) -> np.ndarray:
+    if picture not in _NAIVE:
+        _NAIVE[picture] = _pixels(load_variant("naive"), picture)
+    return _NAIVE[picture]
+
+
+def _compare(name: str, picture: str) -> tuple[float, float, int, int]:
+    """(max, mean, pixels beyond 1/255, pixels) of ``name``'s picture against naive's."""
+    expected = _naive(picture)
+    got = _pixels(load_variant(name), picture)
+    assert got.shape == expected.shape
+    difference = np.abs(got - expected)
+    worst_per_pixel = difference.max(axis=2)
+    beyond = int((worst_per_pixel > ONE_STEP).sum())
+    figures = (float(difference.max()), float(difference.mean()), beyond, worst_per_pixel.size)
+    print(
+        f"{picture} {name}: max difference {figures[0]:.3g}, mean {figures[1]:.3g}, "
+        f"{beyond} of {figures[3]} pixels beyond 1/255"
+    )
+    return figures
+
+
+def test_the_pictures_are_not_blank() -> None:
+    for picture in PICTURES:
+        pixels = _naive(picture)
+        distinct = {tuple(np.round(p, 3)) for p in pixels.reshape(-1, 3)}
+        assert len(distinct) > 5, f"{picture}: only {len(distinct)} distinct colours"
+
+
+@pytest.mark.parametrize("picture", list(PICTURES))
+def test_float64_draws_what_naive_draws(picture: str) -> None:
+    _, mean, beyond, _ = _compare("numba", picture)
+    assert beyond <= FLOAT64_PIXELS, f"{beyond} pixels differ from naive by more than 1/255"
+    assert mean < 1e-9, f"mean difference {mean:.3g}"
+
+
+@pytest.mark.parametrize("name", ["numba[float32]", "numba[fastmath]", "numba[threads=1]"])
+def test_options_stay_close_to_naive(name: str) -> None:
+    worst, _, beyond, pixels = _compare(name, "reference-16x12")
+    assert beyond <= APPROXIMATE_SHARE * pixels, f"{beyond} of {pixels} pixels beyond 1/255"
+    assert worst <= 0.5
+
+
+# ------------------------------------------------------------------------------ refusals
+
+
+class OddSphere(Sphere):
+    """A sphere that intersects differently: the kernels must not pretend to know it."""
+
+    def local_intersect(self, local_ray: Any) -> list[Any]:
+        return []
+
+
+class OddPattern(Pattern):
+    def local_pattern_at(self, point: Tuple) -> Any:
+        raise NotImplementedError
+
+
+def _world_with(shape: Any) -> Any:
+    api = load_variant("numba").api
+    w = api["default_world"]()
+    w.objects.append(shape)
+    return w
+
+
+def test_an_unknown_shape_is_refused_naming_it() -> None:
+    api = load_variant("numba").api
+    with pytest.raises(PackError, match=r"world object 2 \(a OddSphere\).*changes how a Sphere"):
+        api["render"](api["camera"](4, 4, 1.0), _world_with(OddSphere()))
+
+
+def test_a_test_shape_is_refused_in_a_render() -> None:
+    api = load_variant("numba").api
+    with pytest.raises(PackError, match=r"TestShape.*records rays in Python"):
+        api["render"](api["camera"](4, 4, 1.0), _world_with(api["test_shape"]()))
+
+
+def test_an_unknown_pattern_is_refused_naming_it() -> None:
+    api = load_variant("numba").api
+    s = api["sphere"]()
+    s.material = material(pattern=OddPattern())
+    with pytest.raises(PackError, match=r"the pattern of world object 2.*OddPattern"):
+        api["render"](api["camera"](4, 4, 1.0), _world_with(s))
+
+
+def test_a_non_affine_transform_is_refused() -> None:
+    api = load_variant("numba").api
+    s = api["sphere"]()
+    s.transform = Matrix(((1, 0, 0, 0), (0, 1, 0, 0), (0, 0, 1, 0), (0, 0.5, 0, 1)))
+    with pytest.raises(PackError, match="not affine"):
+        api["render"](api["camera"](4, 4, 1.0), _world_with(s))
+
+
+def test_a_world_without_light_is_refused() -> None:
+    api = load_variant("numba").api
+    w = api["default_world"]()
+    w.light = None
+    with pytest.raises(ValueError, match="no light source"):
+        api["render"](api["camera"](4, 4, 1.0), w)
+
+
+# ------------------------------------------------------------------------ specialization
+
+
+def test_an_opaque_spheres_scene_leaves_out_refraction_schlick_cylinders_patterns() -> None:
+    api = load_variant("numba").api
+    flags = analyse(pack_world(api["default_world"]())).flags
+    assert flags == {"HAS_SPHERE", "HAS_SHADOWS"}
+    variant = load_variant("numba")
+    assert variant.explain is not None
+    text = variant.explain(api["default_world"]())
+    assert "left out:" in text
+    for word in ("refraction", "schlick", "cylinder", "checkers"):
+        assert word in text.split("left out:")[1]
+
+
+def test_the_reference_scene_needs_what_it_has() -> None:
+    api = load_variant("numba").api
+    world = load_scene(SCENES / "reference.yml", api).world
+    flags = analyse(pack_world(world)).flags
+    assert flags == {
+        "HAS_SPHERE", "HAS_PLANE", "HAS_CYLINDER", "HAS_BOXES", "HAS_PATTERNS",
+        "HAS_CHECKERS", "HAS_SHADOWS", "HAS_REFLECTION", "HAS_REFRACTION", "HAS_SCHLICK",
+    }  # fmt: skip
+
+
+def test_specialize_off_uses_the_generic_kernel() -> None:
+    variant = load_variant("numba[specialize=off]")
+    assert variant.name == "numba[specialize=off]"
+    assert variant.explain is not None
+    assert "generic, every feature" in variant.explain(variant.api["default_world"]())
+
+
+# ------------------------------------------------------------------------ allocations
+
+
+def test_no_numba_allocation_per_pixel() -> None:
+    """NRT allocation counts of a render do not grow with the image (a subprocess: the
+    statistics are switched on before numba is imported)."""
+    code = (
+        "import json, math\n"
+        "from dataclasses import replace\n"
+        "from numba.core.runtime import rtsys\n"
+        "from variants.registry import load_variant\n"
+        "counts = {}\n"
+        "for name in ('numba[threads=1]', 'numba[threads=2]'):\n"
+        "    api = load_variant(name).api\n"
+        "    w = api['default_world']()\n"
+        "    for size in (4, 16, 64):\n"
+        "        c = api['camera'](size, size, math.pi / 2)\n"
+        "        api['render'](c, w)\n"
+        "        before = rtsys.get_allocation_stats().alloc\n"
+        "        api['render'](c, w)\n"
+        "        counts[f'{name} {size}'] = rtsys.get_allocation_stats().alloc - before\n"
+        "print(json.dumps(counts))\n"
+    )
+    env = {**os.environ, "NUMBA_NRT_STATS": "1"}
+    done = subprocess.run(
+        [sys.executable, "-c", code], env=env, cwd=ROOT, capture_output=True, text=True
+    )
+    assert done.returncode == 0, done.stderr
+    counts = json.loads(done.stdout.strip().splitlines()[-1])
+    print(counts)
+    for name in ("numba[threads=1]", "numba[threads=2]"):
+        per_size = {counts[f"{name} {size}"] for size in (4, 16, 64)}
+        assert len(per_size) == 1, f"{name}: allocations grow with the image: {counts}"
+        assert per_size.pop() < 32
+
+
+# ------------------------------------------------------------------------ rays, options
+
+
+def test_count_rays_counts_camera_shadow_and_secondary_rays() -> None:
+    variant = load_variant("numba")
+    assert variant.count_rays is not None
+    camera, world = default_world(variant.api)
+    counts = variant.count_rays(camera, world, RenderSettings(samples=2))
+    assert counts["camera"] == 16 * 16 * 2
+    assert counts["secondary"] == 0  # nothing reflects or refracts in the default world
+    assert 0 < counts["shadow"] <= counts["camera"]
+    camera, world = everything(variant.api)
+    counts = variant.count_rays(camera, world, RenderSettings())
+    assert counts["secondary"] > 0
+
+
+def test_option_names_are_canonical_and_checked() -> None:
+    assert load_variant("numba[threads=1,fastmath,float32]").name == (
+        "numba[fastmath,float32,threads=1]"
+    )
+    assert load_variant("numba[fastmath=off,specialize=on]").name == "numba"
+    with pytest.raises(VariantError, match="threads"):
+        load_variant("numba[threads=0]")
+    with pytest.raises(VariantError, match="no option 'colour'"):
+        load_variant("numba[colour=red]")
+    with pytest.raises(VariantError, match="does not wrap"):
+        load_variant("numba:naive")
+
+
+def test_the_book_api_is_answered_by_compiled_code() -> None:
+    variant = load_variant("numba")
+    for name in ("intersect", "normal_at", "lighting", "shade_hit", "color_at", "render"):
+        assert name in variant.overrides
+        assert getattr(variant.api[name], "__self__", None) is not None, name
+    assert (
+        "tuple" not in variant.overrides
+        and variant.api["point"] is load_variant("naive").api["point"]
+    )
+
+
+# ------------------------------------------------------------------------ the canvas
+
+
+def test_the_array_canvas_is_a_canvas_over_its_array() -> None:
+    api = load_variant("naive").api
+    data = np.array(
+        [[[0.0, 0.5, 1.5], [-0.2, 0.25, 1.0]], [[0.1, 0.2, 0.3], [1.0, 0.999, float("nan")]]]
+    )
+    image = ArrayCanvas(data)
+    assert (image.width, image.height) == (2, 2)
+    assert api["pixel_at"](image, 1, 0) == api["color"](-0.2, 0.25, 1.0)
+    api["write_pixel"](image, 0, 1, api["color"](0.4, 0.5, 0.6))
+    assert data[1, 0].tolist() == [0.4, 0.5, 0.6]
+    listed = api["canvas"](2, 2)
+    for y in range(2):
+        for x in range(2):
+            api["write_pixel"](listed, x, y, api["pixel_at"](image, x, y))
+    assert image.to_rgb8() == canvas_to_rgb8(listed)
+    assert canvas_to_ppm(image) == canvas_to_ppm(listed)
+
+
+def test_rtc_render_explain_prints_the_feature_set(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from rtc.cli import main
+
+    out = tmp_path / "out.png"
+    scene = str(SCENES / "reference.yml")
+    assert (
+        main(["render", scene, "--variant", "numba", "--size", "8x6", "--explain", "-o", str(out)])
+        == 0
+    )
+    printed = capsys.readouterr().out
+    assert "shapes: sphere, plane, cylinder" in printed
+    assert "shading: shadows, reflection, refraction, schlick" in printed
+    assert "left out: cube, cone" in printed
+    assert out.is_file()
+    assert main(["render", scene, "--size", "4x3", "--explain", "-o", str(out)]) == 0
+    assert "naive: nothing to explain" in capsys.readouterr().out

@@ -1,0 +1,199 @@
+"""The ``pooled`` variant: jobs cover the image, progress counts rows, and a worker that dies
+or fails makes the render fail quickly and clearly, returning (and writing) nothing."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import multiprocessing
+import os
+import signal
+import time
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from raytracer.camera import RenderSettings
+from rtc.cli import main
+from variants.pooled import PooledRender, RenderWorkerError, make_jobs
+from variants.registry import Variant, load_variant
+
+REFERENCE_SCENE = Path(__file__).resolve().parent.parent / "harness" / "scenes" / "reference.yml"
+
+
+def _scene(variant: Variant, width: int, height: int) -> tuple[Any, Any]:
+    api = variant.api
+    view = api["view_transform"](
+        api["point"](0, 1.5, -5), api["point"](0, 0, 0), api["vector"](0, 1, 0)
+    )
+    c = dataclasses.replace(api["camera"](width, height, math.pi / 3), transform=view)
+    return c, api["default_world"]()
+
+
+@pytest.mark.parametrize(
+    ("granularity", "tile", "count"), [("line", 5, 11), ("pixel", 5, 143), ("tile", 5, 9)]
+)
+def test_the_jobs_cover_every_pixel_once(granularity: str, tile: int, count: int) -> None:
+    jobs = make_jobs(13, 11, granularity, tile)
+    covered = [(x, y) for x0, y0, x1, y1 in jobs for y in range(y0, y1) for x in range(x0, x1)]
+    assert len(jobs) == count
+    assert sorted(covered) == sorted((x, y) for y in range(11) for x in range(13))
+
+
+@pytest.mark.parametrize(
+    "name",
+    ["pooled[workers=2]:cached", "pooled[workers=2,granularity=tile,tile=5]:cached"],
+)
+def test_progress_counts_every_row_once_and_no_worker_is_left(name: str) -> None:
+    variant = load_variant(name)
+    c, w = _scene(variant, 13, 11)
+    rows: list[int] = []
+    image = variant.api["render"](c, w, None, rows.append)
+    assert sum(rows) == 11 and all(n > 0 for n in rows)
+    assert (image.width, image.height) == (13, 11)
+    assert multiprocessing.active_children() == []
+
+
+def test_killing_a_worker_mid_render_fails_within_seconds_and_returns_nothing() -> None:
+    variant = load_variant("pooled[workers=2]:cached")
+    c, w = _scene(variant, 40, 30)
+    killed: list[tuple[int, float]] = []
+
+    def kill_a_worker(rows: int) -> None:
+        if not killed:
+            worker = multiprocessing.active_children()[0]
+            os.kill(worker.pid, signal.SIGKILL)  # type: ignore[arg-type]
+            killed.append((worker.pid or 0, time.monotonic()))
+
+    result: list[Any] = []
+    with pytest.raises(RenderWorkerError) as error:
+        result.append(variant.api["render"](c, w, None, kill_a_worker))
+    elapsed = time.monotonic() - killed[0][1]
+    message = str(error.value)
+    assert not result
+    assert elapsed < 10, f"the error took {elapsed:.1f} s"
+    assert f"(pid {killed[0][0]}) died with exit code -9 (killed by SIGKILL)" in message
+    assert "no image is returned" in message and "jobs were done" in message
+    assert "while holding job" in message or "while waiting for work" in message
+    assert multiprocessing.active_children() == []
+
+
+def test_an_exception_in_a_worker_names_the_job_and_carries_its_traceback() -> None:
+    variant = load_variant("pooled[workers=2]:cached")
+    c, w = _scene(variant, 8, 8)
+    w.light = None  # shading a hit now fails in the worker
+    with pytest.raises(RenderWorkerError) as error:
+        variant.api["render"](c, w)
+    message = str(error.value)
+    assert "failed on job" in message and "(line " in message
+    assert "shade_hit: the world has no light source" in message
+    assert multiprocessing.active_children() == []
+
+
+def test_a_worker_that_cannot_load_its_inner_variant_says_so() -> None:
+    naive = load_variant("naive")
+    render = PooledRender("no-such-variant", naive.api["canvas"], naive.api["color"],
+                          naive.api["write_pixel"], workers=1)  # fmt: skip
+    c, w = _scene(naive, 4, 4)
+    with pytest.raises(RenderWorkerError, match=r"worker 0 \(pid \d+\) could not start") as error:
+        render(c, w)
+    assert "unknown variant 'no-such-variant'" in str(error.value)
+
+
+def test_a_world_that_does_not_pickle_is_a_clear_error() -> None:
+    variant = load_variant("pooled[workers=1]")
+    c, w = _scene(variant, 4, 4)
+    w.objects[0].material = dataclasses.replace(w.objects[0].material, pattern=lambda p: p)
+    with pytest.raises(
+        RenderWorkerError,
+        match=r"cannot start worker 0: the camera, world and settings must pickle",
+    ):
+        variant.api["render"](c, w)
+    assert multiprocessing.active_children() == []
+
+
+def test_rtc_render_writes_no_file_when_a_worker_dies(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from rtc import cmd_render
+
+    def kill_a_worker(rows: int) -> None:
+        children = multiprocessing.active_children()
+        if children:
+            os.kill(children[0].pid, signal.SIGKILL)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(cmd_render, "_progress_bar", lambda rows: (kill_a_worker, lambda: None))
+    output = tmp_path / "out.png"
+    arguments = ["render", str(REFERENCE_SCENE), "-o", str(output), "--size", "32x24"]
+    try:
+        code = main([*arguments, "--variant", "pooled[workers=2]:cached"])
+    except RenderWorkerError:
+        code = None
+    assert code != 0
+    assert not output.exists() and list(tmp_path.iterdir()) == []
+
+
+def test_pooling_works_after_numba_threads_ran_in_the_same_process() -> None:
+    """DESIGN.md: a fork-based pool can hang once numba's OpenMP threads have run in the
+    parent; the pool spawns its workers. (This guards the ordinary case; a worker that itself
+    runs numba code is covered by the numba variant's own tests.)"""
+    numba = pytest.importorskip("numba")
+    import numpy as np
+
+    @numba.njit(parallel=True)
+    def total(values: Any) -> float:
+        result = 0.0
+        for i in numba.prange(values.shape[0]):
+            result += values[i]
+        return result
+
+    assert total(np.ones(1000)) == 1000.0
+    variant = load_variant("pooled[workers=2]:cached")
+    c, w = _scene(variant, 6, 6)
+    image = variant.api["render"](c, w, RenderSettings(depth=2))
+    assert (image.width, image.height) == (6, 6)
+
+
+def test_a_worker_uses_the_inner_variants_region_renderer_when_it_has_one() -> None:
+    """A worker prepares the inner variant's region renderer once and calls it per job."""
+    from raytracer import camera, default_world
+    from raytracer.camera import RenderSettings
+    from variants.pooled import _region_function
+    from variants.registry import load_variant
+
+    prepared: list[object] = []
+
+    def region_renderer(c, w, settings):
+        prepared.append((c, w, settings))
+        return lambda x0, y0, x1, y1: [float(x0), float(y0), float(x1 * y1)]
+
+    base = load_variant("naive")
+    inner = dataclasses.replace(base, region_renderer=region_renderer)
+    c, w, settings = camera(4, 3, 1.0), default_world(), RenderSettings()
+    trace = _region_function(inner, c, w, settings)
+    assert prepared == [(c, w, settings)]
+    assert trace(1, 2, 3, 4) == [1.0, 2.0, 12.0]
+
+
+def test_without_a_region_renderer_a_worker_traces_pixel_by_pixel_like_render() -> None:
+    from raytracer import camera, default_world, pixel_at, render, view_transform
+    from raytracer.camera import RenderSettings
+    from raytracer.tuples import point, vector
+    from variants.pooled import _region_function
+    from variants.registry import load_variant
+
+    c = dataclasses.replace(
+        camera(5, 4, 1.2),
+        transform=view_transform(point(0, 0, -5), point(0, 0, 0), vector(0, 1, 0)),
+    )
+    w = default_world()
+    trace = _region_function(load_variant("naive"), c, w, RenderSettings())
+    image = render(c, w)
+    values = trace(1, 1, 4, 3)
+    expected = []
+    for y in range(1, 3):
+        for x in range(1, 4):
+            p = pixel_at(image, x, y)
+            expected += [p.red, p.green, p.blue]
+    assert values == expected

@@ -1,0 +1,381 @@
+"""The book's API answered by the kernels (chapters 5-16).
+
+Each function packs the objects it is given (a shape, a world, a camera; nothing is cached,
+since shapes and worlds are mutable), calls one compiled entry point of the generic kernel
+module (every feature on, the variant's precision) and converts the result back to the
+reference's values: ``Intersection``, ``Computations``, ``Color``, points and vectors. The
+test shape of chapter 9 is packed as a kind that never intersects; its ``saved_ray`` is
+the object-space ray the kernel computes.
+
+Everything else (constructors, tuples, matrices, ``hit``, canvases) is the reference's.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from types import ModuleType
+from typing import Any
+
+import numpy as np
+
+from raytracer.api import naive_api
+from raytracer.camera import Camera, RenderSettings
+from raytracer.colors import Color
+from raytracer.intersections import Computations, Intersection
+from raytracer.lights import PointLight
+from raytracer.materials import Material
+from raytracer.patterns import Pattern
+from raytracer.rays import Ray
+from raytracer.shapes.csg import CSG, OPERATIONS
+from raytracer.shapes.group import Group
+from raytracer.shapes.shape import Shape
+from raytracer.shapes.smooth_triangle import SmoothTriangle
+from raytracer.shapes.test_shape import TestShape
+from raytracer.tolerance import epsilon
+from raytracer.tuples import Tuple
+from raytracer.world import World
+from variants.numba import layout as L
+from variants.numba.canvas import ArrayCanvas
+from variants.numba.pack import (
+    Packed,
+    pack_camera,
+    pack_shapes,
+    pack_surface,
+    pack_world,
+)
+from variants.numba.render import Options, explain, render
+from variants.numba.specialize import load_kernels
+
+# the book names this module answers with compiled code (Variant.overrides)
+COMPILED = frozenset(
+    {
+        "intersect", "local_intersect", "normal_at", "local_normal_at", "world_to_object",
+        "normal_to_world", "lighting", "pattern_at", "pattern_at_shape", "stripe_at",
+        "stripe_at_object", "intersect_world", "prepare_computations", "shade_hit",
+        "color_at", "is_shadowed", "reflected_color", "refracted_color", "schlick",
+        "ray_for_pixel", "render", "filter_intersections", "intersection_allowed",
+    }
+)  # fmt: skip
+OPERATION_CODES = {
+    "union": L.OP_UNION,
+    "intersection": L.OP_INTERSECTION,
+    "difference": L.OP_DIFFERENCE,
+}
+
+
+def _ray(r: Ray) -> np.ndarray:
+    o, d = r.origin, r.direction
+    return np.array([o.x, o.y, o.z, d.x, d.y, d.z], dtype=np.float64)
+
+
+def _xyz(t: Tuple) -> np.ndarray:
+    return np.array([t.x, t.y, t.z], dtype=np.float64)
+
+
+def _point(x: Any, y: Any, z: Any) -> Tuple:
+    return Tuple(float(x), float(y), float(z), 1.0)
+
+
+def _vector(x: Any, y: Any, z: Any) -> Tuple:
+    return Tuple(float(x), float(y), float(z), 0.0)
+
+
+def _color(rgb: Any) -> Color:
+    r, g, b = rgb
+    return Color(float(r), float(g), float(b))
+
+
+def _light(light: PointLight | None, dtype: Any) -> np.ndarray:
+    if light is None:
+        return np.zeros(6, dtype=dtype)
+    p, i = light.position, light.intensity
+    return np.array([p.x, p.y, p.z, i.red, i.green, i.blue], dtype=dtype)
+
+
+def _no_surface(shape: Shape, caller: str) -> None:
+    """Groups and CSG shapes have no surface of their own (as in the reference)."""
+    if isinstance(shape, Group | CSG):
+        kind = "a group" if isinstance(shape, Group) else "a CSG shape"
+        raise TypeError(
+            f"{caller}({type(shape).__name__}): {kind} has no surface of its own; normals "
+            "are computed on the child that was hit"
+        )
+
+
+def _uv(shape: Shape, hit: Intersection | None, caller: str) -> tuple[float, float]:
+    if not isinstance(shape, SmoothTriangle):
+        return 0.0, 0.0
+    if hit is None or hit.u is None or hit.v is None:
+        raise ValueError(
+            f"{caller}(SmoothTriangle): needs the hit with its u and v "
+            "(an intersection from local_intersect or intersection_with_uv)"
+        )
+    return float(hit.u), float(hit.v)
+
+
+class NumbaBook:
+    """The compiled book API for one set of options (``mapping()`` is the variant's API)."""
+
+    def __init__(self, options: Options) -> None:
+        self.options = options
+        self.dtype = options.dtype
+        self._kernels: ModuleType | None = None
+
+    @property
+    def k(self) -> ModuleType:
+        """The generic kernel module (loaded, or compiled and cached, on first use)."""
+        if self._kernels is None:
+            self._kernels = load_kernels(self.options.generic())
+        return self._kernels
+
+    # -- chapters 5, 9, 14, 16: intersections
+
+    def _intersections(self, packed: Packed, r: Ray, sort: bool) -> list[Intersection]:
+        ray = _ray(r)
+        n, ts, rows, us, vs = self.k.api_intersections(
+            *packed.arrays(), ray, epsilon(), sort, packed.capacity, packed.cs_size,
+            packed.cs_prims,
+        )  # fmt: skip
+        for row, shape in enumerate(packed.shapes):
+            if isinstance(shape, TestShape):
+                o = self.k.api_local_ray(packed.pf, row, ray)
+                shape.saved_ray = Ray(_point(*o[:3]), _vector(*o[3:]))
+        found: list[Intersection] = []
+        for j in range(n):
+            shape = packed.shapes[rows[j]]
+            if isinstance(shape, SmoothTriangle):
+                found.append(Intersection(float(ts[j]), shape, float(us[j]), float(vs[j])))
+            else:
+                found.append(Intersection(float(ts[j]), shape))
+        return found
+
+    def intersect(self, shape: Shape, r: Ray) -> list[Intersection]:
+        """Chapters 5, 9, 14, 16: a world-space ray against ``shape`` (its own transform)."""
+        return self._intersections(pack_shapes([shape], self.dtype), r, _composite(shape))
+
+    def local_intersect(self, shape: Shape, local_ray: Ray) -> list[Intersection]:
+        """Chapter 9: an object-space ray against ``shape``."""
+        packed = pack_shapes([shape], self.dtype, own_transform=False)
+        return self._intersections(packed, local_ray, _composite(shape))
+
+    def intersect_world(self, w: World, r: Ray) -> list[Intersection]:
+        """Chapter 7: every intersection with every object, sorted by t."""
+        return self._intersections(pack_world(w, self.dtype, allow_test_shape=True), r, True)
+
+    def filter_intersections(self, c: CSG, xs: Sequence[Intersection]) -> list[Intersection]:
+        """Chapter 16: the intersections ``c``'s operation keeps."""
+        packed = pack_shapes([c], self.dtype, own_transform=False)
+        mid = int(packed.csg[-1, L.CSG_MID])  # the root operation comes last (post-order)
+        lhits = np.array([0 <= packed.row_of(i.object) < mid for i in xs], dtype=np.bool_)
+        keep = self.k.api_filter(OPERATION_CODES[c.operation], lhits)
+        return [i for i, kept in zip(xs, keep, strict=True) if kept]
+
+    def intersection_allowed(self, operation: str, lhit: bool, inl: bool, inr: bool) -> bool:
+        """Chapter 16: whether an intersection is on the combined surface."""
+        if operation not in OPERATIONS:
+            known = ", ".join(repr(name) for name in OPERATIONS)
+            raise ValueError(
+                f"intersection_allowed: unknown CSG operation {operation!r}; choose {known}"
+            )
+        return bool(self.k.api_allowed(OPERATION_CODES[operation], lhit, inl, inr))
+
+    # -- chapters 6, 9, 14, 15: normals and spaces
+
+    def normal_at(self, shape: Shape, world_point: Tuple, hit: Intersection | None = None) -> Tuple:
+        """Chapters 6, 9, 14, 15: the world-space normal."""
+        _no_surface(shape, "normal_at")
+        u, v = _uv(shape, hit, "normal_at")
+        pf, pi = pack_surface(shape, self.dtype)
+        p = world_point
+        return _vector(*self.k.api_normal(pf, pi, 0, p.x, p.y, p.z, u, v, epsilon(), True))
+
+    def local_normal_at(
+        self, shape: Shape, local_point: Tuple, hit: Intersection | None = None
+    ) -> Tuple:
+        """Chapter 9: the object-space normal (not normalized)."""
+        _no_surface(shape, "local_normal_at")
+        u, v = _uv(shape, hit, "local_normal_at")
+        pf, pi = pack_surface(shape, self.dtype)
+        p = local_point
+        return _vector(*self.k.api_normal(pf, pi, 0, p.x, p.y, p.z, u, v, epsilon(), False))
+
+    def world_to_object(self, shape: Shape, p: Tuple) -> Tuple:
+        """Chapter 14: a world-space point in ``shape``'s object space."""
+        pf, _ = pack_surface(shape, self.dtype, leaf=False)
+        x, y, z = self.k.api_world_to_object(pf, 0, p.x, p.y, p.z, p.w)
+        return Tuple(float(x), float(y), float(z), float(p.w))
+
+    def normal_to_world(self, shape: Shape, n: Tuple) -> Tuple:
+        """Chapter 14: an object-space normal in world space, normalized."""
+        pf, _ = pack_surface(shape, self.dtype, leaf=False)
+        return _vector(*self.k.api_normal_to_world(pf, 0, n.x, n.y, n.z))
+
+    # -- chapters 6, 10: lighting and patterns
+
+    def lighting(
+        self,
+        m: Material,
+        obj: Shape | None,
+        light: PointLight,
+        p: Tuple,
+        eyev: Tuple,
+        normalv: Tuple,
+        in_shadow: bool = False,
+    ) -> Color:
+        """Chapters 6, 8, 10: the Phong color at one point."""
+        pf, pi = pack_surface(obj, self.dtype, material=m)
+        rgb = self.k.api_lighting(
+            pf, pi, 0, _light(light, self.dtype), _xyz(p), _xyz(eyev), _xyz(normalv),
+            bool(in_shadow),
+        )  # fmt: skip
+        return _color(rgb)
+
+    def pattern_at(self, pattern: Pattern, p: Tuple) -> Color:
+        """Chapter 10: the color at a pattern-space point."""
+        pf, pi = pack_surface(None, self.dtype, pattern=pattern)
+        return _color(self.k.api_pattern(pf, pi, 0, p.x, p.y, p.z, False))
+
+    def pattern_at_shape(self, pattern: Pattern, shape: Shape, p: Tuple) -> Color:
+        """Chapters 10, 14: the color on ``shape`` at a world-space point."""
+        pf, pi = pack_surface(shape, self.dtype, pattern=pattern, leaf=False)
+        return _color(self.k.api_pattern(pf, pi, 0, p.x, p.y, p.z, True))
+
+    # -- chapters 7, 8, 11: shading
+
+    def prepare_computations(
+        self, hit: Intersection, r: Ray, xs: Sequence[Intersection] | None = None
+    ) -> Computations:
+        """Chapters 7, 8, 11: what shading needs to know about ``hit``."""
+        shape = hit.object
+        _no_surface(shape, "normal_at")
+        u, v = _uv(shape, hit, "normal_at")
+        pf, pi = pack_surface(shape, self.dtype)
+        values = self.k.api_prepare(pf, pi, 0, _ray(r), hit.t, u, v, epsilon())
+        px, py, pz, ex, ey, ez, nx, ny, nz, inside, ox, oy, oz, ux, uy, uz, rx, ry, rz = values
+        n1, n2 = self._refractive_indices(hit, [hit] if xs is None else xs)
+        return Computations(
+            t=hit.t, object=shape, point=_point(px, py, pz), eyev=_vector(ex, ey, ez),
+            normalv=_vector(nx, ny, nz), inside=bool(inside), over_point=_point(ox, oy, oz),
+            under_point=_point(ux, uy, uz), reflectv=_vector(rx, ry, rz), n1=float(n1),
+            n2=float(n2),
+        )  # fmt: skip
+
+    def _refractive_indices(
+        self, hit: Intersection, xs: Sequence[Intersection]
+    ) -> tuple[float, float]:
+        numbers: dict[int, int] = {}
+        ids = np.array([numbers.setdefault(id(i.object), len(numbers)) for i in xs], np.int64)
+        indices = np.array([i.object.material.refractive_index for i in xs], dtype=self.dtype)
+        hit_index = next(
+            (k for k, i in enumerate(xs) if i is hit or (i.t == hit.t and i.object is hit.object)),
+            -1,
+        )
+        n1, n2 = self.k.containers_indices(ids, indices, hit_index)
+        return float(n1), float(n2)
+
+    def _world_with(self, w: World, shape: Shape, caller: str) -> tuple[Packed, int]:
+        """``w`` packed, and the row of ``shape`` (appended, unreachable by rays, when it
+        is not in the world)."""
+        if w.light is None:
+            raise ValueError(f"{caller}: the world has no light source")
+        packed = pack_world(w, self.dtype, allow_test_shape=True)
+        row = packed.row_of(shape)
+        if row < 0:
+            _no_surface(shape, caller)
+            pf, pi = pack_surface(shape, self.dtype)
+            packed.pf = np.vstack([packed.pf, pf])
+            packed.pi = np.vstack([packed.pi, pi])
+            row = len(packed.pf) - 1
+        return packed, row
+
+    def _shade(
+        self, mode: int, w: World, comps: Computations, remaining: int, caller: str
+    ) -> Color:
+        packed, row = self._world_with(w, comps.object, caller)
+        c = comps
+        values = np.array(
+            [
+                c.eyev.x, c.eyev.y, c.eyev.z, c.normalv.x, c.normalv.y, c.normalv.z,
+                c.over_point.x, c.over_point.y, c.over_point.z,
+                c.under_point.x, c.under_point.y, c.under_point.z,
+                c.reflectv.x, c.reflectv.y, c.reflectv.z, c.n1, c.n2,
+            ],
+            dtype=np.float64,
+        )  # fmt: skip
+        rgb = self.k.api_shade(
+            *packed.arrays(), packed.light, row, values, mode, int(remaining), epsilon(),
+            packed.cs_size, packed.cs_prims,
+        )  # fmt: skip
+        return _color(rgb)
+
+    def shade_hit(self, w: World, comps: Computations, remaining: int = 5) -> Color:
+        """Chapters 7, 8, 11: the color at a prepared hit."""
+        return self._shade(0, w, comps, remaining, "shade_hit")
+
+    def reflected_color(self, w: World, comps: Computations, remaining: int = 5) -> Color:
+        """Chapter 11: the reflected color at a prepared hit."""
+        return self._shade(1, w, comps, remaining, "reflected_color")
+
+    def refracted_color(self, w: World, comps: Computations, remaining: int = 5) -> Color:
+        """Chapter 11: the refracted color at a prepared hit."""
+        return self._shade(2, w, comps, remaining, "refracted_color")
+
+    def _trace(self, mode: int, w: World, values: list[float], remaining: int, caller: str) -> Any:
+        if w.light is None:
+            raise ValueError(f"{caller}: the world has no light source")
+        packed = pack_world(w, self.dtype, allow_test_shape=True)
+        return self.k.api_shade(
+            *packed.arrays(), packed.light, 0, np.array(values, dtype=np.float64), mode,
+            int(remaining), epsilon(), packed.cs_size, packed.cs_prims,
+        )  # fmt: skip
+
+    def color_at(self, w: World, r: Ray, remaining: int = 5) -> Color:
+        """Chapter 7: the color seen along ``r``."""
+        if w.light is None and not w.objects:
+            return Color(0.0, 0.0, 0.0)
+        o, d = r.origin, r.direction
+        return _color(self._trace(3, w, [o.x, o.y, o.z, d.x, d.y, d.z], remaining, "color_at"))
+
+    def is_shadowed(self, w: World, p: Tuple) -> bool:
+        """Chapter 8: is something between ``p`` and the light?"""
+        red, _, _ = self._trace(4, w, [p.x, p.y, p.z], 0, "is_shadowed")
+        return bool(red > 0.5)
+
+    def schlick(self, comps: Computations) -> float:
+        """Chapter 11: Schlick's reflectance at a prepared hit."""
+        return float(self.k.api_schlick(_xyz(comps.eyev), _xyz(comps.normalv), comps.n1, comps.n2))
+
+    # -- chapter 7: the camera and the render
+
+    def ray_for_pixel(self, c: Camera, px: float, py: float) -> Ray:
+        """Chapter 7: the ray through pixel (px, py)."""
+        camera = pack_camera(c, self.dtype)
+        ox, oy, oz, dx, dy, dz = self.k.api_camera_ray(camera.array, float(px), float(py))
+        return Ray(_point(ox, oy, oz), _vector(dx, dy, dz))
+
+    def render(
+        self,
+        c: Camera,
+        w: World,
+        settings: RenderSettings | None = None,
+        progress: Callable[[int], object] | None = None,
+    ) -> ArrayCanvas:
+        """Chapter 7: the whole image, through a kernel specialized to ``w``."""
+        return render(self.options, c, w, settings, progress)
+
+    def explain(self, w: World) -> str:
+        """What a render of ``w`` would run (for ``rtc render --explain``)."""
+        return explain(self.options, w)
+
+    def mapping(self) -> Mapping[str, Any]:
+        """The reference's API with the compiled names replaced."""
+        api = dict(naive_api())
+        aliases = {"stripe_at": "pattern_at", "stripe_at_object": "pattern_at_shape"}
+        for name in COMPILED:
+            api[name] = getattr(self, aliases.get(name, name))
+        return api
+
+
+def _composite(shape: Shape) -> bool:
+    """Groups and CSG shapes return their intersections sorted (as the reference's do)."""
+    return isinstance(shape, Group | CSG)

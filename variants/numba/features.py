@@ -1,0 +1,116 @@
+"""What a scene needs from the kernels: its feature set, found once from the packed arrays.
+
+The feature set is the set of ``kernel_flags`` switches that are on: the shape kinds and
+pattern kinds present, groups with bounding boxes, CSG, shadows (some object casts one),
+reflection, refraction, and Schlick (some material is both reflective and transparent).
+A render compiles (or loads from the disk cache) one kernel module per feature set, so an
+opaque-spheres scene runs a kernel with no refraction, Schlick, cylinder or pattern code.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from variants.numba import kernel_flags
+from variants.numba import layout as L
+from variants.numba.pack import KIND_NAMES, PATTERN_NAMES, Packed
+
+ALL_FLAGS: tuple[str, ...] = tuple(
+    name for name in vars(kernel_flags) if name.startswith("HAS_")
+)  # in the order kernel_flags lists them
+KIND_FLAGS = {
+    L.K_SPHERE: "HAS_SPHERE",
+    L.K_PLANE: "HAS_PLANE",
+    L.K_CUBE: "HAS_CUBE",
+    L.K_CYLINDER: "HAS_CYLINDER",
+    L.K_CONE: "HAS_CONE",
+    L.K_TRIANGLE: "HAS_TRIANGLE",
+    L.K_SMOOTH_TRIANGLE: "HAS_SMOOTH_TRIANGLE",
+    L.K_TEST: "HAS_TEST_SHAPE",
+}
+PATTERN_FLAGS = {
+    L.P_STRIPE: "HAS_STRIPE",
+    L.P_GRADIENT: "HAS_GRADIENT",
+    L.P_RING: "HAS_RING",
+    L.P_CHECKERS: "HAS_CHECKERS",
+    L.P_TEST: "HAS_TEST_PATTERN",
+}
+SHADING_FLAGS = {
+    "HAS_SHADOWS": "shadows",
+    "HAS_REFLECTION": "reflection",
+    "HAS_REFRACTION": "refraction",
+    "HAS_SCHLICK": "schlick",
+}
+
+
+@dataclass(frozen=True)
+class FeatureSet:
+    """The switches a kernel is compiled with (names from ``kernel_flags``)."""
+
+    flags: frozenset[str]
+
+    @classmethod
+    def everything(cls) -> FeatureSet:
+        """The generic kernel: every switch on (``specialize=off``, and the book API)."""
+        return cls(frozenset(ALL_FLAGS))
+
+    @property
+    def key(self) -> str:
+        """A short, stable spelling: the flags that are on, without ``HAS_``."""
+        on = [name.removeprefix("HAS_").lower() for name in ALL_FLAGS if name in self.flags]
+        return "+".join(on) or "empty"
+
+    def describe(self) -> list[str]:
+        """Lines for ``explain``: the shapes, structure, patterns and shading stages."""
+        kinds = [KIND_NAMES[k] for k, flag in KIND_FLAGS.items() if flag in self.flags]
+        patterns = [PATTERN_NAMES[k] for k, flag in PATTERN_FLAGS.items() if flag in self.flags]
+        shading = [word for flag, word in SHADING_FLAGS.items() if flag in self.flags]
+        structure = [
+            word
+            for flag, word in (("HAS_BOXES", "group bounding boxes"), ("HAS_CSG", "csg"))
+            if flag in self.flags
+        ]
+        return [
+            f"shapes: {', '.join(kinds) or 'none'}",
+            f"structure: {', '.join(structure) or 'flat list'}",
+            f"patterns: {', '.join(patterns) or 'none'}",
+            f"shading: {', '.join(shading) or 'ambient and diffuse only'}",
+        ]
+
+    def left_out(self) -> list[str]:
+        """The switches that are off (what a kernel for this set does not contain)."""
+        return [
+            name.removeprefix("HAS_").lower()
+            for name in ALL_FLAGS
+            if name not in self.flags and name != "HAS_PATTERNS"
+        ]
+
+
+def analyse(packed: Packed) -> FeatureSet:
+    """The feature set a packed world needs (the test shape is never rendered)."""
+    flags: set[str] = set()
+    kinds = set(np.unique(packed.pi[:, L.KIND]).tolist()) if len(packed.pi) else set()
+    flags.update(KIND_FLAGS[k] for k in kinds if k != L.K_TEST)
+    patterns = set(np.unique(packed.pi[:, L.PATTERN]).tolist()) if len(packed.pi) else set()
+    flags.update(PATTERN_FLAGS[p] for p in patterns if p != L.P_NONE)
+    if patterns - {L.P_NONE}:
+        flags.add("HAS_PATTERNS")
+    types = set(np.unique(packed.items[:, L.ITEM_TYPE]).tolist()) if len(packed.items) else set()
+    if L.I_BOX in types:
+        flags.add("HAS_BOXES")
+    if L.I_CSG in types:
+        flags.add("HAS_CSG")
+    if len(packed.pi) and packed.pi[:, L.CASTS_SHADOW].any():
+        flags.add("HAS_SHADOWS")
+    reflective = packed.pf[:, L.REFLECTIVE] != 0
+    transparent = packed.pf[:, L.TRANSPARENCY] != 0
+    if reflective.any():
+        flags.add("HAS_REFLECTION")
+    if transparent.any():
+        flags.add("HAS_REFRACTION")
+    both = (packed.pf[:, L.REFLECTIVE] > 0) & (packed.pf[:, L.TRANSPARENCY] > 0)
+    if both.any():
+        flags.add("HAS_SCHLICK")
+    return FeatureSet(frozenset(flags))

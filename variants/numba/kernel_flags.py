@@ -1,0 +1,37 @@
+"""The compile-time switches of the kernel template, at their generic values.
+
+A generated kernel module (``variants.numba.specialize``) starts with its own copy of these
+names, set for one scene's feature set and the variant's options; numba reads module globals
+as constants, so a switch that is False removes its code from the compiled kernel. These
+defaults (everything on, float64, no fastmath) are what the template files see when they are
+imported directly, e.g. by mypy and ruff; nothing is ever compiled from them.
+"""
+
+import numpy as np
+
+F = np.float64  # the float type of every computation (np.float32 with the float32 option)
+FASTMATH: bool | set[str] = False  # LLVM fast-math flags (the fastmath option)
+COUNT_RAYS = False  # count the rays traced (for Variant.count_rays; never in a timed render)
+
+HAS_SPHERE = True
+HAS_PLANE = True
+HAS_CUBE = True
+HAS_CYLINDER = True
+HAS_CONE = True
+HAS_TRIANGLE = True
+HAS_SMOOTH_TRIANGLE = True
+HAS_TEST_SHAPE = True  # the chapter 9 test shape (the book API only, never a render)
+HAS_CSG = True
+HAS_BOXES = True  # groups with bounding boxes
+
+HAS_PATTERNS = True
+HAS_STRIPE = True
+HAS_GRADIENT = True
+HAS_RING = True
+HAS_CHECKERS = True
+HAS_TEST_PATTERN = True
+
+HAS_SHADOWS = True  # some object casts a shadow
+HAS_REFLECTION = True  # some material is reflective
+HAS_REFRACTION = True  # some material is transparent
+HAS_SCHLICK = True  # some material is both

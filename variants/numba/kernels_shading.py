@@ -1,0 +1,238 @@
+"""Kernel template, part 2: patterns (chapter 10), the Phong model (chapter 6), Schlick's
+approximation and Snell's law (chapter 11), and n1/n2 from a list of intersections.
+
+As in part 1, the arithmetic follows the reference operation by operation; ``math.pow`` is
+used for powers because numba expands ``x ** 5`` into multiplications, which rounds
+differently from Python's ``pow``.
+"""
+
+# ruff: noqa: F401
+import math
+from typing import Any
+
+import numpy as np
+from numba import njit
+
+from variants.numba.kernel_flags import (
+    FASTMATH,
+    HAS_CHECKERS,
+    HAS_GRADIENT,
+    HAS_PATTERNS,
+    HAS_RING,
+    HAS_STRIPE,
+    HAS_TEST_PATTERN,
+    F,
+)
+from variants.numba.kernels_geometry import INLINE, ONE, ZERO, normalized, to_object_point
+from variants.numba.layout import (
+    AMBIENT,
+    COLOR,
+    DIFFUSE,
+    P_CHECKERS,
+    P_GRADIENT,
+    P_NONE,
+    P_RING,
+    P_STRIPE,
+    PAT,
+    PAT_A,
+    PAT_B,
+    PATTERN,
+    POW_FLOOR,
+    SHININESS,
+    SPECULAR,
+)
+
+# ---- kernel template ----
+
+API: dict[str, Any] = {"fastmath": FASTMATH, "error_model": "numpy", "cache": True}
+
+
+@njit(**INLINE)
+def pattern_a(pf, p):
+    return pf[p, PAT_A], pf[p, PAT_A + 1], pf[p, PAT_A + 2]
+
+
+@njit(**INLINE)
+def pattern_b(pf, p):
+    return pf[p, PAT_B], pf[p, PAT_B + 1], pf[p, PAT_B + 2]
+
+
+@njit(**INLINE)
+def local_pattern(pf, pi, p, x, y, z):
+    """Chapter 10: primitive p's pattern color at a pattern-space point."""
+    kind = pi[p, PATTERN]
+    if HAS_STRIPE and kind == P_STRIPE:
+        if math.floor(x) % 2 == 0:
+            return pattern_a(pf, p)
+        return pattern_b(pf, p)
+    if HAS_GRADIENT and kind == P_GRADIENT:
+        fraction = x - math.floor(x)
+        return (
+            pf[p, PAT_A] + (pf[p, PAT_B] - pf[p, PAT_A]) * fraction,
+            pf[p, PAT_A + 1] + (pf[p, PAT_B + 1] - pf[p, PAT_A + 1]) * fraction,
+            pf[p, PAT_A + 2] + (pf[p, PAT_B + 2] - pf[p, PAT_A + 2]) * fraction,
+        )
+    if HAS_RING and kind == P_RING:
+        if math.floor(math.sqrt(x * x + z * z)) % 2 == 0:
+            return pattern_a(pf, p)
+        return pattern_b(pf, p)
+    if HAS_CHECKERS and kind == P_CHECKERS:
+        if (math.floor(x) + math.floor(y) + math.floor(z)) % 2 == 0:
+            return pattern_a(pf, p)
+        return pattern_b(pf, p)
+    return x, y, z  # the test pattern: the point itself
+
+
+@njit(**INLINE)
+def pattern_point(pf, p, x, y, z):
+    """Chapter 10: an object-space point in the pattern's space."""
+    return (
+        pf[p, PAT + 0] * x + pf[p, PAT + 1] * y + pf[p, PAT + 2] * z + pf[p, PAT + 3],
+        pf[p, PAT + 4] * x + pf[p, PAT + 5] * y + pf[p, PAT + 6] * z + pf[p, PAT + 7],
+        pf[p, PAT + 8] * x + pf[p, PAT + 9] * y + pf[p, PAT + 10] * z + pf[p, PAT + 11],
+    )
+
+
+@njit(**INLINE)
+def surface_color(pf, pi, p, x, y, z):
+    """Chapters 6 and 10: the material's color at a world-space point: the pattern's when
+    it has one (through the shape's and the pattern's transforms), else its own."""
+    if HAS_PATTERNS and pi[p, PATTERN] != P_NONE:
+        ox, oy, oz = to_object_point(pf, p, x, y, z)
+        px, py, pz = pattern_point(pf, p, ox, oy, oz)
+        return local_pattern(pf, pi, p, px, py, pz)
+    return pf[p, COLOR], pf[p, COLOR + 1], pf[p, COLOR + 2]
+
+
+@njit(**INLINE)
+def phong(pf, pi, p, light, x, y, z, ex, ey, ez, nx, ny, nz, lx, ly, lz, light_dot_normal, lit):
+    """Chapters 6 and 8: the Phong color at a world-space point (x, y, z), given the unit
+    vector (lx, ly, lz) towards the light and its dot product with the normal; ``lit`` is
+    False in shadow (ambient only)."""
+    sr, sg, sb = surface_color(pf, pi, p, x, y, z)
+    er = sr * light[3]
+    eg = sg * light[4]
+    eb = sb * light[5]
+    ambient = pf[p, AMBIENT]
+    ar = er * ambient
+    ag = eg * ambient
+    ab = eb * ambient
+    if not lit or light_dot_normal < ZERO:
+        return ar, ag, ab
+    diffuse = pf[p, DIFFUSE]
+    dr = er * diffuse * light_dot_normal
+    dg = eg * diffuse * light_dot_normal
+    db = eb * diffuse * light_dot_normal
+    # reflect(-lightv, normalv)
+    twice = -lx * nx + -ly * ny + -lz * nz
+    rx = -lx - nx * F(2.0) * twice
+    ry = -ly - ny * F(2.0) * twice
+    rz = -lz - nz * F(2.0) * twice
+    reflect_dot_eye = rx * ex + ry * ey + rz * ez
+    specular = pf[p, SPECULAR]
+    if reflect_dot_eye <= ZERO or specular == ZERO:  # (adding 0 * factor changes nothing)
+        return ar + dr, ag + dg, ab + db
+    if reflect_dot_eye <= pf[p, POW_FLOOR] and specular > ZERO:
+        # factor <= 2**-80, so each channel's specular term is below 2**-60 of the sum it
+        # is added to when that sum exceeds intensity * specular * 2**-20: far below half
+        # a unit in its last place, so adding it would round back to the same number.
+        floor = specular * F(2.0**-20)
+        if (
+            ar + dr > light[3] * floor
+            and ag + dg > light[4] * floor
+            and ab + db > light[5] * floor
+            and light[3] >= ZERO
+            and light[4] >= ZERO
+            and light[5] >= ZERO
+        ):
+            return ar + dr, ag + dg, ab + db
+    factor = math.pow(reflect_dot_eye, pf[p, SHININESS])
+    return (
+        ar + dr + light[3] * specular * factor,
+        ag + dg + light[4] * specular * factor,
+        ab + db + light[5] * specular * factor,
+    )
+
+
+@njit(**INLINE)
+def towards_light(light, x, y, z):
+    """Chapters 6 and 8: the unit vector from (x, y, z) to the light, and the distance."""
+    vx = light[0] - x
+    vy = light[1] - y
+    vz = light[2] - z
+    distance = math.sqrt(vx * vx + vy * vy + vz * vz)
+    return vx / distance, vy / distance, vz / distance, distance
+
+
+@njit(**INLINE)
+def lighting_at(pf, pi, p, light, x, y, z, ex, ey, ez, nx, ny, nz, in_shadow):
+    """Chapter 6: ``lighting(material, object, light, point, eyev, normalv, in_shadow)``."""
+    lx, ly, lz, _ = towards_light(light, x, y, z)
+    light_dot_normal = lx * nx + ly * ny + lz * nz
+    return phong(
+        pf, pi, p, light, x, y, z, ex, ey, ez, nx, ny, nz, lx, ly, lz, light_dot_normal,
+        not in_shadow,
+    )  # fmt: skip
+
+
+@njit(**INLINE)
+def schlick_at(ex, ey, ez, nx, ny, nz, n1, n2):
+    """Chapter 11: Schlick's approximation of the reflectance at a hit."""
+    cos = ex * nx + ey * ny + ez * nz
+    if n1 > n2:
+        n = n1 / n2
+        sin2_t = n * n * (ONE - cos * cos)
+        if sin2_t > ONE:
+            return ONE
+        cos = math.sqrt(ONE - sin2_t)
+    r0 = math.pow((n1 - n2) / (n1 + n2), F(2.0))
+    return r0 + (ONE - r0) * math.pow(ONE - cos, F(5.0))
+
+
+@njit(**INLINE)
+def refraction(ex, ey, ez, nx, ny, nz, n1, n2):
+    """Chapter 11: Snell's law: (ok, direction); ok is False under total internal
+    reflection."""
+    n_ratio = n1 / n2
+    cos_i = ex * nx + ey * ny + ez * nz
+    sin2_t = n_ratio * n_ratio * (ONE - cos_i * cos_i)
+    if sin2_t > ONE:
+        return False, ZERO, ZERO, ZERO
+    cos_t = math.sqrt(ONE - sin2_t)
+    k = n_ratio * cos_i - cos_t
+    return True, nx * k - ex * n_ratio, ny * k - ey * n_ratio, nz * k - ez * n_ratio
+
+
+@njit(**API)
+def containers_indices(ids, indices, hit_index):
+    """Chapter 11: n1 and n2 for entry ``hit_index`` of a sorted intersection list, where
+    ``ids[i]`` names entry i's object and ``indices[i]`` is that object's refractive index.
+    The objects the ray is inside of are kept in the order they were entered, as the book's
+    ``containers`` list; (1, 1) when ``hit_index`` is not in the list."""
+    n = ids.shape[0]
+    inside_ids = np.empty(n, np.int64)
+    inside_indices = np.empty(n, F)
+    depth = 0
+    n1 = ONE
+    n2 = ONE
+    for i in range(n):
+        if i == hit_index:
+            n1 = inside_indices[depth - 1] if depth > 0 else ONE
+        found = -1
+        for j in range(depth):
+            if inside_ids[j] == ids[i]:
+                found = j
+                break
+        if found >= 0:
+            for j in range(found, depth - 1):
+                inside_ids[j] = inside_ids[j + 1]
+                inside_indices[j] = inside_indices[j + 1]
+            depth -= 1
+        else:
+            inside_ids[depth] = ids[i]
+            inside_indices[depth] = indices[i]
+            depth += 1
+        if i == hit_index:
+            n2 = inside_indices[depth - 1] if depth > 0 else ONE
+            break
+    return n1, n2

@@ -1,0 +1,118 @@
+"""Where everything sits in the packed arrays: shared by the packer and the kernel template.
+
+A packed world is a handful of flat arrays (see ``variants.numba.pack``):
+
+- ``pf[p, column]`` (floats) and ``pi[p, column]`` (ints): one row per primitive (a leaf shape:
+  sphere, plane, cube, cylinder, cone, triangle, smooth triangle, test shape), holding its
+  composed world-to-object transform, the transform for normals, its material and pattern,
+  and its own parameters (chapters 5-15);
+- ``items[i, column]`` and ``boxes[i, column]``: the order in which a ray visits the world,
+  depth first: a primitive, a group's bounding box (skip the group when the ray misses it,
+  chapter 14), or a CSG tree (chapter 16);
+- ``csg[n, column]``: CSG operations in post-order, each over a range of primitives;
+- ``light`` (position, intensity) and ``cam`` (inverse view transform and pixel geometry).
+
+This file is also the first part of every generated kernel module (see
+``variants.numba.specialize``), so the kernels read these names as compile-time constants.
+"""
+
+# ---- kernel template ----
+
+# pf: primitive floats
+INV = 0  # 12: world -> object space, rows 0-2 of the composed inverse transform (row-major)
+NRM = 12  # 9: object -> world for normals: rows 0-2 of the inverse transpose (3x3)
+PAT = 21  # 12: object -> pattern space, rows 0-2 of the pattern's inverse transform
+COLOR = 33  # 3: the material's color
+AMBIENT = 36
+DIFFUSE = 37
+SPECULAR = 38
+SHININESS = 39
+REFLECTIVE = 40
+TRANSPARENCY = 41
+REFRACTIVE_INDEX = 42
+PAT_A = 43  # 3: the pattern's first color
+PAT_B = 46  # 3: the pattern's second color
+MINIMUM = 49  # cylinders and cones: the y range
+MAXIMUM = 50
+TRI_P1 = 51  # 3: triangles: the first corner
+TRI_E1 = 54  # 3: p2 - p1
+TRI_E2 = 57  # 3: p3 - p1
+TRI_NORMAL = 60  # 3: the flat normal
+TRI_N1 = 63  # 3: smooth triangles: the corner normals
+TRI_N2 = 66
+TRI_N3 = 69
+BOUND = 72  # 4: a world-space sphere holding the primitive: centre, radius (inf: none)
+POW_FLOOR = 76  # reflect_dot_eye at or below which reflect_dot_eye ** shininess <= 2**-80
+NF = 77
+
+# pi: primitive ints
+KIND = 0  # one of the K_ values
+PATTERN = 1  # one of the P_ values
+CASTS_SHADOW = 2  # 0 or 1
+CLOSED = 3  # cylinders and cones: 1 when capped
+NI = 4
+
+# shape kinds
+K_SPHERE = 0
+K_PLANE = 1
+K_CUBE = 2
+K_CYLINDER = 3
+K_CONE = 4
+K_TRIANGLE = 5
+K_SMOOTH_TRIANGLE = 6
+K_TEST = 7  # the chapter 9 test shape: no intersections, normal = object-space point
+
+# pattern kinds
+P_NONE = 0
+P_STRIPE = 1
+P_GRADIENT = 2
+P_RING = 3
+P_CHECKERS = 4
+P_TEST = 5
+
+# items: what a ray visits, in order
+ITEM_TYPE = 0
+ITEM_A = 1  # primitive: its row; box: the item after the group; csg: its first csg node
+ITEM_B = 2  # csg: one past its last csg node
+ITEM_C = 3  # csg: its first primitive
+ITEM_D = 4  # csg: one past its last primitive
+NITEM = 5
+I_PRIM = 0
+I_BOX = 1
+I_CSG = 2
+I_SKIP = 3  # nothing (a group whose box would not help)
+
+# csg nodes (post-order): the left operand is primitives [START, MID), the right [MID, END)
+CSG_START = 0
+CSG_MID = 1
+CSG_END = 2
+CSG_OP = 3
+NCSG = 4
+OP_UNION = 0
+OP_INTERSECTION = 1
+OP_DIFFERENCE = 2
+
+# cam: the camera
+CAM_INV = 0  # 12: rows 0-2 of the inverse view transform
+CAM_HALF_WIDTH = 12
+CAM_HALF_HEIGHT = 13
+CAM_PIXEL_SIZE = 14
+NCAM = 15
+
+# per-thread scratch for CSG trees: sf[row, j] (floats) and si[row, j] (ints)
+CS_T = 0  # sf: the tree's intersection list: t
+CS_U = 1  # sf: ... a triangle's u
+CS_V = 2  # sf: ... and v
+CS_LAST_T = 3  # sf: per primitive of the tree: its latest t before the hit (n1/n2)
+NSF = 4
+CS_P = 0  # si: the list: the primitive
+CS_L = 1  # si: the list: the index within the primitive's own list
+CS_START = 2  # si: per primitive of the tree: where its entries start in the list
+CS_COUNT = 3  # si: per primitive: how many of its intersections come before the hit
+CS_LAST_L = 4  # si: per primitive: the index of its latest one
+RAYS = 5  # si: ray counters (count_rays kernels): rays traced, shadow rays, n1/n2 passes
+MEMO = 6  # si: [MEMO, 0]: the primitive that last shadowed a point on this thread (-1: none)
+NSI = 7
+
+# the per-ray stack of reflected and refracted rays: origin, direction, weight, remaining
+STACK_WIDTH = 8

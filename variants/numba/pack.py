@@ -1,0 +1,580 @@
+"""Packing a world, a shape or a camera into the flat arrays the kernels read (``layout``).
+
+A world is packed once per render: every leaf shape becomes one row of ``pf``/``pi`` with
+its transform composed through its groups and CSG parents (chapter 14), its material and
+its pattern (chapters 6, 10, 11) and its own parameters (chapters 12, 13, 15); groups become
+bounding-box items the ray can skip, CSG trees a range of rows plus their operations in
+post-order (chapter 16).
+
+Only the reference's own shape and pattern classes are packed (or subclasses that do not
+change how they intersect, shade or color); anything else is refused with a ``PackError``
+naming the object, never approximated. Inverses are the reference's ``inverse`` (cofactor
+expansion), so the kernels start from the very numbers the reference uses.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from raytracer.camera import Camera
+from raytracer.colors import Color
+from raytracer.lights import PointLight
+from raytracer.materials import Material
+from raytracer.matrices import Matrix, identity_matrix, inverse
+from raytracer.patterns import (
+    CheckersPattern,
+    GradientPattern,
+    Pattern,
+    RingPattern,
+    StripePattern,
+    TestPattern,
+)
+from raytracer.shapes.cone import Cone
+from raytracer.shapes.csg import CSG
+from raytracer.shapes.cube import Cube
+from raytracer.shapes.cylinder import Cylinder
+from raytracer.shapes.group import Group
+from raytracer.shapes.plane import Plane
+from raytracer.shapes.shape import Shape
+from raytracer.shapes.smooth_triangle import SmoothTriangle
+from raytracer.shapes.sphere import Sphere
+from raytracer.shapes.test_shape import TestShape
+from raytracer.shapes.triangle import Triangle
+from raytracer.tuples import Tuple
+from raytracer.world import World
+from variants.numba import layout as L
+
+# leaf classes, most derived first (a smooth triangle is a triangle)
+SHAPE_KINDS: tuple[tuple[type[Shape], int], ...] = (
+    (SmoothTriangle, L.K_SMOOTH_TRIANGLE),
+    (Triangle, L.K_TRIANGLE),
+    (Sphere, L.K_SPHERE),
+    (Plane, L.K_PLANE),
+    (Cube, L.K_CUBE),
+    (Cylinder, L.K_CYLINDER),
+    (Cone, L.K_CONE),
+    (TestShape, L.K_TEST),
+)
+PATTERN_KINDS: tuple[tuple[type[Pattern], int], ...] = (
+    (StripePattern, L.P_STRIPE),
+    (GradientPattern, L.P_GRADIENT),
+    (RingPattern, L.P_RING),
+    (CheckersPattern, L.P_CHECKERS),
+    (TestPattern, L.P_TEST),
+)
+KIND_NAMES = {
+    L.K_SPHERE: "sphere",
+    L.K_PLANE: "plane",
+    L.K_CUBE: "cube",
+    L.K_CYLINDER: "cylinder",
+    L.K_CONE: "cone",
+    L.K_TRIANGLE: "triangle",
+    L.K_SMOOTH_TRIANGLE: "smooth_triangle",
+    L.K_TEST: "test_shape",
+}
+PATTERN_NAMES = {
+    L.P_STRIPE: "stripe",
+    L.P_GRADIENT: "gradient",
+    L.P_RING: "ring",
+    L.P_CHECKERS: "checkers",
+    L.P_TEST: "test_pattern",
+}
+# how many intersections one primitive can give at most
+MAX_HITS = {
+    L.K_SPHERE: 2,
+    L.K_PLANE: 1,
+    L.K_CUBE: 2,
+    L.K_CYLINDER: 4,
+    L.K_CONE: 4,
+    L.K_TRIANGLE: 1,
+    L.K_SMOOTH_TRIANGLE: 1,
+    L.K_TEST: 0,
+}
+OPERATIONS = {"union": L.OP_UNION, "intersection": L.OP_INTERSECTION, "difference": L.OP_DIFFERENCE}
+SHAPE_METHODS = ("local_intersect", "local_normal_at")
+UNBOUNDED = None
+
+Box = tuple[tuple[float, float, float], tuple[float, float, float]] | None
+
+
+class PackError(ValueError):
+    """Something the numba kernels cannot compile; the message names the object."""
+
+
+def _unchanged(cls: type, base: type, methods: Sequence[str]) -> bool:
+    """True when ``cls`` inherits every one of ``methods`` from ``base`` unchanged."""
+    return all(getattr(cls, name) is getattr(base, name) for name in methods)
+
+
+def shape_kind(shape: Shape, where: str) -> int:
+    """The kernel kind of a leaf shape; a ``PackError`` for anything the kernels do not know."""
+    for cls, kind in SHAPE_KINDS:
+        if isinstance(shape, cls):
+            if _unchanged(type(shape), cls, SHAPE_METHODS):
+                return kind
+            raise PackError(
+                f"numba: cannot compile {where}, a {type(shape).__name__}: it changes how a "
+                f"{cls.__name__} intersects or computes normals, and the kernels only know "
+                "the reference's"
+            )
+    known = ", ".join(sorted(KIND_NAMES.values())) + ", group, csg"
+    raise PackError(
+        f"numba: cannot compile {where}, a {type(shape).__name__}: the kernels know {known}"
+    )
+
+
+def pattern_kind(pattern: Pattern, where: str) -> int:
+    """The kernel kind of a pattern; a ``PackError`` for anything else."""
+    for cls, kind in PATTERN_KINDS:
+        if isinstance(pattern, cls):
+            if _unchanged(type(pattern), cls, ("local_pattern_at",)):
+                return kind
+            break
+    known = ", ".join(PATTERN_NAMES.values())
+    raise PackError(
+        f"numba: cannot compile the pattern of {where}, a {type(pattern).__name__}: the "
+        f"kernels know the patterns {known}"
+    )
+
+
+def _affine(m: Matrix, what: str) -> Matrix:
+    """``m`` if it is a 4x4 affine matrix (bottom row 0 0 0 1), else a ``PackError``."""
+    if not isinstance(m, Matrix) or m.size != 4:
+        raise PackError(f"numba: {what} is not a 4x4 matrix")
+    if tuple(m.rows[3]) != (0.0, 0.0, 0.0, 1.0):
+        raise PackError(
+            f"numba: {what} is not affine (its bottom row is {list(m.rows[3])}, not "
+            "[0, 0, 0, 1]); the kernels only apply affine transforms"
+        )
+    return m
+
+
+def _inverse(m: Matrix, what: str) -> Matrix:
+    """The reference's inverse of an affine ``m``; a ``PackError`` when it has none."""
+    _affine(m, what)
+    if m == identity_matrix:
+        return identity_matrix
+    try:
+        return inverse(m)
+    except ValueError:
+        raise PackError(f"numba: {what} is not invertible (determinant 0)") from None
+
+
+def _compose(a: Matrix, b: Matrix) -> Matrix:
+    """``a * b``, skipping identities (so a shape outside groups keeps its exact inverse)."""
+    if b is identity_matrix or b == identity_matrix:
+        return a
+    if a is identity_matrix or a == identity_matrix:
+        return b
+    return a * b
+
+
+def _pow_floor(shininess: float) -> float:
+    """Chapter 6: the reflect_dot_eye below which the specular factor
+    ``reflect_dot_eye ** shininess`` is at most 2**-80 (-inf: never, for shininess <= 0)."""
+    if not shininess > 0 or not math.isfinite(shininess):
+        return -math.inf
+    return 2.0 ** (-80.0 / shininess) * (1.0 - 1e-12)
+
+
+def _rows3x4(m: Matrix) -> list[float]:
+    return [float(v) for row in m.rows[:3] for v in row]
+
+
+def _normal_rows(inv: Matrix) -> list[float]:
+    """Rows 0-2 of the inverse transpose (3x3): element (r, c) is inv[c][r]."""
+    return [float(inv.rows[c][r]) for r in range(3) for c in range(3)]
+
+
+def _xyz(t: Tuple) -> list[float]:
+    return [float(t.x), float(t.y), float(t.z)]
+
+
+def _rgb(c: Color) -> list[float]:
+    return [float(c.red), float(c.green), float(c.blue)]
+
+
+def _box_of_points(points: list[tuple[float, float, float]]) -> Box:
+    if any(not math.isfinite(v) for p in points for v in p):
+        return UNBOUNDED
+    lo = tuple(min(p[k] for p in points) for k in range(3))
+    hi = tuple(max(p[k] for p in points) for k in range(3))
+    pad = [1e-9 * (1.0 + abs(lo[k]) + abs(hi[k])) for k in range(3)]
+    return (
+        (lo[0] - pad[0], lo[1] - pad[1], lo[2] - pad[2]),
+        (hi[0] + pad[0], hi[1] + pad[1], hi[2] + pad[2]),
+    )
+
+
+def _apply(m: Matrix, x: float, y: float, z: float) -> tuple[float, float, float]:
+    r = m.rows
+    return (
+        r[0][0] * x + r[0][1] * y + r[0][2] * z + r[0][3],
+        r[1][0] * x + r[1][1] * y + r[1][2] * z + r[1][3],
+        r[2][0] * x + r[2][1] * y + r[2][2] * z + r[2][3],
+    )
+
+
+def _union(boxes: list[Box]) -> Box:
+    if not boxes or any(b is None for b in boxes):
+        return UNBOUNDED
+    real = [b for b in boxes if b is not None]
+    return (
+        (
+            min(b[0][0] for b in real),
+            min(b[0][1] for b in real),
+            min(b[0][2] for b in real),
+        ),
+        (
+            max(b[1][0] for b in real),
+            max(b[1][1] for b in real),
+            max(b[1][2] for b in real),
+        ),
+    )
+
+
+def _bounding_sphere(shape: Shape, kind: int, fwd: Matrix | None) -> list[float]:
+    """A world-space sphere (centre, radius) that holds the shape; radius inf when it is
+    unbounded (planes, infinite cylinders and cones) or its transform is unknown."""
+    none = [0.0, 0.0, 0.0, math.inf]
+    points = _local_bounds(shape, kind)
+    if points is None or fwd is None:
+        return none
+    lo = [min(p[k] for p in points) for k in range(3)]
+    hi = [max(p[k] for p in points) for k in range(3)]
+    centre = [(lo[k] + hi[k]) / 2 for k in range(3)]
+    radius = max(math.dist(centre, p) for p in points)
+    linear = np.array([row[:3] for row in fwd.rows[:3]], dtype=np.float64)
+    stretch = float(np.linalg.norm(linear, 2))  # the largest singular value
+    world_centre = _apply(fwd, *centre)
+    world_radius = radius * stretch * (1.0 + 1e-6) + 1e-9
+    if not (math.isfinite(world_radius) and all(math.isfinite(v) for v in world_centre)):
+        return none
+    return [*world_centre, world_radius]
+
+
+def _local_bounds(shape: Shape, kind: int) -> list[tuple[float, float, float]] | None:
+    """Points whose hull holds the shape in object space; None when it is unbounded."""
+    if kind in (L.K_SPHERE, L.K_CUBE):
+        lo_y, hi_y, radius = -1.0, 1.0, 1.0
+    elif kind in (L.K_CYLINDER, L.K_CONE):
+        lo_y, hi_y = float(shape.minimum), float(shape.maximum)  # type: ignore[attr-defined]
+        if not (math.isfinite(lo_y) and math.isfinite(hi_y)):
+            return None
+        radius = 1.0 if kind == L.K_CYLINDER else max(abs(lo_y), abs(hi_y))
+    elif kind in (L.K_TRIANGLE, L.K_SMOOTH_TRIANGLE):
+        corners = (shape.p1, shape.p2, shape.p3)  # type: ignore[attr-defined]
+        return [(float(p.x), float(p.y), float(p.z)) for p in corners]
+    else:
+        return None
+    return [(x, y, z) for x in (-radius, radius) for y in (lo_y, hi_y) for z in (-radius, radius)]
+
+
+@dataclass
+class Packed:
+    """A packed world or shape: the arrays (see ``layout``) and what they came from.
+
+    shapes: the leaf shape of each primitive row; capacity: the most intersections a ray
+    can have with everything packed; cs_size, cs_prims: the largest CSG tree's intersection
+    list and primitive count (per-thread scratch sizes, at least 1).
+    """
+
+    pf: np.ndarray
+    pi: np.ndarray
+    items: np.ndarray
+    boxes: np.ndarray
+    csg: np.ndarray
+    light: np.ndarray
+    shapes: list[Shape]
+    capacity: int
+    cs_size: int
+    cs_prims: int
+    rows_by_id: dict[int, int] = field(default_factory=dict, repr=False)
+
+    def row_of(self, shape: Shape) -> int:
+        """The primitive row of ``shape`` (by identity), or -1."""
+        return self.rows_by_id.get(id(shape), -1)
+
+    def arrays(self) -> tuple[np.ndarray, ...]:
+        """(pf, pi, items, boxes, csg): what every traversal kernel takes first."""
+        return self.pf, self.pi, self.items, self.boxes, self.csg
+
+
+class _Packer:
+    """Collects rows and items while walking shapes, then builds the arrays."""
+
+    def __init__(self, dtype: Any, allow_test_shape: bool) -> None:
+        self.dtype = dtype
+        self.allow_test_shape = allow_test_shape
+        self.rows_f: list[list[float]] = []
+        self.rows_i: list[list[int]] = []
+        self.items: list[list[int]] = []
+        self.boxes: list[tuple[float, ...]] = []
+        self.csg: list[list[int]] = []
+        self.shapes: list[Shape] = []
+        self.capacity = 0
+        self.cs_size = 1
+        self.cs_prims = 1
+
+    # -- rows
+
+    def leaf_row(
+        self,
+        shape: Shape,
+        kind: int,
+        inv: Matrix,
+        where: str,
+        material: Material | None = None,
+        pattern: Pattern | None = None,
+        fwd: Matrix | None = None,
+    ) -> int:
+        """Append one primitive row; returns its index. ``fwd``: object to world space (for
+        the bounding sphere; None: no bounding sphere)."""
+        if kind == L.K_TEST and not self.allow_test_shape:
+            raise PackError(
+                f"numba: cannot render {where}, a TestShape: it records rays in Python "
+                "(chapter 9's test double), which compiled kernels cannot do"
+            )
+        m = shape.material if material is None else material
+        if not isinstance(m, Material):
+            raise PackError(f"numba: {where} has no material (got {type(m).__name__})")
+        f = [0.0] * L.NF
+        i = [0] * L.NI
+        f[L.INV : L.INV + 12] = _rows3x4(inv)
+        f[L.NRM : L.NRM + 9] = _normal_rows(inv)
+        f[L.COLOR : L.COLOR + 3] = _rgb(m.color)
+        f[L.AMBIENT] = float(m.ambient)
+        f[L.DIFFUSE] = float(m.diffuse)
+        f[L.SPECULAR] = float(m.specular)
+        f[L.SHININESS] = float(m.shininess)
+        f[L.POW_FLOOR] = _pow_floor(float(m.shininess))
+        f[L.REFLECTIVE] = float(m.reflective)
+        f[L.TRANSPARENCY] = float(m.transparency)
+        f[L.REFRACTIVE_INDEX] = float(m.refractive_index)
+        used = pattern if pattern is not None else m.pattern
+        if used is not None:
+            i[L.PATTERN] = pattern_kind(used, where)
+            pattern_inv = _inverse(used.transform, f"the pattern transform of {where}")
+            f[L.PAT : L.PAT + 12] = _rows3x4(pattern_inv)
+            if i[L.PATTERN] != L.P_TEST:
+                f[L.PAT_A : L.PAT_A + 3] = _rgb(used.a)  # type: ignore[attr-defined]
+                f[L.PAT_B : L.PAT_B + 3] = _rgb(used.b)  # type: ignore[attr-defined]
+        i[L.KIND] = kind
+        i[L.CASTS_SHADOW] = 1 if getattr(shape, "casts_shadow", True) else 0
+        if kind in (L.K_CYLINDER, L.K_CONE):
+            f[L.MINIMUM] = float(shape.minimum)  # type: ignore[attr-defined]
+            f[L.MAXIMUM] = float(shape.maximum)  # type: ignore[attr-defined]
+            i[L.CLOSED] = 1 if shape.closed else 0  # type: ignore[attr-defined]
+        if kind in (L.K_TRIANGLE, L.K_SMOOTH_TRIANGLE):
+            t: Any = shape
+            f[L.TRI_P1 : L.TRI_P1 + 3] = _xyz(t.p1)
+            f[L.TRI_E1 : L.TRI_E1 + 3] = _xyz(t.e1)
+            f[L.TRI_E2 : L.TRI_E2 + 3] = _xyz(t.e2)
+            f[L.TRI_NORMAL : L.TRI_NORMAL + 3] = _xyz(t.normal)
+            if kind == L.K_SMOOTH_TRIANGLE:
+                f[L.TRI_N1 : L.TRI_N1 + 3] = _xyz(t.n1)
+                f[L.TRI_N2 : L.TRI_N2 + 3] = _xyz(t.n2)
+                f[L.TRI_N3 : L.TRI_N3 + 3] = _xyz(t.n3)
+        f[L.BOUND : L.BOUND + 4] = _bounding_sphere(shape, kind, fwd)
+        self.rows_f.append(f)
+        self.rows_i.append(i)
+        self.shapes.append(shape)
+        self.capacity += MAX_HITS[kind]
+        return len(self.rows_f) - 1
+
+    # -- trees
+
+    def add(
+        self, shape: Shape, parent_inv: Matrix, parent_fwd: Matrix, where: str, own: bool = True
+    ) -> Box:
+        """Add a shape (leaf, group or CSG) as items; returns its world-space box.
+        ``own=False`` leaves out the shape's own transform (``local_intersect``)."""
+        if own:
+            m = _affine(shape.transform, f"the transform of {where}")
+            inv = _compose(_inverse(m, f"the transform of {where}"), parent_inv)
+            fwd = _compose(parent_fwd, m)
+        else:
+            inv, fwd = parent_inv, parent_fwd
+        if isinstance(shape, Group) and _unchanged(type(shape), Group, SHAPE_METHODS):
+            return self.add_group(shape, inv, fwd, where)
+        if isinstance(shape, CSG) and _unchanged(type(shape), CSG, SHAPE_METHODS):
+            return self.add_csg(shape, inv, fwd, where)
+        kind = shape_kind(shape, where)
+        row = self.leaf_row(shape, kind, inv, where, fwd=fwd)
+        self.items.append([L.I_PRIM, row, 0, 0, 0])
+        self.boxes.append((0.0,) * 6)
+        return self.world_box(shape, kind, fwd)
+
+    def world_box(self, shape: Shape, kind: int, fwd: Matrix) -> Box:
+        points = _local_bounds(shape, kind)
+        if points is None:
+            return UNBOUNDED
+        return _box_of_points([_apply(fwd, *p) for p in points])
+
+    def open_box(self) -> int:
+        self.items.append([L.I_BOX, 0, 0, 0, 0])
+        self.boxes.append((0.0,) * 6)
+        return len(self.items) - 1
+
+    def close_box(self, at: int, box: Box) -> None:
+        """Fill in the box item at ``at`` (skip to here); drop it when it is useless."""
+        inside = len(self.items) - at - 1
+        if box is None or inside < 2:
+            self.items[at] = [L.I_SKIP, 0, 0, 0, 0]
+            return
+        self.items[at][L.ITEM_A] = len(self.items)
+        self.boxes[at] = (*box[0], *box[1])
+
+    def add_group(self, g: Group, inv: Matrix, fwd: Matrix, where: str) -> Box:
+        at = self.open_box()
+        boxes = [
+            self.add(child, inv, fwd, f"{where}.children[{k}]")
+            for k, child in enumerate(g.children)
+        ]
+        box = _union(boxes)
+        self.close_box(at, box)
+        return box
+
+    def add_csg(self, c: CSG, inv: Matrix, fwd: Matrix, where: str) -> Box:
+        at = self.open_box()
+        item = len(self.items)
+        self.items.append([L.I_CSG, len(self.csg), 0, len(self.rows_f), 0])
+        self.boxes.append((0.0,) * 6)
+        capacity_before = self.capacity
+        box = self.csg_tree(c, inv, fwd, where)
+        self.items[item][L.ITEM_B] = len(self.csg)
+        self.items[item][L.ITEM_D] = len(self.rows_f)
+        self.cs_size = max(self.cs_size, self.capacity - capacity_before)
+        self.cs_prims = max(self.cs_prims, len(self.rows_f) - self.items[item][L.ITEM_C])
+        self.close_box(at, box)
+        return box
+
+    def csg_tree(self, shape: Shape, inv: Matrix, fwd: Matrix, where: str) -> Box:
+        """A CSG operand's rows (and operations, post-order); inv/fwd include ``shape``."""
+        if isinstance(shape, CSG) and _unchanged(type(shape), CSG, SHAPE_METHODS):
+            if shape.operation not in OPERATIONS:
+                raise PackError(f"numba: {where} has an unknown operation {shape.operation!r}")
+            start = len(self.rows_f)
+            left = self.csg_operand(shape.left, inv, fwd, f"{where}.left")
+            mid = len(self.rows_f)
+            right = self.csg_operand(shape.right, inv, fwd, f"{where}.right")
+            self.csg.append([start, mid, len(self.rows_f), OPERATIONS[shape.operation]])
+            return _union([left, right])
+        if isinstance(shape, Group) and _unchanged(type(shape), Group, SHAPE_METHODS):
+            return _union(
+                [
+                    self.csg_operand(child, inv, fwd, f"{where}.children[{k}]")
+                    for k, child in enumerate(shape.children)
+                ]
+            )
+        kind = shape_kind(shape, where)
+        self.leaf_row(shape, kind, inv, where, fwd=fwd)
+        return self.world_box(shape, kind, fwd)
+
+    def csg_operand(self, shape: Shape, parent_inv: Matrix, parent_fwd: Matrix, where: str) -> Box:
+        own = _affine(shape.transform, f"the transform of {where}")
+        inv = _compose(_inverse(own, f"the transform of {where}"), parent_inv)
+        return self.csg_tree(shape, inv, _compose(parent_fwd, own), where)
+
+    # -- result
+
+    def build(self, light: PointLight | None) -> Packed:
+        dtype = self.dtype
+        n = len(self.rows_f)
+        pf = np.array(self.rows_f, dtype=dtype).reshape(n, L.NF)
+        pi = np.array(self.rows_i, dtype=np.int64).reshape(n, L.NI)
+        items = np.array(self.items, dtype=np.int64).reshape(len(self.items), L.NITEM)
+        boxes = np.array(self.boxes, dtype=dtype).reshape(len(self.boxes), 6)
+        csg = np.array(self.csg, dtype=np.int64).reshape(len(self.csg), L.NCSG)
+        light_row = [0.0] * 6
+        if light is not None:
+            light_row = _xyz(light.position) + _rgb(light.intensity)
+        return Packed(
+            pf, pi, items, boxes, csg, np.array(light_row, dtype=dtype), list(self.shapes),
+            max(self.capacity, 1), self.cs_size, self.cs_prims,
+            {id(shape): row for row, shape in enumerate(self.shapes)},
+        )  # fmt: skip
+
+
+def pack_world(world: World, dtype: Any = np.float64, *, allow_test_shape: bool = False) -> Packed:
+    """Chapter 7: every object of ``world`` and its light, packed."""
+    if not isinstance(world, World):
+        raise PackError(f"numba: expected a World, got {type(world).__name__}")
+    packer = _Packer(dtype, allow_test_shape)
+    for k, shape in enumerate(world.objects):
+        packer.add(shape, identity_matrix, identity_matrix, f"world object {k} ({_label(shape)})")
+    return packer.build(world.light)
+
+
+def pack_shapes(
+    shapes: Sequence[Shape], dtype: Any = np.float64, *, own_transform: bool = True
+) -> Packed:
+    """One or more shapes as the roots of a packed scene, with their own transforms (as
+    ``intersect`` sees them: not their parents'), or without (``own_transform=False``, as
+    ``local_intersect`` sees them). Test shapes are allowed (the book API's kernels)."""
+    packer = _Packer(dtype, allow_test_shape=True)
+    for shape in shapes:
+        packer.add(shape, identity_matrix, identity_matrix, _label(shape), own=own_transform)
+    return packer.build(None)
+
+
+def world_inverse(shape: Shape) -> Matrix:
+    """Chapter 14: world space to ``shape``'s object space, through all its parents."""
+    where = _label(shape)
+    inv = _inverse(
+        _affine(shape.transform, f"the transform of {where}"), f"the transform of {where}"
+    )
+    parent = shape.parent
+    while parent is not None:
+        what = f"the transform of {_label(parent)}, a parent of {where}"
+        inv = _compose(inv, _inverse(_affine(parent.transform, what), what))
+        parent = parent.parent
+    return inv
+
+
+def pack_surface(
+    shape: Shape | None,
+    dtype: Any = np.float64,
+    *,
+    inv: Matrix | None = None,
+    material: Material | None = None,
+    pattern: Pattern | None = None,
+    leaf: bool = True,
+) -> tuple[np.ndarray, np.ndarray]:
+    """One primitive row (pf, pi) for a single shape's surface, with world-to-object ``inv``
+    (default: through its parents), optionally another material or pattern. ``leaf=False``
+    packs only the transforms (for ``world_to_object`` / ``normal_to_world`` on a group)."""
+    packer = _Packer(dtype, allow_test_shape=True)
+    target: Shape = shape if shape is not None else Sphere()
+    where = _label(target)
+    if inv is None:
+        inv = world_inverse(target) if shape is not None else identity_matrix
+    kind = shape_kind(target, where) if leaf else L.K_SPHERE
+    packer.leaf_row(target, kind, inv, where, material, pattern)
+    built = packer.build(None)
+    return built.pf, built.pi
+
+
+def _label(shape: object) -> str:
+    return f"a {type(shape).__name__}"
+
+
+@dataclass(frozen=True)
+class PackedCamera:
+    """Chapter 7: the camera as the kernels read it (``layout`` CAM_*)."""
+
+    array: np.ndarray
+    hsize: int
+    vsize: int
+
+
+def pack_camera(c: Camera, dtype: Any = np.float64) -> PackedCamera:
+    """The inverse view transform (the reference's), half extents and pixel size."""
+    inv = _inverse(_affine(c.transform, "the camera transform"), "the camera transform")
+    row = [*_rows3x4(inv), float(c.half_width), float(c.half_height), float(c.pixel_size)]
+    return PackedCamera(np.array(row, dtype=dtype), int(c.hsize), int(c.vsize))

@@ -1,0 +1,450 @@
+"""``pooled``: chapter 7's ``render`` spread over a pool of worker processes, over any inner
+variant (the Go write-up's first step: one image line per job on a pool of workers).
+
+Name and options (the grammar of ``variants.registry``)::
+
+    pooled[workers=N,granularity=line|pixel|tile,tile=S]:INNER
+
+- ``workers``: how many processes (default: the CPUs this process may use). Always spelled
+  in the canonical name, since its default depends on the machine.
+- ``granularity``: what one job is: an image ``line`` (the default, the write-up's unit), one
+  ``pixel`` (to measure why the write-up moved to lines: a round trip per pixel), or a
+  ``tile`` of S x S pixels (``tile=S``, default 16, only with ``granularity=tile``).
+- ``INNER``: the variant that traces the rays (default ``naive``): ``pooled:cached``,
+  ``pooled[workers=2]:prealloc``.
+
+Only ``render`` is overridden; every other book name is the inner variant's. ``render(c, w,
+settings, progress)``:
+
+- starts the workers with the ``spawn`` start method (a fork after numba's OpenMP threads
+  hangs, see DESIGN.md); each worker loads the inner variant from the registry by its
+  canonical name and receives the camera, the world and the settings once, when it starts
+  (they must pickle: the twins of ``variants.cached`` do); never per job;
+- sends each worker at most ``IN_FLIGHT`` jobs at a time over its own pipe, so the parent
+  always knows which jobs each worker holds; a worker traces a job with the inner variant's
+  ``region_renderer`` hook if it has one (prepared once per worker: ``prealloc`` and
+  ``numba`` pack the world once), or else each pixel with the inner variant's
+  ``ray_for_pixel`` and ``color_at``, exactly as the reference's ``pixel_color`` does (same
+  samples, same order, so the pixels are identical);
+- calls ``progress(rows)`` as jobs complete, with the number of image rows just finished;
+- keeps the pool for one render only: starting it (a fresh interpreter per worker, about
+  0.2 to 0.5 s) is part of every render's time;
+- raises ``RenderWorkerError`` within moments when a worker dies (killed, crashed, or an
+  exception in a job): the message names the worker, its pid, its exit code and the jobs it
+  held; the workers are stopped and no image is returned. A script that renders with this
+  variant keeps its top-level code under ``if __name__ == "__main__":`` (``spawn`` imports
+  the main module in every worker).
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import traceback
+from collections import deque
+from collections.abc import Callable, Iterator, Mapping
+from dataclasses import dataclass
+from multiprocessing import get_context
+from multiprocessing.connection import Connection, wait
+from typing import Any
+
+from raytracer.camera import Camera, RenderSettings
+from raytracer.canvas import Canvas
+from raytracer.colors import BLACK
+from raytracer.sampling import sample_offset
+from raytracer.tolerance import using_epsilon
+from raytracer.world import World
+from variants.registry import (
+    Variant,
+    VariantError,
+    canonical_name,
+    check_options,
+    load_variant,
+    parse_choice,
+    parse_int,
+)
+
+NAME = "pooled"
+GRANULARITIES = ("line", "pixel", "tile")
+DEFAULT_GRANULARITY = "line"
+DEFAULT_TILE = 16
+MAX_WORKERS = 256
+START_METHOD = "spawn"
+IN_FLIGHT = 2  # jobs sent ahead to each worker, so it never waits for the parent
+STOP_SECONDS = 5.0  # how long finished workers get to exit before they are terminated
+USAGE = (
+    "workers=N (default: the CPU count), granularity=line|pixel|tile (default line), "
+    f"tile=S (tile side in pixels, default {DEFAULT_TILE}, with granularity=tile); "
+    "wraps INNER (pooled:INNER, default naive)"
+)
+
+# what ``rtc bench --variants all`` measures besides the default (see variants.registry)
+BENCH_CONFIGS = (
+    "pooled[workers=1]",
+    "pooled[granularity=pixel]",
+    "pooled[granularity=tile]",
+    "pooled:prealloc",
+)
+
+Job = tuple[int, int, int, int]  # x0, y0, x1, y1: the pixels x0 <= x < x1, y0 <= y < y1
+
+
+class RenderWorkerError(RuntimeError):
+    """A pooled render failed in a worker; no image was produced."""
+
+
+def default_workers() -> int:
+    """The CPUs this process may run on."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
+
+
+def make_jobs(hsize: int, vsize: int, granularity: str, tile: int = DEFAULT_TILE) -> list[Job]:
+    """The jobs covering an ``hsize`` x ``vsize`` image, top row first."""
+    if granularity == "line":
+        return [(0, y, hsize, y + 1) for y in range(vsize)]
+    if granularity == "pixel":
+        return [(x, y, x + 1, y + 1) for y in range(vsize) for x in range(hsize)]
+    return [
+        (x, y, min(x + tile, hsize), min(y + tile, vsize))
+        for y in range(0, vsize, tile)
+        for x in range(0, hsize, tile)
+    ]
+
+
+def describe_job(job: Job) -> str:
+    x0, y0, x1, y1 = job
+    if (x1 - x0, y1 - y0) == (1, 1):
+        return f"pixel ({x0}, {y0})"
+    if y1 - y0 == 1:
+        return f"line {y0}" + (f" x {x0}..{x1 - 1}" if x0 != 0 else "")
+    return f"tile x {x0}..{x1 - 1}, y {y0}..{y1 - 1}"
+
+
+# ------------------------------------------------------------------------------ a worker
+
+
+def _pixel_function(
+    api: Mapping[str, Any],
+) -> Callable[[Camera, World, int, int, RenderSettings], Any]:
+    """The reference's ``pixel_color`` through an API's ``ray_for_pixel`` and ``color_at``."""
+    ray_for_pixel = api["ray_for_pixel"]
+    color_at = api["color_at"]
+
+    def pixel(c: Camera, w: World, x: int, y: int, settings: RenderSettings) -> Any:
+        if settings.samples == 1:
+            return color_at(w, ray_for_pixel(c, x, y), settings.depth)
+        total = BLACK
+        for i in range(settings.samples):
+            dx, dy = sample_offset(settings.seed, x, y, i)
+            ray = ray_for_pixel(c, x + dx - 0.5, y + dy - 0.5)
+            total = total + color_at(w, ray, settings.depth)
+        return total * (1.0 / settings.samples)
+
+    return pixel
+
+
+def _region_function(
+    inner: Variant, c: Camera, w: World, settings: RenderSettings
+) -> Callable[[int, int, int, int], Any]:
+    """How a worker traces a job: the inner variant's ``region_renderer`` (prepared once per
+    worker), or else each pixel through its ``ray_for_pixel`` and ``color_at``."""
+    if inner.region_renderer is not None:
+        return inner.region_renderer(c, w, settings)
+    pixel = _pixel_function(inner.api)
+
+    def trace(x0: int, y0: int, x1: int, y1: int) -> list[float]:
+        values: list[float] = []
+        for y in range(y0, y1):
+            for x in range(x0, x1):
+                color = pixel(c, w, x, y, settings)
+                values += (color.red, color.green, color.blue)
+        return values
+
+    return trace
+
+
+def _worker_main(
+    conn: Connection, inner: str, c: Camera, w: World, settings: RenderSettings
+) -> None:
+    """One worker: load the inner variant, then trace the jobs it is sent until ``None``.
+
+    Sends ``("done", index, [r, g, b, ...])`` per job (row-major), or ``("error", index,
+    traceback)`` and stops; ``("init-error", -1, traceback)`` if it cannot start.
+    """
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
+    try:
+        trace = _region_function(load_variant(inner), c, w, settings)
+    except BaseException:
+        conn.send(("init-error", -1, traceback.format_exc()))
+        return
+    with using_epsilon(settings.epsilon):
+        while True:
+            message = conn.recv()
+            if message is None:
+                return
+            index, (x0, y0, x1, y1) = message
+            try:
+                values = list(trace(x0, y0, x1, y1))
+            except BaseException:
+                conn.send(("error", index, traceback.format_exc()))
+                return
+            conn.send(("done", index, values))
+
+
+# ------------------------------------------------------------------------------ the pool
+
+
+@dataclass
+class _Worker:
+    number: int
+    process: Any  # a multiprocessing Process
+    conn: Connection
+    held: deque[int]  # the jobs sent to it and not yet returned, oldest first
+    stopped: bool = False  # told to stop (no jobs left for it)
+    broken: bool = False  # its pipe closed: it died
+
+    @property
+    def label(self) -> str:
+        return f"worker {self.number} (pid {self.process.pid})"
+
+
+def _exit_text(code: int | None) -> str:
+    if code is None:
+        return "exit code unknown (still running)"
+    if code < 0:
+        try:
+            return f"exit code {code} (killed by {signal.Signals(-code).name})"
+        except ValueError:
+            return f"exit code {code} (killed by signal {-code})"
+    return f"exit code {code}"
+
+
+class _Pool:
+    """Worker processes, each with its own pipe; ``results`` yields (job index, values) as
+    jobs finish and raises ``RenderWorkerError`` when a worker fails."""
+
+    def __init__(
+        self, count: int, inner: str, c: Camera, w: World, settings: RenderSettings
+    ) -> None:
+        context: Any = get_context(START_METHOD)
+        self.workers: list[_Worker] = []
+        try:
+            for number in range(count):
+                parent_end, child_end = context.Pipe()
+                process = context.Process(
+                    target=_worker_main,
+                    args=(child_end, inner, c, w, settings),
+                    name=f"rtc-pooled-{number}",
+                    daemon=True,
+                )
+                try:
+                    process.start()
+                except Exception as error:
+                    raise RenderWorkerError(
+                        f"pooled render: cannot start worker {number}: the camera, world and "
+                        f"settings must pickle ({type(error).__name__}: {error})"
+                    ) from error
+                finally:
+                    child_end.close()
+                self.workers.append(_Worker(number, process, parent_end, deque()))
+        except BaseException:
+            self.close()
+            raise
+
+    def results(self, jobs: list[Job]) -> Iterator[tuple[int, list[float]]]:
+        pending = deque(range(len(jobs)))
+        remaining = len(jobs)
+        for worker in self.workers:
+            self._feed(worker, pending, jobs)
+        while remaining:
+            # a worker told to stop holds no job; only the others can still fail or deliver
+            by_object: dict[Any, _Worker] = {}
+            for worker in self.workers:
+                if not worker.stopped:
+                    by_object[worker.conn] = worker
+                    by_object[worker.process.sentinel] = worker
+            for ready in wait(list(by_object)):
+                worker = by_object[ready]
+                if worker.stopped:
+                    continue
+                for index, values in self._receive(worker, jobs):
+                    remaining -= 1
+                    yield index, values
+                if ready is worker.process.sentinel or worker.broken:
+                    self._died(worker, jobs, remaining)
+                self._feed(worker, pending, jobs)
+
+    def _receive(self, worker: _Worker, jobs: list[Job]) -> Iterator[tuple[int, list[float]]]:
+        """Everything the worker has sent so far (``broken`` when its pipe has closed)."""
+        while not worker.broken:
+            try:
+                if not worker.conn.poll():
+                    return
+                kind, index, payload = worker.conn.recv()
+            except (EOFError, OSError):
+                worker.broken = True  # it died: the caller reports it
+                return
+            if kind == "done":
+                worker.held.remove(index)
+                yield index, payload
+            else:
+                what = (
+                    "could not start"
+                    if kind == "init-error"
+                    else f"failed on job {index} ({describe_job(jobs[index])})"
+                )
+                raise RenderWorkerError(
+                    f"pooled render: {worker.label} {what}; no image is returned. "
+                    f"The worker's error:\n{payload}"
+                )
+
+    def _feed(self, worker: _Worker, pending: deque[int], jobs: list[Job]) -> None:
+        try:
+            while pending and len(worker.held) < IN_FLIGHT:
+                index = pending.popleft()
+                worker.held.append(index)
+                worker.conn.send((index, jobs[index]))
+            if not pending and not worker.held and not worker.stopped:
+                worker.stopped = True
+                worker.conn.send(None)
+        except (BrokenPipeError, ConnectionResetError, EOFError):
+            worker.broken = True  # it died: ``results`` reports it when its sentinel fires
+
+    def _died(self, worker: _Worker, jobs: list[Job], remaining: int) -> None:
+        worker.process.join(timeout=1.0)
+        held = ", ".join(f"job {i} ({describe_job(jobs[i])})" for i in worker.held)
+        holding = f"while holding {held}" if held else "while waiting for work"
+        raise RenderWorkerError(
+            f"pooled render: {worker.label} died with {_exit_text(worker.process.exitcode)} "
+            f"{holding}; {len(jobs) - remaining} of {len(jobs)} jobs were done; "
+            "no image is returned"
+        )
+
+    def close(self, timeout: float = STOP_SECONDS) -> None:
+        """Stop every worker: politely when they were told to stop, else terminate."""
+        for worker in self.workers:
+            if not worker.stopped:
+                worker.process.terminate()
+        for worker in self.workers:
+            worker.process.join(timeout=timeout if worker.stopped else 1.0)
+            if worker.process.is_alive():
+                worker.process.kill()
+                worker.process.join(timeout=1.0)
+            worker.conn.close()
+
+
+# ------------------------------------------------------------------------------ render
+
+
+@dataclass(frozen=True)
+class PooledRender:
+    """Chapter 7's ``render`` on a pool of ``workers`` processes over the ``inner`` variant
+    (its canonical name); ``granularity`` and ``tile`` choose the jobs."""
+
+    inner: str
+    canvas: Callable[[int, int], Canvas]
+    color: Callable[[float, float, float], Any]
+    write_pixel: Callable[[Canvas, int, int, Any], None]
+    workers: int
+    granularity: str = DEFAULT_GRANULARITY
+    tile: int = DEFAULT_TILE
+
+    def __call__(
+        self,
+        c: Camera,
+        w: World,
+        settings: RenderSettings | None = None,
+        progress: Callable[[int], object] | None = None,
+    ) -> Canvas:
+        """Render ``w`` as seen by ``c``; ``progress(rows)`` as rows complete."""
+        settings = settings if settings is not None else RenderSettings()
+        image = self.canvas(c.hsize, c.vsize)
+        jobs = make_jobs(c.hsize, c.vsize, self.granularity, self.tile)
+        left_in_row = [c.hsize] * c.vsize
+        pool = _Pool(min(self.workers, len(jobs)), self.inner, c, w, settings)
+        try:
+            for index, values in pool.results(jobs):
+                x0, y0, x1, y1 = jobs[index]
+                at = 0
+                for y in range(y0, y1):
+                    for x in range(x0, x1):
+                        red, green, blue = values[at : at + 3]
+                        self.write_pixel(image, x, y, self.color(red, green, blue))
+                        at += 3
+                finished = 0
+                for y in range(y0, y1):
+                    left_in_row[y] -= x1 - x0
+                    finished += left_in_row[y] == 0
+                if progress is not None and finished:
+                    progress(finished)
+        finally:
+            pool.close()
+        return image
+
+
+# ------------------------------------------------------------------------------ factory
+
+
+def _settings(options: Mapping[str, str]) -> tuple[int, str, int]:
+    check_options(NAME, options, ("workers", "granularity", "tile"))
+    workers = (
+        parse_int(NAME, "workers", options["workers"], 1, MAX_WORKERS)
+        if "workers" in options
+        else default_workers()
+    )
+    granularity = parse_choice(
+        NAME, "granularity", options.get("granularity", DEFAULT_GRANULARITY), GRANULARITIES
+    )
+    tile = DEFAULT_TILE
+    if "tile" in options:
+        if granularity != "tile":
+            raise VariantError(
+                f"variant {NAME!r}: option tile={options['tile']} applies only with "
+                "granularity=tile"
+            )
+        tile = parse_int(NAME, "tile", options["tile"], 1, 4096)
+    return workers, granularity, tile
+
+
+def variant(inner: Variant | None = None, **options: str) -> Variant:
+    """The registry's factory: ``pooled[workers=N,granularity=G,tile=S]:INNER``."""
+    workers, granularity, tile = _settings(options)
+    inner = inner if inner is not None else load_variant("naive")
+    missing = [
+        name
+        for name in ("ray_for_pixel", "color_at", "canvas", "color", "write_pixel")
+        if name not in inner.api
+    ]
+    if missing:
+        raise VariantError(
+            f"variant {NAME!r} cannot wrap {inner.name!r}: it has no {', '.join(missing)}"
+        )
+    spelled: dict[str, object] = {"workers": workers}
+    if granularity != DEFAULT_GRANULARITY:
+        spelled["granularity"] = granularity
+    if granularity == "tile" and tile != DEFAULT_TILE:
+        spelled["tile"] = tile
+    render = PooledRender(
+        inner=inner.name,
+        canvas=inner.api["canvas"],
+        color=inner.api["color"],
+        write_pixel=inner.api["write_pixel"],
+        workers=workers,
+        granularity=granularity,
+        tile=tile,
+    )
+    unit = f"{tile}x{tile} tile" if granularity == "tile" else granularity
+    return Variant(
+        name=canonical_name(NAME, spelled, inner),
+        summary=f"render on {workers} worker processes, one {unit} per job, tracing with "
+        f"{inner.name}",
+        api={**inner.api, "render": render},
+        overrides=inner.overrides | {"render"},
+        base=inner.name,
+        usage=USAGE,
+        tolerance=inner.tolerance,
+        bench_configs=BENCH_CONFIGS,
+    )

@@ -1,0 +1,108 @@
+"""The render context of the ``prealloc`` variant: everything one render (or one API call)
+builds once and then reuses for every ray.
+
+- a record per shape (flat inverse and inverse transpose, material, parent), made once,
+- the light as buffers, the offset epsilon,
+- per-depth scratch for the recursion of chapter 11 (``levels[remaining]``),
+- the shadow ray and its intersection buffer (chapter 8), and small point buffers.
+
+The context never changes a shape, so the world must not change while it is in use (a
+render does not change it; each API call builds its own context).
+"""
+
+from __future__ import annotations
+
+from raytracer.lights import PointLight
+from raytracer.materials import Material
+from raytracer.shapes.csg import CSG
+from raytracer.shapes.group import Group
+from raytracer.shapes.shape import Shape
+from raytracer.world import World
+from variants.prealloc.buffers import (
+    DepthScratch,
+    IntersectionBuffer,
+    ShapeStack,
+    new_color,
+    new_ray,
+    new_tuple,
+)
+from variants.prealloc.patterns import pattern_record
+from variants.prealloc.records import LightRecord, MaterialRecord
+from variants.prealloc.shapes import ShapeRecord, record_class
+
+
+def material_record(m: Material) -> MaterialRecord:
+    """A material's record, with its pattern's (chapters 6 and 10)."""
+    return MaterialRecord(m, None if m.pattern is None else pattern_record(m.pattern))
+
+
+class TraceContext:
+    """Buffers and records reused by every ray of one render.
+
+    eps: the offset epsilon (``RenderSettings.epsilon``); light: a ``LightRecord`` or None;
+    objects: the records of the world's objects, in order.
+    """
+
+    __slots__ = (
+        "_records",
+        "containers",
+        "eps",
+        "levels",
+        "light",
+        "local_point",
+        "objects",
+        "shadow_ray",
+        "shadow_xs",
+        "surface",
+    )
+
+    def __init__(self, eps: float, light: PointLight | None = None, depth: int = 0) -> None:
+        self.eps = float(eps)
+        self.light = None if light is None else LightRecord(light)
+        self._records: dict[int, ShapeRecord] = {}
+        self.objects: list[ShapeRecord] = []
+        self.levels: list[DepthScratch] = []
+        self.level(depth)
+        self.shadow_ray = new_ray()
+        self.shadow_xs = IntersectionBuffer()
+        self.containers = ShapeStack()
+        self.local_point = new_tuple()  # pattern_at_shape's object/pattern-space point
+        self.surface = new_color()  # a pattern's colour in lighting
+
+    @classmethod
+    def for_world(cls, w: World, eps: float, depth: int = 0) -> TraceContext:
+        """A context with records for every object of ``w`` and its light."""
+        ctx = cls(eps, w.light, depth)
+        ctx.objects = [ctx.record(shape) for shape in w.objects]
+        return ctx
+
+    def level(self, remaining: int) -> DepthScratch:
+        """The scratch for recursion level ``remaining`` (levels <= 0 share level 0); made
+        the first time it is needed, reused afterwards."""
+        index = remaining if remaining > 0 else 0
+        levels = self.levels
+        while len(levels) <= index:
+            levels.append(DepthScratch())
+        return levels[index]
+
+    def record(self, shape: Shape) -> ShapeRecord:
+        """The one record of ``shape`` in this context (made on first use, with its parent's
+        and its children's), so identity of records follows identity of shapes."""
+        found = self._records.get(id(shape))
+        if found is not None:
+            return found
+        rec = record_class(shape)(shape, material_record(shape.material), self.eps)
+        self._records[id(shape)] = rec  # before parents and children, which point back
+        if shape.parent is not None:
+            rec.parent = self.record(shape.parent)
+        rec.finish([self.record(child) for child in _children(shape)])
+        return rec
+
+
+def _children(shape: Shape) -> list[Shape]:
+    """The shapes directly inside ``shape``: a group's children, a CSG's two operands."""
+    if isinstance(shape, Group):
+        return list(shape.children)
+    if isinstance(shape, CSG):
+        return [shape.left, shape.right]
+    return []

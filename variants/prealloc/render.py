@@ -1,0 +1,157 @@
+"""The camera and the render loop (chapter 7) with one ray buffer and one colour buffer for
+the whole image.
+
+The camera's inverse transform, its origin in world space and its pixel size are read once
+per render (the naive ``ray_for_pixel`` inverts the camera transform for every pixel).
+Samples per pixel, seed and epsilon follow ``raytracer.camera.RenderSettings`` and
+``raytracer.sampling`` exactly, so the picture is the reference's, pixel for pixel.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+from raytracer.camera import Camera, RenderSettings
+from raytracer.canvas import Canvas, canvas, write_pixel
+from raytracer.colors import Color
+from raytracer.sampling import sample_offset
+from raytracer.tolerance import using_epsilon
+from raytracer.world import World
+from variants.prealloc.buffers import Vec, new_color, new_ray
+from variants.prealloc.context import TraceContext
+from variants.prealloc.geometry import flat_matrix
+from variants.prealloc.shading import color_at_into
+
+
+class CameraRecord:
+    """Chapter 7: what ``ray_for_pixel`` reads, computed once: the flat inverse transform,
+    the camera's origin in world space (``inverse * point(0, 0, 0)``), the half extents and
+    the pixel size."""
+
+    __slots__ = ("half_height", "half_width", "inverse", "origin", "pixel_size")
+
+    def __init__(self, c: Camera) -> None:
+        self.inverse = inv = flat_matrix(c.inverse_transform)
+        self.half_width = c.half_width
+        self.half_height = c.half_height
+        self.pixel_size = c.pixel_size
+        # inv * point(0, 0, 0), term by term as Matrix * Tuple computes it
+        self.origin = [
+            inv[0] * 0.0 + inv[1] * 0.0 + inv[2] * 0.0 + inv[3] * 1.0,
+            inv[4] * 0.0 + inv[5] * 0.0 + inv[6] * 0.0 + inv[7] * 1.0,
+            inv[8] * 0.0 + inv[9] * 0.0 + inv[10] * 0.0 + inv[11] * 1.0,
+            inv[12] * 0.0 + inv[13] * 0.0 + inv[14] * 0.0 + inv[15] * 1.0,
+        ]
+
+
+def ray_for_pixel_into(cam: CameraRecord, px: float, py: float, out: Vec) -> None:
+    """Chapter 7: the ray through pixel (px, py), written into ``out`` (naive twin:
+    ``raytracer.camera.ray_for_pixel``)."""
+    pixel_size = cam.pixel_size
+    world_x = cam.half_width - (px + 0.5) * pixel_size
+    world_y = cam.half_height - (py + 0.5) * pixel_size
+    m = cam.inverse
+    # pixel = inverse * point(world_x, world_y, -1)
+    x = m[0] * world_x + m[1] * world_y + m[2] * -1.0 + m[3] * 1.0
+    y = m[4] * world_x + m[5] * world_y + m[6] * -1.0 + m[7] * 1.0
+    z = m[8] * world_x + m[9] * world_y + m[10] * -1.0 + m[11] * 1.0
+    w = m[12] * world_x + m[13] * world_y + m[14] * -1.0 + m[15] * 1.0
+    ox, oy, oz, ow = cam.origin
+    x, y, z, w = x - ox, y - oy, z - oz, w - ow
+    length = math.sqrt(x * x + y * y + z * z + w * w)
+    out[0], out[1], out[2], out[3] = ox, oy, oz, ow
+    out[4], out[5], out[6], out[7] = x / length, y / length, z / length, w / length
+
+
+def pixel_color_into(
+    ctx: TraceContext,
+    cam: CameraRecord,
+    x: int,
+    y: int,
+    settings: RenderSettings,
+    ray: Vec,
+    sample: Vec,
+    out: Vec,
+) -> None:
+    """The colour of pixel (x, y) into ``out``: one ray through its centre, or the mean of
+    the samples, summed in order then scaled by 1 / samples (naive twin:
+    ``raytracer.camera.pixel_color``). ``ray``, ``sample``: scratch buffers."""
+    depth = settings.depth
+    if settings.samples == 1:
+        ray_for_pixel_into(cam, x, y, ray)
+        color_at_into(ctx, ray, depth, out)
+        return
+    r = g = b = 0.0
+    for i in range(settings.samples):
+        dx, dy = sample_offset(settings.seed, x, y, i)
+        ray_for_pixel_into(cam, x + dx - 0.5, y + dy - 0.5, ray)
+        color_at_into(ctx, ray, depth, sample)
+        r, g, b = r + sample[0], g + sample[1], b + sample[2]
+    scale = 1.0 / settings.samples
+    out[0], out[1], out[2] = r * scale, g * scale, b * scale
+
+
+class PixelTracer:
+    """Everything one render reuses for every pixel: the context (records, per-depth
+    scratch), the camera record and the ray and colour buffers. ``tracer(x, y)`` is pixel
+    (x, y)'s colour, as the reference's ``pixel_color(c, w, x, y, settings)`` computes it.
+
+    A process that renders part of an image (a ``pooled`` worker) can build one tracer and
+    call it for each of its pixels, instead of ``color_at``, which builds a context per call.
+    """
+
+    __slots__ = ("camera", "color", "ctx", "ray", "sample", "settings")
+
+    def __init__(self, c: Camera, w: World, settings: RenderSettings | None = None) -> None:
+        self.settings = settings if settings is not None else RenderSettings()
+        self.ctx = TraceContext.for_world(w, self.settings.epsilon, self.settings.depth)
+        self.camera = CameraRecord(c)
+        self.ray, self.sample, self.color = new_ray(), new_color(), new_color()
+
+    def __call__(self, x: int, y: int) -> Color:
+        color = self.color
+        pixel_color_into(self.ctx, self.camera, x, y, self.settings, self.ray, self.sample, color)
+        return Color(color[0], color[1], color[2])
+
+
+def region_renderer(
+    c: Camera, w: World, settings: RenderSettings | None = None
+) -> Callable[[int, int, int, int], list[float]]:
+    """The registry's ``region_renderer`` hook: one ``PixelTracer`` for many regions, so a
+    ``pooled`` worker builds the records and scratch once, not per pixel."""
+    tracer = PixelTracer(c, w, settings)
+
+    def trace(x0: int, y0: int, x1: int, y1: int) -> list[float]:
+        values: list[float] = []
+        with using_epsilon(tracer.settings.epsilon):
+            for y in range(y0, y1):
+                for x in range(x0, x1):
+                    color = tracer(x, y)
+                    values += (color.red, color.green, color.blue)
+        return values
+
+    return trace
+
+
+def render(
+    c: Camera,
+    w: World,
+    settings: RenderSettings | None = None,
+    progress: Callable[[int], object] | None = None,
+) -> Canvas:
+    """Chapter 7: render ``w`` through ``c`` row by row with one ``PixelTracer`` (naive
+    twin: ``raytracer.camera.render``).
+
+    settings: depth, samples per pixel, seed and epsilon; progress: called with 1 after
+    each row.
+    """
+    tracer = PixelTracer(c, w, settings)
+    image = canvas(c.hsize, c.vsize)
+    with using_epsilon(tracer.settings.epsilon):
+        for y in range(c.vsize):
+            for x in range(c.hsize):
+                write_pixel(image, x, y, tracer(x, y))
+            if progress is not None:
+                progress(1)
+    return image
