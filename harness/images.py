@@ -41,7 +41,7 @@ def _encode(canvas: Any, suffix: str) -> bytes:
         )
     image = Image.frombytes("RGB", (canvas.width, canvas.height), data)
     buffer = io.BytesIO()
-    image.save(buffer, format="PNG")
+    image.save(buffer, format="PNG", compress_level=1)  # fast; files stay small for renders
     return buffer.getvalue()
 
 

@@ -28,16 +28,20 @@ class UserError(Exception):
     """A mistake in what the user asked for; printed as one line, without a traceback."""
 
 
-def _commands() -> list[ModuleType]:
-    return [importlib.import_module(name) for name in COMMANDS]
+def _commands(argv: list[str] | None = None) -> list[ModuleType]:
+    """The command modules the parser needs: only the chosen one when ``argv`` starts with a
+    command's name (``rtc/cmd_NAME.py``), so that start-up imports only what runs."""
+    chosen = f"rtc.cmd_{argv[0]}" if argv else None
+    names = [chosen] if chosen in COMMANDS else COMMANDS
+    return [importlib.import_module(name) for name in names]
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="rtc", description="The Ray Tracer Challenge workbook and benchmark harness."
     )
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    for module in _commands():
+    for module in _commands(argv):
         command = sub.add_parser(module.NAME, help=module.HELP, description=module.HELP)
         module.add_arguments(command)
         command.set_defaults(run=module.run)
@@ -45,7 +49,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
+    argv = sys.argv[1:] if argv is None else argv
+    args = build_parser(argv).parse_args(argv)
     try:
         return int(args.run(args))
     except UserError as error:
