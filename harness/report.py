@@ -616,19 +616,32 @@ def load_history(results: Path) -> tuple[list[Run], list[str]]:
 
 def build_report(results: Path) -> tuple[Path, Path, list[str]]:
     """Write README.md, report.html and the plots; returns their paths and any problems."""
+    from harness.stability import runfile as stability_runs
+    from harness.stability import table as stability_table
+
     runs, problems = load_history(results)
-    if not runs:
-        raise FileNotFoundError(f"no bench results in {results / 'runs'}; run `rtc bench` first")
-    latest = runs[-1]
+    stability, stability_problems = stability_runs.latest_run(results)
+    problems += stability_problems
+    if not runs and stability is None:
+        raise FileNotFoundError(
+            f"no bench or stability results in {results / 'runs'}; run `rtc bench` first "
+            "(or `rtc stability`)"
+        )
     folder = results / REPORT_DIR
     folder.mkdir(parents=True, exist_ok=True)
-    plot_files = {
-        "speedup": plots.speedup_plot(latest, folder / "speedup.png"),
-        "sweep": plots.sweep_plot(latest, folder / "error-vs-time.png"),
-        "pixels": plots.pixels_plot(latest, folder / "time-vs-pixels.png"),
-        "threads": plots.threads_plot(latest, folder / "throughput-vs-workers.png"),
-    }
-    blocks = build_blocks(runs, plot_files)
+    if runs:
+        latest = runs[-1]
+        plot_files = {
+            "speedup": plots.speedup_plot(latest, folder / "speedup.png"),
+            "sweep": plots.sweep_plot(latest, folder / "error-vs-time.png"),
+            "pixels": plots.pixels_plot(latest, folder / "time-vs-pixels.png"),
+            "threads": plots.threads_plot(latest, folder / "throughput-vs-workers.png"),
+        }
+        blocks = build_blocks(runs, plot_files)
+    else:
+        blocks = [Heading(1, "Benchmark results"), Para("No bench run yet (`rtc bench`).")]
+    if stability is not None:
+        blocks += stability_table.report_blocks(stability)
     if problems:
         blocks += [Heading(2, "Unreadable result files"), Bullets(problems)]
     readme, page = results / "README.md", results / "report.html"

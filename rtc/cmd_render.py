@@ -15,6 +15,7 @@ from harness.scenefile import SceneError, load_scene
 from raytracer.camera import RenderSettings
 from rtc.cli import UserError
 from rtc.cmd_demo import parse_size
+from variants.pooled import RenderWorkerError
 
 NAME = "render"
 HELP = "render a scene file (the book's YAML scene format) to a PNG or PPM image"
@@ -120,6 +121,8 @@ def run(args: argparse.Namespace) -> int:
     start = time.perf_counter()
     try:
         image = variant.api["render"](camera, scene.world, settings, update)
+    except RenderWorkerError as error:
+        raise UserError(f"{variant.name} could not render {args.scene}: {error}") from None
     finally:
         close()
     elapsed = time.perf_counter() - start

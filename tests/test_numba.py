@@ -6,15 +6,17 @@ after clamping to [0, 1] (as the PNG shows them). Every comparison prints the ma
 mean difference and the number of pixels differing by more than 1/255 (``pytest -s``).
 Stated tolerances:
 
-- float64 (the default): at most ``FLOAT64_PIXELS`` pixels may differ by more than 1/255
-  (the kernels repeat the reference's arithmetic; only group transforms, composed once, and
-  the order reflections are summed in differ, in the last bits), and the mean difference is
-  below 1e-9;
+- float64 (the default): no pixel differs by more than ``FLOAT64_WORST`` (measured: at most
+  6e-10 on these scenes), so none by 1/255, and the mean difference is below 1e-9. The
+  kernels round differently from the reference (world-space balls, reciprocals, group
+  transforms composed once, reflections summed in another order, the specular term left
+  out below 1e-9), so a pixel could change where a ray grazes an edge exactly; on the
+  reference scene at 640x480 ``python -m variants.numba.bench`` reports the count;
 - float32 and fastmath: at most 2% of the pixels differ by more than 1/255, none by more
   than 0.5 (a shadow or acne decision may flip at an edge).
 
-The first run compiles a kernel per scene feature set (tens of seconds each); they are then
-cached on disk (``variants.numba.specialize``).
+The first run compiles a kernel per scene feature set (seconds each); they are then cached
+on disk (``variants.numba.specialize``).
 """
 
 from __future__ import annotations
@@ -24,6 +26,7 @@ import math
 import os
 import subprocess
 import sys
+import tempfile
 from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
@@ -40,6 +43,7 @@ from raytracer.matrices import Matrix
 from raytracer.patterns import Pattern
 from raytracer.shapes.sphere import Sphere
 from raytracer.tuples import Tuple
+from variants.numba import layout as L
 from variants.numba.canvas import ArrayCanvas
 from variants.numba.features import analyse
 from variants.numba.pack import PackError, pack_world
@@ -48,7 +52,7 @@ from variants.registry import Variant, VariantError, load_variant
 ROOT = Path(__file__).resolve().parent.parent
 SCENES = ROOT / "harness" / "scenes"
 ONE_STEP = 1.0 / 255.0
-FLOAT64_PIXELS = 2
+FLOAT64_WORST = 1e-6
 APPROXIMATE_SHARE = 0.02
 
 Build = Callable[[Any], tuple[Any, Any]]
@@ -182,8 +186,9 @@ def test_the_pictures_are_not_blank() -> None:
 
 @pytest.mark.parametrize("picture", list(PICTURES))
 def test_float64_draws_what_naive_draws(picture: str) -> None:
-    _, mean, beyond, _ = _compare("numba", picture)
-    assert beyond <= FLOAT64_PIXELS, f"{beyond} pixels differ from naive by more than 1/255"
+    worst, mean, beyond, _ = _compare("numba", picture)
+    assert worst <= FLOAT64_WORST, f"a pixel differs from naive by {worst:.3g}"
+    assert beyond == 0
     assert mean < 1e-9, f"mean difference {mean:.3g}"
 
 
@@ -268,13 +273,137 @@ def test_an_opaque_spheres_scene_leaves_out_refraction_schlick_cylinders_pattern
 
 
 def test_the_reference_scene_needs_what_it_has() -> None:
+    """Its five spheres are balls (uniform scale and translation), tested in world space all
+    at once, so the box of the group of three spheres is left out too."""
     api = load_variant("numba").api
     world = load_scene(SCENES / "reference.yml", api).world
-    flags = analyse(pack_world(world)).flags
-    assert flags == {
-        "HAS_SPHERE", "HAS_PLANE", "HAS_CYLINDER", "HAS_BOXES", "HAS_PATTERNS",
-        "HAS_CHECKERS", "HAS_SHADOWS", "HAS_REFLECTION", "HAS_REFRACTION", "HAS_SCHLICK",
+    packed = pack_world(world)
+    assert analyse(packed).flags == {
+        "HAS_SPHERE", "HAS_PLANE", "HAS_CYLINDER", "HAS_PATTERNS", "HAS_CHECKERS",
+        "HAS_SHADOWS", "HAS_REFLECTION", "HAS_REFRACTION", "HAS_SCHLICK",
     }  # fmt: skip
+    assert packed.balls.shape[1] == 5
+    assert len(packed.items) == 4  # three planes and the cylinder
+
+
+def test_a_group_of_ellipsoids_keeps_its_box() -> None:
+    """A sphere scaled unevenly is not a ball: it stays an item, tested in object space,
+    and the box of its group stays."""
+    api = load_variant("numba").api
+    g = api["group"]()
+    for x in (-1.0, 1.0):
+        s = api["sphere"]()
+        api["set_transform"](s, api["translation"](x, 0, 0) * api["scaling"](0.5, 1, 0.5))
+        api["add_child"](g, s)
+    w = api["default_world"]()
+    w.objects.append(g)
+    packed = pack_world(w)
+    assert packed.balls.shape[1] == 2  # the default world's two spheres
+    assert "HAS_BOXES" in analyse(packed).flags
+    assert len(packed.items) == 3  # the box and the two ellipsoids
+
+
+def test_a_sphere_with_a_similarity_transform_is_a_world_space_ball() -> None:
+    """Rotation, uniform scale and translation: the centre and radius come out of the
+    inverse; an uneven scale is no ball."""
+    api = load_variant("naive").api
+    s = api["sphere"]()
+    api["set_transform"](
+        s, api["translation"](1, -2, 3) * api["rotation_y"](0.7) * api["scaling"](2, 2, 2)
+    )
+    w = api["world"]()
+    w.objects.append(s)
+    packed = pack_world(w)
+    assert packed.balls.shape[1] == 1
+    centre = packed.balls[L.B_X : L.B_Z + 1, 0]
+    assert np.allclose(centre, [1, -2, 3], atol=1e-12)
+    assert packed.balls[L.B_R2, 0] == pytest.approx(4.0, rel=1e-12)
+    api["set_transform"](s, api["scaling"](2, 2, 2.000001))
+    assert pack_world(w).balls.shape[1] == 0
+
+
+@pytest.mark.parametrize("sphere_first", [True, False])
+def test_a_tie_between_a_ball_and_a_plane_goes_to_the_earlier_object(sphere_first: bool) -> None:
+    """A ray meets the unit sphere and the plane y = -1 at exactly t = 4: the reference's
+    stable sort puts the earlier object first, and so must ``intersect_world`` and the hit
+    that ``color_at`` shades (a ball is tested after the items, so it wins ties by its
+    row)."""
+    results = {}
+    for name in ("naive", "numba"):
+        api = load_variant(name).api
+        ball = api["sphere"]()
+        ball.material = material(color=api["color"](1, 0, 0), ambient=1, diffuse=0, specular=0)
+        floor = api["plane"]()
+        api["set_transform"](floor, api["translation"](0, -1, 0))
+        floor.material = material(color=api["color"](0, 0, 1), ambient=1, diffuse=0, specular=0)
+        w = api["world"]()
+        w.objects.extend([ball, floor] if sphere_first else [floor, ball])
+        w.light = api["point_light"](api["point"](0, -10, -10), api["color"](1, 1, 1))
+        r = api["ray"](api["point"](0, -5, 0), api["vector"](0, 1, 0))
+        xs = api["intersect_world"](w, r)
+        order = ["ball" if i.object is ball else "floor" for i in xs]
+        c = api["color_at"](w, r)
+        results[name] = ([i.t for i in xs], order, (c.red, c.green, c.blue))
+    assert results["numba"] == results["naive"]
+    assert results["naive"][1][0] == ("ball" if sphere_first else "floor")
+
+
+def test_a_render_needs_no_numba_once_its_library_is_built() -> None:
+    """The render entry is a shared library, built once (this test's first render) and
+    then loaded with ctypes: a fresh process renders without importing numba."""
+    api = load_variant("numba").api
+    c, w = default_world(api)
+    expected = api["render"](c, w).to_array()
+    code = (
+        "import sys\n"
+        "import numpy as np\n"
+        "from tests.test_numba import default_world\n"
+        "from variants.registry import load_variant\n"
+        "from variants.numba import specialize\n"
+        "api = load_variant('numba').api\n"
+        "c, w = default_world(api)\n"
+        "np.save(sys.argv[1], api['render'](c, w).to_array())\n"
+        "print('numba' in sys.modules, [r.origin for r in specialize._renderers.values()])\n"
+    )
+    with tempfile.TemporaryDirectory() as folder:
+        saved = Path(folder) / "image.npy"
+        done = subprocess.run(
+            [sys.executable, "-c", code, str(saved)], cwd=ROOT, capture_output=True, text=True
+        )
+        assert done.returncode == 0, done.stderr
+        assert done.stdout.startswith("False ['shared library "), done.stdout
+        assert np.array_equal(np.load(saved), expected)
+
+
+def test_without_a_c_compiler_the_render_falls_back_to_numba() -> None:
+    """When the library cannot be linked (here: CC=/bin/false), the same compiled function
+    runs from numba's own cache, and draws the same picture."""
+    api = load_variant("numba").api
+    c, w = default_world(api)
+    expected = api["render"](c, w).to_array()
+    code = (
+        "import sys\n"
+        "import numpy as np\n"
+        "from tests.test_numba import default_world\n"
+        "from variants.registry import load_variant\n"
+        "from variants.numba import specialize\n"
+        "api = load_variant('numba').api\n"
+        "c, w = default_world(api)\n"
+        "np.save(sys.argv[1], api['render'](c, w).to_array())\n"
+        "print([r.origin for r in specialize._renderers.values()])\n"
+    )
+    with tempfile.TemporaryDirectory() as folder:
+        saved = Path(folder) / "image.npy"
+        env = {**os.environ, "CC": "/bin/false", "RTC_NUMBA_KERNELS": folder}
+        done = subprocess.run(
+            [sys.executable, "-c", code, str(saved)], cwd=ROOT, capture_output=True,
+            text=True, env=env,
+        )  # fmt: skip
+        assert done.returncode == 0, done.stderr
+        assert "numba cfunc with numba's disk cache" in done.stdout, done.stdout
+        assert "could not link" in done.stdout, done.stdout
+        assert not list(Path(folder).glob("*.so"))
+        assert np.array_equal(np.load(saved), expected)
 
 
 def test_specialize_off_uses_the_generic_kernel() -> None:
@@ -288,14 +417,21 @@ def test_specialize_off_uses_the_generic_kernel() -> None:
 
 
 def test_no_numba_allocation_per_pixel() -> None:
-    """NRT allocation counts of a render do not grow with the image (a subprocess: the
-    statistics are switched on before numba is imported)."""
+    """NRT allocation counts of a render do not grow with the image: they are 0, since the
+    render entry is compiled without the numba runtime (a subprocess: the statistics are
+    switched on before numba is imported; a function that does allocate shows that they
+    count)."""
     code = (
         "import json, math\n"
-        "from dataclasses import replace\n"
+        "import numpy as np\n"
+        "from numba import njit\n"
         "from numba.core.runtime import rtsys\n"
         "from variants.registry import load_variant\n"
-        "counts = {}\n"
+        "allocating = njit(lambda n: np.zeros(n).sum())\n"
+        "allocating(3)\n"
+        "before = rtsys.get_allocation_stats().alloc\n"
+        "allocating(3)\n"
+        "counts = {'control': rtsys.get_allocation_stats().alloc - before}\n"
         "for name in ('numba[threads=1]', 'numba[threads=2]'):\n"
         "    api = load_variant(name).api\n"
         "    w = api['default_world']()\n"
@@ -314,10 +450,10 @@ def test_no_numba_allocation_per_pixel() -> None:
     assert done.returncode == 0, done.stderr
     counts = json.loads(done.stdout.strip().splitlines()[-1])
     print(counts)
+    assert counts["control"] >= 1, f"the NRT statistics do not count: {counts}"
     for name in ("numba[threads=1]", "numba[threads=2]"):
         per_size = {counts[f"{name} {size}"] for size in (4, 16, 64)}
-        assert len(per_size) == 1, f"{name}: allocations grow with the image: {counts}"
-        assert per_size.pop() < 32
+        assert per_size == {0}, f"{name}: a render allocates through numba: {counts}"
 
 
 # ------------------------------------------------------------------------ rays, options

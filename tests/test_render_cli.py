@@ -156,3 +156,27 @@ def test_a_missing_scene_file_is_one_line(
         f"rtc render: {tmp_path / 'none.yml'}: cannot read the scene file: No such file or "
         "directory"
     )
+
+
+def test_a_crashed_worker_is_an_error_naming_the_variant_and_scene(
+    tiny: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A pooled render whose worker dies ends with a message, status 2 and no image."""
+    import dataclasses
+
+    import variants.registry
+    from variants.pooled import RenderWorkerError
+
+    def crashed(*_: object) -> None:
+        raise RenderWorkerError("worker 1 (pid 4242) died with exit code -9 (killed by SIGKILL)")
+
+    pooled = load_variant("pooled[workers=1]")
+    broken = dataclasses.replace(pooled, api={**pooled.api, "render": crashed})
+    monkeypatch.setattr(variants.registry, "load_variant", lambda _name: broken)
+    output = tmp_path / "out.png"
+    line = one_line_error(capsys, str(tiny), "--variant", "pooled[workers=1]", "-o", str(output))
+    assert line == (
+        f"rtc render: pooled[workers=1]:naive could not render {tiny}: worker 1 (pid 4242) "
+        "died with exit code -9 (killed by SIGKILL)"
+    )
+    assert not output.exists()

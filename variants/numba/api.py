@@ -133,12 +133,12 @@ class NumbaBook:
     def _intersections(self, packed: Packed, r: Ray, sort: bool) -> list[Intersection]:
         ray = _ray(r)
         n, ts, rows, us, vs = self.k.api_intersections(
-            *packed.arrays(), ray, epsilon(), sort, packed.capacity, packed.cs_size,
+            *packed.flat(), ray, epsilon(), sort, packed.capacity, packed.cs_size,
             packed.cs_prims,
         )  # fmt: skip
         for row, shape in enumerate(packed.shapes):
             if isinstance(shape, TestShape):
-                o = self.k.api_local_ray(packed.pf, row, ray)
+                o = self.k.api_local_ray(packed.flat()[0], row, ray)
                 shape.saved_ray = Ray(_point(*o[:3]), _vector(*o[3:]))
         found: list[Intersection] = []
         for j in range(n):
@@ -283,8 +283,8 @@ class NumbaBook:
         if row < 0:
             _no_surface(shape, caller)
             pf, pi = pack_surface(shape, self.dtype)
-            packed.pf = np.vstack([packed.pf, pf])
-            packed.pi = np.vstack([packed.pi, pi])
+            packed.pf = np.vstack([packed.pf, pf.reshape(1, L.NF)])
+            packed.pi = np.vstack([packed.pi, pi.reshape(1, L.NI)])
             row = len(packed.pf) - 1
         return packed, row
 
@@ -303,7 +303,7 @@ class NumbaBook:
             dtype=np.float64,
         )  # fmt: skip
         rgb = self.k.api_shade(
-            *packed.arrays(), packed.light, row, values, mode, int(remaining), epsilon(),
+            *packed.flat(), packed.light, row, values, mode, int(remaining), epsilon(),
             packed.cs_size, packed.cs_prims,
         )  # fmt: skip
         return _color(rgb)
@@ -325,7 +325,7 @@ class NumbaBook:
             raise ValueError(f"{caller}: the world has no light source")
         packed = pack_world(w, self.dtype, allow_test_shape=True)
         return self.k.api_shade(
-            *packed.arrays(), packed.light, 0, np.array(values, dtype=np.float64), mode,
+            *packed.flat(), packed.light, 0, np.array(values, dtype=np.float64), mode,
             int(remaining), epsilon(), packed.cs_size, packed.cs_prims,
         )  # fmt: skip
 

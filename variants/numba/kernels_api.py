@@ -2,7 +2,8 @@
 run through the same code as the render (``variants.numba.api`` packs the arguments, calls
 these and converts the results back to the reference's values).
 
-Vectors travel as separate floats; arrays hold a packed world or shape (``layout``).
+Vectors travel as separate floats; flat arrays hold a packed world or shape (``layout``,
+``Packed.flat``).
 """
 
 import numpy as np
@@ -43,6 +44,7 @@ from variants.numba.kernels_trace import (
     shadowed,
 )
 from variants.numba.layout import (
+    B_PRIM,
     CS_P,
     CS_T,
     CS_U,
@@ -53,6 +55,10 @@ from variants.numba.layout import (
     INV,
     ITEM_A,
     ITEM_TYPE,
+    NF,
+    NITEM,
+    NSF,
+    NSI,
     REFLECTIVE,
     STACK_WIDTH,
     TRANSPARENCY,
@@ -62,23 +68,28 @@ from variants.numba.layout import (
 
 
 @njit(**ENTRY)
-def api_intersections(pf, pi, items, boxes, csg, ray, eps, sort, capacity, cs_size, cs_prims):
+def api_intersections(
+    pf, pi, items, n_items, boxes, csg, balls, n_balls, ray, eps, sort, capacity, cs_size,
+    cs_prims,
+):  # fmt: skip
     """Chapters 5, 7, 14, 16 (``intersect``, ``local_intersect``, ``intersect_world``): every
-    intersection of ``ray`` with the packed shapes, in the reference's order, sorted by t
-    (stably) when ``sort``; returns (count, t, primitive, u, v)."""
+    intersection of ``ray`` with the packed shapes (the items', then the balls'), sorted
+    by t (stably) when ``sort``; returns (count, t, primitive, u, v)."""
     eps = F(eps)
     out_t = np.empty(capacity, F)
     out_u = np.empty(capacity, F)
     out_v = np.empty(capacity, F)
     out_p = np.empty(capacity, np.int64)
-    sf, si = scratch(cs_size, cs_prims)
+    s = scratch(cs_size, cs_prims, n_balls)
+    sf, si, _ = s
+    w = (pf, pi, items, n_items, boxes, csg, balls, n_balls, np.zeros(6, F))
     ox, oy, oz, dx, dy, dz = F(ray[0]), F(ray[1]), F(ray[2]), F(ray[3]), F(ray[4]), F(ray[5])
     n = 0
     i = 0
-    while i < items.shape[0]:
-        kind = items[i, ITEM_TYPE]
+    while i < n_items:
+        kind = items[i * NITEM + ITEM_TYPE]
         if kind == I_PRIM:
-            p = items[i, ITEM_A]
+            p = items[i * NITEM + ITEM_A]
             m, t0, t1, t2, t3, u, v = intersect_prim(pf, pi, p, ox, oy, oz, dx, dy, dz, eps, INF)
             for local in range(m):
                 out_t[n] = nth(t0, t1, t2, t3, local)
@@ -91,26 +102,37 @@ def api_intersections(pf, pi, items, boxes, csg, ray, eps, sort, capacity, cs_si
             if box_range(boxes, i, ox, oy, oz, ONE / dx, ONE / dy, ONE / dz, -INF, INF):
                 i += 1
             else:
-                i = items[i, ITEM_A]
+                i = items[i * NITEM + ITEM_A]
         elif HAS_CSG and kind == I_CSG:
-            m = csg_collect(pf, pi, items, csg, i, ox, oy, oz, dx, dy, dz, eps, sf, si)
+            m = csg_collect(w, s, i, ox, oy, oz, dx, dy, dz, eps)
             for j in range(m):
-                out_t[n] = sf[CS_T, j]
-                out_p[n] = si[CS_P, j]
-                out_u[n] = sf[CS_U, j]
-                out_v[n] = sf[CS_V, j]
+                out_t[n] = sf[j * NSF + CS_T]
+                out_p[n] = si[j * NSI + CS_P]
+                out_u[n] = sf[j * NSF + CS_U]
+                out_v[n] = sf[j * NSF + CS_V]
                 n += 1
             i += 1
         else:
             i += 1
+    for j in range(n_balls):
+        p = int(balls[B_PRIM * n_balls + j])
+        m, t0, t1, _, _, _, _ = intersect_prim(pf, pi, p, ox, oy, oz, dx, dy, dz, eps, INF)
+        for local in range(m):
+            out_t[n] = t0 if local == 0 else t1
+            out_p[n] = p
+            out_u[n] = ZERO
+            out_v[n] = ZERO
+            n += 1
     if sort:
-        for j in range(1, n):  # stable insertion sort by t
+        # insertion sort by t, then primitive row (the reference's order for ties: rows
+        # follow the world's order), then the order found (a primitive's own list)
+        for j in range(1, n):
             t = out_t[j]
             p = out_p[j]
             u = out_u[j]
             v = out_v[j]
             k = j - 1
-            while k >= 0 and out_t[k] > t:
+            while k >= 0 and (out_t[k] > t or (out_t[k] == t and out_p[k] > p)):
                 out_t[k + 1] = out_t[k]
                 out_p[k + 1] = out_p[k]
                 out_u[k + 1] = out_u[k]
@@ -144,7 +166,8 @@ def api_world_to_object(pf, p, x, y, z, w):
     """Chapter 14: ``world_to_object`` of the tuple (x, y, z, w) (w is 1 for a point)."""
     vx, vy, vz = to_object_vector(pf, p, F(x), F(y), F(z))
     w = F(w)
-    return vx + pf[p, INV + 3] * w, vy + pf[p, INV + 7] * w, vz + pf[p, INV + 11] * w
+    m = p * NF + INV
+    return vx + pf[m + 3] * w, vy + pf[m + 7] * w, vz + pf[m + 11] * w
 
 
 @njit(**ENTRY)
@@ -195,7 +218,10 @@ def api_schlick(eyev, normalv, n1, n2):
 
 
 @njit(**ENTRY)
-def api_shade(pf, pi, items, boxes, csg, light, p, comps, mode, remaining, eps, cs_size, cs_prims):
+def api_shade(
+    pf, pi, items, n_items, boxes, csg, balls, n_balls, light, p, comps, mode, remaining, eps,
+    cs_size, cs_prims,
+):  # fmt: skip
     """Chapters 7, 8, 11, with a prepared hit ``comps`` (eyev, normalv, over_point,
     under_point, reflectv, n1, n2 of the hit on primitive p):
 
@@ -204,8 +230,9 @@ def api_shade(pf, pi, items, boxes, csg, light, p, comps, mode, remaining, eps, 
     holds the point; the result is 1 or 0 in red).
     """
     eps = F(eps)
-    stack = np.empty((max(remaining, 0) + 3, STACK_WIDTH), F)
-    sf, si = scratch(cs_size, cs_prims)
+    stack = np.empty((max(remaining, 0) + 3) * STACK_WIDTH, F)
+    s = scratch(cs_size, cs_prims, n_balls)
+    w = (pf, pi, items, n_items, boxes, csg, balls, n_balls, light)
     c = np.empty(comps.shape[0], F)
     for j in range(comps.shape[0]):
         c[j] = F(comps[j])
@@ -215,16 +242,16 @@ def api_shade(pf, pi, items, boxes, csg, light, p, comps, mode, remaining, eps, 
     top = 0
     if mode == 0:
         r, g, b, top = shade_and_push(
-            pf, pi, items, boxes, csg, light, p, (c[0], c[1], c[2]), (c[3], c[4], c[5]),
-            (c[6], c[7], c[8]), (c[9], c[10], c[11]), (c[12], c[13], c[14]), c[15], c[16],
-            ONE, remaining, eps, stack, top, sf, si,
+            w, s, p, (c[0], c[1], c[2]), (c[3], c[4], c[5]), (c[6], c[7], c[8]),
+            (c[9], c[10], c[11]), (c[12], c[13], c[14]), c[15], c[16], ONE, remaining, eps,
+            stack, top,
         )  # fmt: skip
     elif mode == 1:
-        reflective = pf[p, REFLECTIVE]
+        reflective = pf[p * NF + REFLECTIVE]
         if reflective != ZERO and remaining > 0:
             top = push(stack, top, c[6], c[7], c[8], c[12], c[13], c[14], reflective, remaining - 1)
     elif mode == 2:
-        transparency = pf[p, TRANSPARENCY]
+        transparency = pf[p * NF + TRANSPARENCY]
         if transparency != ZERO and remaining > 0:
             ok, tx, ty, tz = refraction(c[0], c[1], c[2], c[3], c[4], c[5], c[15], c[16])
             if ok:
@@ -233,11 +260,9 @@ def api_shade(pf, pi, items, boxes, csg, light, p, comps, mode, remaining, eps, 
         top = push(stack, top, c[0], c[1], c[2], c[3], c[4], c[5], ONE, remaining)
     else:
         lx, ly, lz, distance = towards_light(light, c[0], c[1], c[2])
-        hit = shadowed(
-            pf, pi, items, boxes, csg, c[0], c[1], c[2], lx, ly, lz, distance, eps, sf, si
-        )
+        hit = shadowed(w, s, c[0], c[1], c[2], lx, ly, lz, distance, eps)
         return ONE if hit else ZERO, ZERO, ZERO
-    return drain(pf, pi, items, boxes, csg, light, eps, stack, top, r, g, b, sf, si)
+    return drain(w, s, eps, stack, top, r, g, b)
 
 
 @njit(**ENTRY)

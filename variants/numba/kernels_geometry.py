@@ -1,10 +1,15 @@
 """Kernel template, part 1: transforms, intersections and normals of every shape kind
 (chapters 5, 6, 9, 12, 13 and 15), and bounding boxes (chapter 14).
 
-Each function mirrors the reference's arithmetic (same operations in the same order), so the
-kernels and the reference agree to the last bit wherever the reference is exact. Everything
-is scalar: vectors are passed and returned as separate x, y, z values, so nothing allocates.
-Literals are wrapped in ``F`` so the float32 option computes in float32 throughout.
+The object-space tests repeat the reference's arithmetic operation by operation. One shape
+takes a shortcut: a sphere whose transform is a similarity (``pack``: rotation, uniform
+scale, translation) is a world-space ball, tested without the object-space transform, with
+the quadratic solved without cancellation (one root as q / a, the other as c / q), and its
+normal taken from its centre. Its t and normal equal the reference's up to rounding (about
+1e-15 relative), so a pixel can change only where a ray grazes an edge or a shadow boundary
+exactly. Everything is scalar: vectors are passed and returned as separate x, y, z values,
+so nothing allocates. Literals are wrapped in ``F`` so the float32 option computes in
+float32 throughout.
 """
 
 # ruff: noqa: F401
@@ -41,7 +46,13 @@ from variants.numba.layout import (
     KIND,
     MAXIMUM,
     MINIMUM,
+    NBOX,
+    NF,
+    NI,
     NRM,
+    SPH_CENTER,
+    SPH_INV_R,
+    SPH_R2,
     TRI_E1,
     TRI_E2,
     TRI_N1,
@@ -49,6 +60,7 @@ from variants.numba.layout import (
     TRI_N3,
     TRI_NORMAL,
     TRI_P1,
+    WORLD_SPHERE,
 )
 
 # ---- kernel template ----
@@ -56,8 +68,8 @@ from variants.numba.layout import (
 # Helpers: compiled once, then inlined by LLVM into every caller (numba's own inlining,
 # inline="always", copies the IR into each caller before typing: several times slower to
 # compile). Without the numba runtime (_nrt=False) they do no reference counting of the
-# arrays they are passed: otherwise every call increments and decrements the shared
-# arrays' counts atomically, and threads fight over them. They allocate nothing.
+# arrays they are passed, and they allocate nothing. ``pf``, ``pi`` ... are flat (see
+# ``layout``): numpy arrays in the book-API kernels, raw pointers in the render.
 INLINE: dict[str, Any] = {
     "forceinline": True,
     "_nrt": False,
@@ -73,40 +85,124 @@ TWO = F(2.0)
 @njit(**INLINE)
 def to_object_point(pf, p, x, y, z):
     """Chapter 5: a world-space point in primitive p's object space (the composed inverse)."""
+    m = p * NF + INV
     return (
-        pf[p, INV + 0] * x + pf[p, INV + 1] * y + pf[p, INV + 2] * z + pf[p, INV + 3],
-        pf[p, INV + 4] * x + pf[p, INV + 5] * y + pf[p, INV + 6] * z + pf[p, INV + 7],
-        pf[p, INV + 8] * x + pf[p, INV + 9] * y + pf[p, INV + 10] * z + pf[p, INV + 11],
+        pf[m + 0] * x + pf[m + 1] * y + pf[m + 2] * z + pf[m + 3],
+        pf[m + 4] * x + pf[m + 5] * y + pf[m + 6] * z + pf[m + 7],
+        pf[m + 8] * x + pf[m + 9] * y + pf[m + 10] * z + pf[m + 11],
     )
 
 
 @njit(**INLINE)
 def to_object_vector(pf, p, x, y, z):
     """Chapter 5: a world-space direction in primitive p's object space."""
+    m = p * NF + INV
     return (
-        pf[p, INV + 0] * x + pf[p, INV + 1] * y + pf[p, INV + 2] * z,
-        pf[p, INV + 4] * x + pf[p, INV + 5] * y + pf[p, INV + 6] * z,
-        pf[p, INV + 8] * x + pf[p, INV + 9] * y + pf[p, INV + 10] * z,
+        pf[m + 0] * x + pf[m + 1] * y + pf[m + 2] * z,
+        pf[m + 4] * x + pf[m + 5] * y + pf[m + 6] * z,
+        pf[m + 8] * x + pf[m + 9] * y + pf[m + 10] * z,
     )
 
 
 @njit(**INLINE)
 def normalized(x, y, z):
-    """Chapter 1: (x, y, z) scaled to length 1, dividing as the reference does."""
-    m = math.sqrt(x * x + y * y + z * z)
-    return x / m, y / m, z / m
+    """Chapter 1: (x, y, z) scaled to length 1 (times 1 / length: one division, not three)."""
+    scale = ONE / math.sqrt(x * x + y * y + z * z)
+    return x * scale, y * scale, z * scale
 
 
 @njit(**INLINE)
 def to_world_normal(pf, p, x, y, z):
     """Chapter 14: an object-space normal in world space (inverse transpose), normalized;
     a zero normal (a cone's tip) stays zero."""
-    nx = pf[p, NRM + 0] * x + pf[p, NRM + 1] * y + pf[p, NRM + 2] * z
-    ny = pf[p, NRM + 3] * x + pf[p, NRM + 4] * y + pf[p, NRM + 5] * z
-    nz = pf[p, NRM + 6] * x + pf[p, NRM + 7] * y + pf[p, NRM + 8] * z
+    m = p * NF + NRM
+    nx = pf[m + 0] * x + pf[m + 1] * y + pf[m + 2] * z
+    ny = pf[m + 3] * x + pf[m + 4] * y + pf[m + 5] * z
+    nz = pf[m + 6] * x + pf[m + 7] * y + pf[m + 8] * z
     if nx != ZERO or ny != ZERO or nz != ZERO:
         return normalized(nx, ny, nz)
     return nx, ny, nz
+
+
+@njit(**INLINE)
+def is_world_sphere(pi, p):
+    """Is primitive p a sphere tested in world space (``pack``: its transform is a
+    similarity)?"""
+    return HAS_SPHERE and pi[p * NI + KIND] == K_SPHERE and pi[p * NI + WORLD_SPHERE] != 0
+
+
+@njit(**INLINE)
+def ball_terms(pf, p, ox, oy, oz, dx, dy, dz):
+    """Chapter 5, in world space: with oc = origin - centre, the ray meets the ball where
+    a t² + 2 hb t + cc = 0: returns (hb, cc) = (oc · direction, oc · oc - radius²)."""
+    m = p * NF + SPH_CENTER
+    cx = ox - pf[m]
+    cy = oy - pf[m + 1]
+    cz = oz - pf[m + 2]
+    return cx * dx + cy * dy + cz * dz, cx * cx + cy * cy + cz * cz - pf[p * NF + SPH_R2]
+
+
+@njit(**INLINE)
+def ball_roots(hb, cc, a, discriminant):
+    """The two roots of a t² + 2 hb t + cc = 0, smaller first, without cancellation: one is
+    q / a, the other cc / q, with q = -(hb + sign(hb) sqrt(discriminant))."""
+    root = math.sqrt(discriminant)
+    q = -(hb + root) if hb >= ZERO else root - hb
+    if q == ZERO:  # hb = 0 and a tangent line: both roots are 0
+        return ZERO, ZERO
+    first = q / a
+    second = cc / q
+    if first <= second:
+        return first, second
+    return second, first
+
+
+@njit(**INLINE)
+def ball_intersect(pf, p, ox, oy, oz, dx, dy, dz, a):
+    """Chapter 5: a world-space ball's intersections (count, t1, t2), ``a`` = direction ·
+    direction. The same t as the reference's object-space test up to rounding."""
+    hb, cc = ball_terms(pf, p, ox, oy, oz, dx, dy, dz)
+    discriminant = hb * hb - a * cc
+    if discriminant < ZERO:
+        return 0, INF, INF
+    t0, t1 = ball_roots(hb, cc, a, discriminant)
+    return 2, t0, t1
+
+
+@njit(**INLINE)
+def ball_first(hb, cc, a, tmax):
+    """Chapter 5, for the hit and shadow rays: a ball's first intersection in [0, tmax),
+    given its ``ball_terms``: (found, t, index in its list); t is its first t >= 0 (or INF)
+    even when that is not below tmax, unless it is certainly beyond tmax. From outside
+    (cc > 0) a ray moving away (hb >= 0) cannot hit; one moving closer hits first at
+    cc / q (the smaller root), divided only when it may be nearer than tmax."""
+    if cc > ZERO:
+        if hb >= ZERO:
+            return False, INF, 0
+        discriminant = hb * hb - a * cc
+        if discriminant < ZERO:
+            return False, INF, 0
+        q = math.sqrt(discriminant) - hb  # > 0
+        if cc > tmax * q * F(1.000001):  # certainly t = cc / q > tmax
+            return False, INF, 0
+        t = cc / q
+        return t < tmax, t, 0
+    discriminant = hb * hb - a * cc
+    if discriminant < ZERO:
+        return False, INF, 0
+    t0, t1 = ball_roots(hb, cc, a, discriminant)
+    if t0 >= ZERO:
+        return t0 < tmax, t0, 0
+    if t1 >= ZERO:
+        return t1 < tmax, t1, 1
+    return False, INF, 0
+
+
+@njit(**INLINE)
+def ball_first_hit(pf, p, ox, oy, oz, dx, dy, dz, a, tmax):
+    """``ball_first`` for primitive p, a world-space ball."""
+    hb, cc = ball_terms(pf, p, ox, oy, oz, dx, dy, dz)
+    return ball_first(hb, cc, a, tmax)
 
 
 @njit(**INLINE)
@@ -185,8 +281,8 @@ def check_cap(ox, oz, dx, dz, t, radius):
 def cylinder_intersect(pf, pi, p, ox, oy, oz, dx, dy, dz, eps):
     """Chapter 13: the sides between minimum and maximum, then the caps when closed:
     (count, t0, t1, t2, t3)."""
-    lo = pf[p, MINIMUM]
-    hi = pf[p, MAXIMUM]
+    lo = pf[p * NF + MINIMUM]
+    hi = pf[p * NF + MAXIMUM]
     n = 0
     t0 = INF
     t1 = INF
@@ -215,7 +311,7 @@ def cylinder_intersect(pf, pi, p, ox, oy, oz, dx, dy, dz, eps):
             else:
                 t1 = s1
             n += 1
-    if pi[p, CLOSED] != 0 and not abs(dy) < eps:
+    if pi[p * NI + CLOSED] != 0 and not abs(dy) < eps:
         for cap in (lo, hi):
             t = (cap - oy) / dy
             if check_cap(ox, oz, dx, dz, t, ONE):
@@ -235,9 +331,9 @@ def cylinder_intersect(pf, pi, p, ox, oy, oz, dx, dy, dz, eps):
 def cylinder_normal(pf, p, x, y, z, eps):
     """Chapter 13: the caps' normals point along y, the side's away from the axis."""
     distance = x * x + z * z
-    if distance < ONE and y >= pf[p, MAXIMUM] - eps:
+    if distance < ONE and y >= pf[p * NF + MAXIMUM] - eps:
         return ZERO, ONE, ZERO
-    if distance < ONE and y <= pf[p, MINIMUM] + eps:
+    if distance < ONE and y <= pf[p * NF + MINIMUM] + eps:
         return ZERO, -ONE, ZERO
     return x, ZERO, z
 
@@ -246,8 +342,8 @@ def cylinder_normal(pf, p, x, y, z, eps):
 def cone_intersect(pf, pi, p, ox, oy, oz, dx, dy, dz, eps):
     """Chapter 13: the double cone x² + z² = y² between minimum and maximum (one crossing
     when the ray runs parallel to one half), then the caps: (count, t0, t1, t2, t3)."""
-    lo = pf[p, MINIMUM]
-    hi = pf[p, MAXIMUM]
+    lo = pf[p * NF + MINIMUM]
+    hi = pf[p * NF + MAXIMUM]
     n = 0
     t0 = INF
     t1 = INF
@@ -281,7 +377,7 @@ def cone_intersect(pf, pi, p, ox, oy, oz, dx, dy, dz, eps):
             else:
                 t1 = s
             n += 1
-    if pi[p, CLOSED] != 0 and not abs(dy) < eps:
+    if pi[p * NI + CLOSED] != 0 and not abs(dy) < eps:
         for cap in (lo, hi):
             t = (cap - oy) / dy
             if check_cap(ox, oz, dx, dz, t, abs(cap)):
@@ -302,8 +398,8 @@ def cone_normal(pf, p, x, y, z, eps):
     """Chapter 13: the caps' normals point along y; the sides' slope outwards (zero at the
     tip)."""
     distance = x * x + z * z
-    hi = pf[p, MAXIMUM]
-    lo = pf[p, MINIMUM]
+    hi = pf[p * NF + MAXIMUM]
+    lo = pf[p * NF + MINIMUM]
     if distance < hi * hi and y >= hi - eps:
         return ZERO, ONE, ZERO
     if distance < lo * lo and y <= lo + eps:
@@ -317,12 +413,13 @@ def cone_normal(pf, p, x, y, z, eps):
 @njit(**INLINE)
 def triangle_intersect(pf, p, ox, oy, oz, dx, dy, dz, eps):
     """Chapter 15: Möller-Trumbore: (count, t, u, v)."""
-    e1x = pf[p, TRI_E1]
-    e1y = pf[p, TRI_E1 + 1]
-    e1z = pf[p, TRI_E1 + 2]
-    e2x = pf[p, TRI_E2]
-    e2y = pf[p, TRI_E2 + 1]
-    e2z = pf[p, TRI_E2 + 2]
+    m = p * NF
+    e1x = pf[m + TRI_E1]
+    e1y = pf[m + TRI_E1 + 1]
+    e1z = pf[m + TRI_E1 + 2]
+    e2x = pf[m + TRI_E2]
+    e2y = pf[m + TRI_E2 + 1]
+    e2z = pf[m + TRI_E2 + 2]
     cx = dy * e2z - dz * e2y
     cy = dz * e2x - dx * e2z
     cz = dx * e2y - dy * e2x
@@ -330,9 +427,9 @@ def triangle_intersect(pf, p, ox, oy, oz, dx, dy, dz, eps):
     if abs(det) < eps:
         return 0, INF, ZERO, ZERO
     f = ONE / det
-    px = ox - pf[p, TRI_P1]
-    py = oy - pf[p, TRI_P1 + 1]
-    pz = oz - pf[p, TRI_P1 + 2]
+    px = ox - pf[m + TRI_P1]
+    py = oy - pf[m + TRI_P1 + 1]
+    pz = oz - pf[m + TRI_P1 + 2]
     u = f * (px * cx + py * cy + pz * cz)
     if u < ZERO or u > ONE:
         return 0, INF, ZERO, ZERO
@@ -348,11 +445,12 @@ def triangle_intersect(pf, p, ox, oy, oz, dx, dy, dz, eps):
 @njit(**INLINE)
 def smooth_normal(pf, p, u, v):
     """Chapter 15: the corner normals blended by the hit's u and v."""
+    m = p * NF
     w = ONE - u - v
     return (
-        pf[p, TRI_N2] * u + pf[p, TRI_N3] * v + pf[p, TRI_N1] * w,
-        pf[p, TRI_N2 + 1] * u + pf[p, TRI_N3 + 1] * v + pf[p, TRI_N1 + 1] * w,
-        pf[p, TRI_N2 + 2] * u + pf[p, TRI_N3 + 2] * v + pf[p, TRI_N1 + 2] * w,
+        pf[m + TRI_N2] * u + pf[m + TRI_N3] * v + pf[m + TRI_N1] * w,
+        pf[m + TRI_N2 + 1] * u + pf[m + TRI_N3 + 1] * v + pf[m + TRI_N1 + 1] * w,
+        pf[m + TRI_N2 + 2] * u + pf[m + TRI_N3 + 2] * v + pf[m + TRI_N1 + 2] * w,
     )
 
 
@@ -360,7 +458,7 @@ def smooth_normal(pf, p, u, v):
 def intersect_local(pf, pi, p, ox, oy, oz, dx, dy, dz, eps):
     """Chapters 5-15: primitive p's intersections with an object-space ray, in the
     reference's order: (count, t0, t1, t2, t3, u, v); u and v only for triangles."""
-    kind = pi[p, KIND]
+    kind = pi[p * NI + KIND]
     if HAS_SPHERE and kind == K_SPHERE:
         n, a, b = sphere_intersect(ox, oy, oz, dx, dy, dz)
         return n, a, b, INF, INF, ZERO, ZERO
@@ -383,19 +481,26 @@ def intersect_local(pf, pi, p, ox, oy, oz, dx, dy, dz, eps):
 
 
 @njit(**INLINE)
-def misses_bound(pf, p, ox, oy, oz, dx, dy, dz):
-    """Does the ray's line miss primitive p's world-space bounding sphere? (A cheap test
-    that skips the exact one; it never changes a result.)"""
-    radius = pf[p, BOUND + 3]
-    if radius == INF:
-        return False
-    cx = pf[p, BOUND] - ox
-    cy = pf[p, BOUND + 1] - oy
-    cz = pf[p, BOUND + 2] - oz
+def bound_terms(pf, p, ox, oy, oz, dx, dy, dz):
+    """Primitive p's world-space bounding sphere against the ray: (radius, b, c, a, b² - a c)
+    with oc = centre - origin, b = oc · d, c = oc · oc - radius², a = d · d."""
+    m = p * NF + BOUND
+    radius = pf[m + 3]
+    cx = pf[m] - ox
+    cy = pf[m + 1] - oy
+    cz = pf[m + 2] - oz
     b = cx * dx + cy * dy + cz * dz
     c = cx * cx + cy * cy + cz * cz - radius * radius
     a = dx * dx + dy * dy + dz * dz
-    return b * b - a * c < ZERO
+    return radius, b, c, a, b * b - a * c
+
+
+@njit(**INLINE)
+def misses_bound(pf, p, ox, oy, oz, dx, dy, dz):
+    """Does the ray's line miss primitive p's world-space bounding sphere? (A cheap test
+    that skips the exact one; it never changes a result.)"""
+    radius, _, _, _, discriminant = bound_terms(pf, p, ox, oy, oz, dx, dy, dz)
+    return radius != INF and discriminant < ZERO
 
 
 @njit(**INLINE)
@@ -403,16 +508,9 @@ def outside_bound(pf, p, ox, oy, oz, dx, dy, dz, tmax):
     """Is primitive p's bounding sphere certainly missed by the ray for t in [0, tmax]?
     (The line misses it, it lies behind the origin, or the ray enters it after tmax; no
     square root, no division. Its radius is padded, so this never drops a real hit.)"""
-    radius = pf[p, BOUND + 3]
+    radius, b, c, a, discriminant = bound_terms(pf, p, ox, oy, oz, dx, dy, dz)
     if radius == INF:
         return False
-    cx = pf[p, BOUND] - ox
-    cy = pf[p, BOUND + 1] - oy
-    cz = pf[p, BOUND + 2] - oz
-    b = cx * dx + cy * dy + cz * dz
-    c = cx * cx + cy * cy + cz * cz - radius * radius
-    a = dx * dx + dy * dy + dz * dz
-    discriminant = b * b - a * c  # a/4 of the quadratic's: its sign says if the line hits
     if discriminant < ZERO:
         return True
     if c > ZERO:  # the origin is outside the sphere
@@ -428,16 +526,9 @@ def outside_bound(pf, p, ox, oy, oz, dx, dy, dz, tmax):
 def starts_after(pf, p, ox, oy, oz, dx, dy, dz, t):
     """Does the ray enter primitive p's bounding sphere only after ``t`` (or never)? Then
     none of its intersections comes before t (for n1/n2)."""
-    radius = pf[p, BOUND + 3]
+    radius, b, c, a, discriminant = bound_terms(pf, p, ox, oy, oz, dx, dy, dz)
     if radius == INF:
         return False
-    cx = pf[p, BOUND] - ox
-    cy = pf[p, BOUND + 1] - oy
-    cz = pf[p, BOUND + 2] - oz
-    b = cx * dx + cy * dy + cz * dz
-    c = cx * cx + cy * cy + cz * cz - radius * radius
-    a = dx * dx + dy * dy + dz * dz
-    discriminant = b * b - a * c
     if discriminant < ZERO:
         return True
     late = b - a * t
@@ -448,12 +539,18 @@ def starts_after(pf, p, ox, oy, oz, dx, dy, dz, t):
 def intersect_prim(pf, pi, p, ox, oy, oz, dx, dy, dz, eps, tmax):
     """Chapter 5: primitive p's intersections with a world-space ray: all of them (any t)
     when ``tmax`` is INF, else possibly none when none can lie in [0, tmax] (for the hit
-    and shadow rays). A plane needs only the y row of its transform."""
-    if HAS_PLANE and pi[p, KIND] == K_PLANE:
-        loy = pf[p, INV + 4] * ox + pf[p, INV + 5] * oy + pf[p, INV + 6] * oz + pf[p, INV + 7]
-        ldy = pf[p, INV + 4] * dx + pf[p, INV + 5] * dy + pf[p, INV + 6] * dz
+    and shadow rays). A plane needs only the y row of its transform; a similarity-
+    transformed sphere is tested in world space."""
+    kind = pi[p * NI + KIND]
+    if HAS_PLANE and kind == K_PLANE:
+        m = p * NF + INV
+        loy = pf[m + 4] * ox + pf[m + 5] * oy + pf[m + 6] * oz + pf[m + 7]
+        ldy = pf[m + 4] * dx + pf[m + 5] * dy + pf[m + 6] * dz
         n, a = plane_intersect(loy, ldy, eps)
         return n, a, INF, INF, INF, ZERO, ZERO
+    if is_world_sphere(pi, p):
+        n, a, b = ball_intersect(pf, p, ox, oy, oz, dx, dy, dz, dx * dx + dy * dy + dz * dz)
+        return n, a, b, INF, INF, ZERO, ZERO
     if tmax == INF:
         if misses_bound(pf, p, ox, oy, oz, dx, dy, dz):
             return 0, INF, INF, INF, INF, ZERO, ZERO
@@ -465,37 +562,41 @@ def intersect_prim(pf, pi, p, ox, oy, oz, dx, dy, dz, eps, tmax):
 
 
 @njit(**INLINE)
-def first_hit_in(pf, pi, p, ox, oy, oz, dx, dy, dz, eps, tmax):
+def first_hit_in(pf, pi, p, ox, oy, oz, dx, dy, dz, a, eps, tmax):
     """Chapters 5-15, for the hit and shadow rays: primitive p's first intersection with t
-    in [0, tmax): (found, t, index in its list, u, v). The same t as ``intersect_prim``
-    computes, but divisions are skipped where the answer is already known: a plane behind
-    the origin or certainly beyond tmax, a sphere's second root when the first is taken."""
-    kind = pi[p, KIND]
+    in [0, tmax): (found, t, index in its list, u, v); ``a`` = direction · direction.
+    Divisions are skipped where the answer is already known: a plane behind the origin or
+    certainly beyond tmax, a ball the ray leaves or meets beyond tmax."""
+    kind = pi[p * NI + KIND]
     if HAS_PLANE and kind == K_PLANE:
-        loy = pf[p, INV + 4] * ox + pf[p, INV + 5] * oy + pf[p, INV + 6] * oz + pf[p, INV + 7]
-        ldy = pf[p, INV + 4] * dx + pf[p, INV + 5] * dy + pf[p, INV + 6] * dz
+        m = p * NF + INV
+        loy = pf[m + 4] * ox + pf[m + 5] * oy + pf[m + 6] * oz + pf[m + 7]
+        ldy = pf[m + 4] * dx + pf[m + 5] * dy + pf[m + 6] * dz
         if abs(ldy) < eps or loy * ldy > ZERO:  # parallel, or t = -loy / ldy < 0
             return False, INF, 0, ZERO, ZERO
         if abs(loy) > tmax * abs(ldy) * F(1.000001):  # certainly t > tmax
             return False, INF, 0, ZERO, ZERO
         t = -loy / ldy
         return t >= ZERO and t < tmax, t, 0, ZERO, ZERO
+    if is_world_sphere(pi, p):
+        found, t, local = ball_first_hit(pf, p, ox, oy, oz, dx, dy, dz, a, tmax)
+        return found, t, local, ZERO, ZERO
     if outside_bound(pf, p, ox, oy, oz, dx, dy, dz, tmax):
         return False, INF, 0, ZERO, ZERO
     lox, loy, loz = to_object_point(pf, p, ox, oy, oz)
     ldx, ldy, ldz = to_object_vector(pf, p, dx, dy, dz)
     if HAS_SPHERE and kind == K_SPHERE:
-        a = ldx * ldx + ldy * ldy + ldz * ldz
+        la = ldx * ldx + ldy * ldy + ldz * ldz
         b = TWO * (ldx * lox + ldy * loy + ldz * loz)
         c = (lox * lox + loy * loy + loz * loz) - ONE
-        discriminant = b * b - F(4.0) * a * c
+        discriminant = b * b - F(4.0) * la * c
         if discriminant < ZERO:
             return False, INF, 0, ZERO, ZERO
         root = math.sqrt(discriminant)
-        t = (-b - root) / (TWO * a)
+        t = (-b - root) / (TWO * la)
         if t >= ZERO:
             return t < tmax, t, 0, ZERO, ZERO
-        t = (-b + root) / (TWO * a)
+        t = (-b + root) / (TWO * la)
         return t >= ZERO and t < tmax, t, 1, ZERO, ZERO
     n, t0, t1, t2, t3, u, v = intersect_local(pf, pi, p, lox, loy, loz, ldx, ldy, ldz, eps)
     best = tmax
@@ -511,7 +612,8 @@ def first_hit_in(pf, pi, p, ox, oy, oz, dx, dy, dz, eps, tmax):
 @njit(**INLINE)
 def local_normal(pf, pi, p, x, y, z, u, v, eps):
     """Chapters 6-15: primitive p's object-space normal at an object-space point."""
-    kind = pi[p, KIND]
+    m = p * NF
+    kind = pi[p * NI + KIND]
     if HAS_SPHERE and kind == K_SPHERE:
         return x, y, z
     if HAS_PLANE and kind == K_PLANE:
@@ -523,7 +625,7 @@ def local_normal(pf, pi, p, x, y, z, u, v, eps):
     if HAS_CONE and kind == K_CONE:
         return cone_normal(pf, p, x, y, z, eps)
     if HAS_TRIANGLE and kind == K_TRIANGLE:
-        return pf[p, TRI_NORMAL], pf[p, TRI_NORMAL + 1], pf[p, TRI_NORMAL + 2]
+        return pf[m + TRI_NORMAL], pf[m + TRI_NORMAL + 1], pf[m + TRI_NORMAL + 2]
     if HAS_SMOOTH_TRIANGLE and kind == K_SMOOTH_TRIANGLE:
         return smooth_normal(pf, p, u, v)
     return x, y, z  # the test shape: the point as a vector
@@ -531,10 +633,27 @@ def local_normal(pf, pi, p, x, y, z, u, v, eps):
 
 @njit(**INLINE)
 def world_normal(pf, pi, p, x, y, z, u, v, eps):
-    """Chapters 6 and 14: primitive p's world-space normal at a world-space point."""
+    """Chapters 6 and 14: primitive p's world-space normal at a world-space point; for a
+    ball, from its centre (the reference's direction, rounded differently)."""
+    if is_world_sphere(pi, p):
+        m = p * NF + SPH_CENTER
+        return normalized(x - pf[m], y - pf[m + 1], z - pf[m + 2])
     lx, ly, lz = to_object_point(pf, p, x, y, z)
     nx, ny, nz = local_normal(pf, pi, p, lx, ly, lz, u, v, eps)
     return to_world_normal(pf, p, nx, ny, nz)
+
+
+@njit(**INLINE)
+def hit_normal(pf, pi, p, x, y, z, u, v, eps):
+    """Chapters 6 and 14, at a hit: ``world_normal``, but a ball's is (point - centre) /
+    radius, with no square root: the hit lies on the ball up to rounding, so its length is
+    1 to about 1e-15."""
+    if is_world_sphere(pi, p):
+        m = p * NF
+        k = pf[m + SPH_INV_R]
+        c = m + SPH_CENTER
+        return (x - pf[c]) * k, (y - pf[c + 1]) * k, (z - pf[c + 2]) * k
+    return world_normal(pf, pi, p, x, y, z, u, v, eps)
 
 
 @njit(**INLINE)
@@ -557,13 +676,14 @@ def box_range(boxes, i, ox, oy, oz, ix, iy, iz, tlo, thi):
     """Chapter 14 (bounding boxes): does the ray (origin, 1 / direction) meet item i's
     world-space box for some t in [tlo, thi]? The boxes are padded: rounding in the
     reciprocal never loses a hit."""
-    tlo, thi = slab(ox, ix, boxes[i, 0], boxes[i, 3], tlo, thi)
+    m = i * NBOX
+    tlo, thi = slab(ox, ix, boxes[m], boxes[m + 3], tlo, thi)
     if tlo > thi:
         return False
-    tlo, thi = slab(oy, iy, boxes[i, 1], boxes[i, 4], tlo, thi)
+    tlo, thi = slab(oy, iy, boxes[m + 1], boxes[m + 4], tlo, thi)
     if tlo > thi:
         return False
-    tlo, thi = slab(oz, iz, boxes[i, 2], boxes[i, 5], tlo, thi)
+    tlo, thi = slab(oz, iz, boxes[m + 2], boxes[m + 5], tlo, thi)
     return tlo <= thi
 
 

@@ -2,18 +2,31 @@
 explicit stack that replaces the book's recursion, camera rays and samples, and the render.
 
 - ``nearest_hit`` tracks the closest non-negative t instead of building a sorted list; ties go
-  to the earlier primitive, as the reference's stable sort does.
+  to the earlier primitive, as the reference's stable sort does. The balls (``layout``) come
+  after the items: one vectorized pass says which ones the ray can reach at all
+  (``ball_reach``), then those get the exact test.
+- ``shadowed`` counts, in one vectorized pass, the shadow-casting balls the ray can reach,
+  and tests them exactly only when there are any; then the items. The render casts shadow
+  rays along the unnormalized vector to the light, which they reach at t = 1 (the
+  reference normalizes it and compares with the distance: the same test, rounded
+  differently), and normalizes the vector only for lighting, only when the point is lit.
 - ``refractive_indices`` finds n1 and n2 without a sorted list: an object is in the book's
   ``containers`` when an odd number of its intersections come before the hit, and the last
-  of them entered is the one whose latest such intersection comes last.
-- ``trace`` is ``color_at`` without recursion: a stack of (ray, weight, remaining), where the
+  of them entered is the one whose latest such intersection comes last. A ball other than
+  the hit's is skipped when the hit point is well outside it (it cannot be a container).
+- ``drain`` is ``color_at`` without recursion: a stack of (ray, weight, remaining), where the
   weight is the product of the reflective / transparency / Schlick factors on the way.
-- ``render_parallel`` hands thread k the rows k, k + T, k + 2T ... (the top and bottom of an
-  image cost very different amounts, so contiguous blocks would leave one thread idle).
+- ``render_rows`` renders rows k, k + T, k + 2T ... for thread k of T (the top and bottom of
+  an image cost very different amounts, so contiguous blocks would leave one thread idle),
+  making each sample's camera ray before tracing the previous one (the processor overlaps
+  them); ``make_render_entry`` compiles it as a C function over raw pointers, which
+  ``variants.numba.specialize`` links into a shared library and ``render`` calls from T
+  Python threads through ctypes (which lets go of the GIL).
 
-Every traversal takes the same per-thread scratch arrays ``sf`` and ``si`` (rows CS_*, see
-``layout``): one CSG tree's intersection list, and per primitive of the tree where its
-entries start and, for n1/n2, how many come before the hit.
+A world travels as one tuple ``w`` = (pf, pi, items, n_items, boxes, csg, balls, n_balls,
+light) and a thread's scratch as ``s`` = (sf, si, tb) (see ``layout``): one CSG tree's
+intersection list and per primitive of the tree where its entries start and, for n1/n2,
+how many come before the hit; the shadow memo and ray counters; one value per ball.
 
 No function takes more than 30 arguments: Python compiles longer calls through a tuple,
 which numba's inliner refuses.
@@ -24,7 +37,7 @@ import math
 from typing import Any
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from variants.numba.kernel_flags import (
     COUNT_RAYS,
@@ -35,6 +48,7 @@ from variants.numba.kernel_flags import (
     HAS_REFRACTION,
     HAS_SCHLICK,
     HAS_SHADOWS,
+    HAS_SPHERE,
     F,
 )
 from variants.numba.kernels_geometry import (
@@ -42,15 +56,23 @@ from variants.numba.kernels_geometry import (
     INLINE,
     ONE,
     ZERO,
+    ball_first,
+    ball_roots,
     box_range,
     first_hit_in,
+    hit_normal,
     intersect_prim,
     nth,
     starts_after,
-    world_normal,
 )
-from variants.numba.kernels_shading import phong, refraction, schlick_at, towards_light
+from variants.numba.kernels_shading import phong, refraction, schlick_at
 from variants.numba.layout import (
+    B_PRIM,
+    B_R2,
+    B_SHADOW,
+    B_X,
+    B_Y,
+    B_Z,
     CAM_HALF_HEIGHT,
     CAM_HALF_WIDTH,
     CAM_INV,
@@ -78,6 +100,11 @@ from variants.numba.layout import (
     ITEM_D,
     ITEM_TYPE,
     MEMO,
+    MIN_SCRATCH,
+    NCSG,
+    NF,
+    NI,
+    NITEM,
     NSF,
     NSI,
     OP_DIFFERENCE,
@@ -93,7 +120,6 @@ from variants.numba.layout import (
 # ---- kernel template ----
 
 ENTRY: dict[str, Any] = {"fastmath": FASTMATH, "error_model": "numpy", "cache": True}
-HOT: dict[str, Any] = {"_nrt": False, "fastmath": FASTMATH, "error_model": "numpy", "cache": True}
 GAMMA = np.uint64(0x9E3779B97F4A7C15)  # raytracer.sampling.GAMMA
 GAMMA2 = np.uint64((2 * 0x9E3779B97F4A7C15) & 0xFFFFFFFFFFFFFFFF)
 MIX1 = np.uint64(0xBF58476D1CE4E5B9)
@@ -102,12 +128,13 @@ UNIT53 = 2.0**-53
 
 
 @njit(inline="always", fastmath=FASTMATH, error_model="numpy")
-def scratch(cs_size, cs_prims):
-    """One thread's CSG scratch (allocated once per thread per render, or per API call)."""
-    size = max(cs_size, cs_prims, 3)
-    si = np.empty((NSI, size), np.int64)
-    si[MEMO, 0] = -1
-    return np.empty((NSF, size), F), si
+def scratch(cs_size, cs_prims, n_balls):
+    """One thread's scratch (sf, si, tb) for a book-API call (the render's come from
+    Python): CSG lists, the shadow memo and ray counters, and one t per ball."""
+    size = max(cs_size, cs_prims, MIN_SCRATCH)
+    si = np.zeros(size * NSI, np.int64)
+    si[MEMO] = -1
+    return np.zeros(size * NSF, F), si, np.zeros(max(n_balls, 1), F)
 
 
 @njit(**INLINE)
@@ -123,58 +150,62 @@ def csg_allowed(op, lhit, inl, inr):
 
 
 @njit(**INLINE)
-def csg_collect(pf, pi, items, csg, i, ox, oy, oz, dx, dy, dz, eps, sf, si):
+def move_entry(sf, si, source, target):
+    """Copy entry ``source`` of a CSG list to ``target`` (t, u, v, primitive, index)."""
+    sf[target * NSF + CS_T] = sf[source * NSF + CS_T]
+    sf[target * NSF + CS_U] = sf[source * NSF + CS_U]
+    sf[target * NSF + CS_V] = sf[source * NSF + CS_V]
+    si[target * NSI + CS_P] = si[source * NSI + CS_P]
+    si[target * NSI + CS_L] = si[source * NSI + CS_L]
+
+
+@njit(**INLINE)
+def csg_collect(w, s, i, ox, oy, oz, dx, dy, dz, eps):
     """Chapter 16: the intersection list of CSG item i, sorted and filtered, in cs_*; returns
     its length. Operations are applied in post-order, each to the stretch of the list its
     primitives occupy, so nested CSG trees need no recursion."""
-    node = items[i, ITEM_A]
-    last_node = items[i, ITEM_B]
-    first = items[i, ITEM_C]
+    pf, pi, items, _, _, csg, _, _, _ = w
+    sf, si, _ = s
+    node = items[i * NITEM + ITEM_A]
+    last_node = items[i * NITEM + ITEM_B]
+    first = items[i * NITEM + ITEM_C]
     n = 0
-    for q in range(first, items[i, ITEM_D]):
-        si[CS_START, q - first] = n
+    for q in range(first, items[i * NITEM + ITEM_D]):
+        si[(q - first) * NSI + CS_START] = n
         m, t0, t1, t2, t3, u, v = intersect_prim(pf, pi, q, ox, oy, oz, dx, dy, dz, eps, INF)
         for local in range(m):
-            sf[CS_T, n] = nth(t0, t1, t2, t3, local)
-            si[CS_P, n] = q
-            si[CS_L, n] = local
-            sf[CS_U, n] = u
-            sf[CS_V, n] = v
+            sf[n * NSF + CS_T] = nth(t0, t1, t2, t3, local)
+            sf[n * NSF + CS_U] = u
+            sf[n * NSF + CS_V] = v
+            si[n * NSI + CS_P] = q
+            si[n * NSI + CS_L] = local
             n += 1
-        while node < last_node and csg[node, CSG_END] == q + 1:
-            start = si[CS_START, csg[node, CSG_START] - first]
+        while node < last_node and csg[node * NCSG + CSG_END] == q + 1:
+            start = si[(csg[node * NCSG + CSG_START] - first) * NSI + CS_START]
             for j in range(start + 1, n):  # stable insertion sort by t
-                t = sf[CS_T, j]
-                p = si[CS_P, j]
-                local = si[CS_L, j]
-                u = sf[CS_U, j]
-                v = sf[CS_V, j]
+                t = sf[j * NSF + CS_T]
+                u = sf[j * NSF + CS_U]
+                v = sf[j * NSF + CS_V]
+                p = si[j * NSI + CS_P]
+                local = si[j * NSI + CS_L]
                 k = j - 1
-                while k >= start and sf[CS_T, k] > t:
-                    sf[CS_T, k + 1] = sf[CS_T, k]
-                    si[CS_P, k + 1] = si[CS_P, k]
-                    si[CS_L, k + 1] = si[CS_L, k]
-                    sf[CS_U, k + 1] = sf[CS_U, k]
-                    sf[CS_V, k + 1] = sf[CS_V, k]
+                while k >= start and sf[k * NSF + CS_T] > t:
+                    move_entry(sf, si, k, k + 1)
                     k -= 1
-                sf[CS_T, k + 1] = t
-                si[CS_P, k + 1] = p
-                si[CS_L, k + 1] = local
-                sf[CS_U, k + 1] = u
-                sf[CS_V, k + 1] = v
-            mid = csg[node, CSG_MID]
-            op = csg[node, CSG_OP]
+                sf[(k + 1) * NSF + CS_T] = t
+                sf[(k + 1) * NSF + CS_U] = u
+                sf[(k + 1) * NSF + CS_V] = v
+                si[(k + 1) * NSI + CS_P] = p
+                si[(k + 1) * NSI + CS_L] = local
+            mid = csg[node * NCSG + CSG_MID]
+            op = csg[node * NCSG + CSG_OP]
             inl = False
             inr = False
             kept = start
             for j in range(start, n):
-                lhit = si[CS_P, j] < mid
+                lhit = si[j * NSI + CS_P] < mid
                 if csg_allowed(op, lhit, inl, inr):
-                    sf[CS_T, kept] = sf[CS_T, j]
-                    si[CS_P, kept] = si[CS_P, j]
-                    si[CS_L, kept] = si[CS_L, j]
-                    sf[CS_U, kept] = sf[CS_U, j]
-                    sf[CS_V, kept] = sf[CS_V, j]
+                    move_entry(sf, si, j, kept)
                     kept += 1
                 if lhit:
                     inl = not inl
@@ -186,21 +217,46 @@ def csg_collect(pf, pi, items, csg, i, ox, oy, oz, dx, dy, dz, eps, sf, si):
 
 
 @njit(**INLINE)
-def nearest_hit(pf, pi, items, boxes, csg, ox, oy, oz, dx, dy, dz, eps, sf, si):
+def ball_soa_terms(balls, n_balls, j, ox, oy, oz, dx, dy, dz):
+    """``ball_terms`` (hb, cc) of ball j of the ball list."""
+    cx = ox - balls[B_X * n_balls + j]
+    cy = oy - balls[B_Y * n_balls + j]
+    cz = oz - balls[B_Z * n_balls + j]
+    return cx * dx + cy * dy + cz * dz, cx * cx + cy * cy + cz * cz - balls[B_R2 * n_balls + j]
+
+
+@njit(**INLINE)
+def ball_reach(balls, n_balls, j, ox, oy, oz, dx, dy, dz, a):
+    """Chapter 5: can the ray meet ball j at some t >= 0? Returns the discriminant
+    (hb² - a cc, see ``ball_terms``) when it can, else -1: the line misses the ball, or its
+    origin is outside and the ball behind. Written without branches (selects), so that a
+    loop over the balls becomes vector instructions; most balls stop here."""
+    hb, cc = ball_soa_terms(balls, n_balls, j, ox, oy, oz, dx, dy, dz)
+    discriminant = hb * hb - a * cc
+    ahead = discriminant >= ZERO and (cc <= ZERO or hb < ZERO)
+    return discriminant if ahead else -ONE
+
+
+@njit(**INLINE)
+def nearest_hit(w, s, ox, oy, oz, dx, dy, dz, eps):
     """Chapters 5 and 7: the hit: (t, primitive, index in its list, u, v); primitive -1
-    when the ray hits nothing."""
+    when the ray hits nothing. Items first, then the balls: every ball's ``ball_reach``
+    at once (in ``tb``), then the exact test of those the ray can reach; ties go to the
+    earlier primitive, as in the reference's stable sort."""
+    pf, pi, items, n_items, boxes, _, balls, n_balls, _ = w
+    sf, si, tb = s
+    a = dx * dx + dy * dy + dz * dz
     best_t = INF
     best_p = -1
     best_l = 0
     best_u = ZERO
     best_v = ZERO
     i = 0
-    n_items = items.shape[0]
     while i < n_items:
-        kind = items[i, ITEM_TYPE]
+        kind = items[i * NITEM + ITEM_TYPE]
         if kind == I_PRIM:
-            p = items[i, ITEM_A]
-            found, t, local, u, v = first_hit_in(pf, pi, p, ox, oy, oz, dx, dy, dz, eps, best_t)
+            p = items[i * NITEM + ITEM_A]
+            found, t, local, u, v = first_hit_in(pf, pi, p, ox, oy, oz, dx, dy, dz, a, eps, best_t)
             if found:
                 best_t, best_p, best_l, best_u, best_v = t, p, local, u, v
             i += 1
@@ -208,59 +264,95 @@ def nearest_hit(pf, pi, items, boxes, csg, ox, oy, oz, dx, dy, dz, eps, sf, si):
             if box_range(boxes, i, ox, oy, oz, ONE / dx, ONE / dy, ONE / dz, ZERO, best_t):
                 i += 1
             else:
-                i = items[i, ITEM_A]
+                i = items[i * NITEM + ITEM_A]
         elif HAS_CSG and kind == I_CSG:
-            m = csg_collect(pf, pi, items, csg, i, ox, oy, oz, dx, dy, dz, eps, sf, si)
+            m = csg_collect(w, s, i, ox, oy, oz, dx, dy, dz, eps)
             for j in range(m):
-                t = sf[CS_T, j]
+                t = sf[j * NSF + CS_T]
                 if t >= ZERO:
                     if t < best_t:
-                        best_t, best_p, best_l, best_u, best_v = (
-                            t,
-                            si[CS_P, j],
-                            si[CS_L, j],
-                            sf[CS_U, j],
-                            sf[CS_V, j],
-                        )
+                        best_t = t
+                        best_p = si[j * NSI + CS_P]
+                        best_l = si[j * NSI + CS_L]
+                        best_u = sf[j * NSF + CS_U]
+                        best_v = sf[j * NSF + CS_V]
                     break  # the list is sorted: its first non-negative t is its hit
             i += 1
         else:
             i += 1
+    if HAS_SPHERE and n_balls > 0:
+        reached = 0
+        for j in range(n_balls):
+            reach = ball_reach(balls, n_balls, j, ox, oy, oz, dx, dy, dz, a)
+            tb[j] = reach
+            reached += 1 if reach >= ZERO else 0
+        nearest = -1
+        for j in range(n_balls if reached > 0 else 0):
+            if tb[j] >= ZERO:
+                hb, cc = ball_soa_terms(balls, n_balls, j, ox, oy, oz, dx, dy, dz)
+                found, t, local = ball_first(hb, cc, a, best_t)
+                if found or (
+                    t == best_t and t != INF and int(balls[B_PRIM * n_balls + j]) < best_p
+                ):
+                    best_t = t
+                    best_l = local
+                    nearest = j
+        if nearest >= 0:
+            best_p = int(balls[B_PRIM * n_balls + nearest])
+            best_u = ZERO
+            best_v = ZERO
     return best_t, best_p, best_l, best_u, best_v
 
 
 @njit(**INLINE)
-def shadowed(pf, pi, items, boxes, csg, ox, oy, oz, dx, dy, dz, distance, eps, sf, si):
+def shadowed(w, s, ox, oy, oz, dx, dy, dz, distance, eps):
     """Chapter 8: does a shadow-casting object meet the ray at some t in [0, distance)?
-    The primitive that answered yes last time (on this thread) is asked first: neighbouring
-    pixels usually share their occluder. (Any occluder gives the same answer.)"""
-    last = si[MEMO, 0]
+    (The render passes the unnormalized vector to the light and distance 1.)
+    Every ball at once first; then the primitive that answered yes last time (on this
+    thread), since neighbouring pixels usually share their occluder; then the items. (Any
+    occluder gives the same answer.)"""
+    pf, pi, items, n_items, boxes, _, balls, n_balls, _ = w
+    sf, si, _ = s
+    a = dx * dx + dy * dy + dz * dz
+    if HAS_SPHERE and n_balls > 0:
+        reached = 0
+        for j in range(n_balls):  # counts only: no stores, so no overlap checks
+            reach = ball_reach(balls, n_balls, j, ox, oy, oz, dx, dy, dz, a)
+            reached += 1 if reach >= ZERO and balls[B_SHADOW * n_balls + j] != ZERO else 0
+        for j in range(n_balls if reached > 0 else 0):
+            if balls[B_SHADOW * n_balls + j] != ZERO:
+                hb, cc = ball_soa_terms(balls, n_balls, j, ox, oy, oz, dx, dy, dz)
+                found, _, _ = ball_first(hb, cc, a, distance)
+                if found:
+                    return True
+    last = si[MEMO]
     if last >= 0:
-        found, _, _, _, _ = first_hit_in(pf, pi, last, ox, oy, oz, dx, dy, dz, eps, distance)
+        found, _, _, _, _ = first_hit_in(pf, pi, last, ox, oy, oz, dx, dy, dz, a, eps, distance)
         if found:
             return True
     i = 0
-    n_items = items.shape[0]
     while i < n_items:
-        kind = items[i, ITEM_TYPE]
+        kind = items[i * NITEM + ITEM_TYPE]
         if kind == I_PRIM:
-            p = items[i, ITEM_A]
-            if pi[p, CASTS_SHADOW] != 0 and p != last:
-                found, _, _, _, _ = first_hit_in(pf, pi, p, ox, oy, oz, dx, dy, dz, eps, distance)
+            p = items[i * NITEM + ITEM_A]
+            if pi[p * NI + CASTS_SHADOW] != 0 and p != last:
+                found, _, _, _, _ = first_hit_in(
+                    pf, pi, p, ox, oy, oz, dx, dy, dz, a, eps, distance
+                )
                 if found:
-                    si[MEMO, 0] = p
+                    si[MEMO] = p
                     return True
             i += 1
         elif HAS_BOXES and kind == I_BOX:
             if box_range(boxes, i, ox, oy, oz, ONE / dx, ONE / dy, ONE / dz, ZERO, distance):
                 i += 1
             else:
-                i = items[i, ITEM_A]
+                i = items[i * NITEM + ITEM_A]
         elif HAS_CSG and kind == I_CSG:
-            m = csg_collect(pf, pi, items, csg, i, ox, oy, oz, dx, dy, dz, eps, sf, si)
+            m = csg_collect(w, s, i, ox, oy, oz, dx, dy, dz, eps)
             for j in range(m):
-                t = sf[CS_T, j]
-                if t >= ZERO and t < distance and pi[si[CS_P, j], CASTS_SHADOW] != 0:
+                t = sf[j * NSF + CS_T]
+                if t >= ZERO and t < distance and pi[si[j * NSI + CS_P] * NI + CASTS_SHADOW] != 0:
                     return True
             i += 1
         else:
@@ -295,159 +387,169 @@ def later(t, p, local, bt, bp, bl):
 
 
 @njit(**INLINE)
-def refractive_indices(
-    pf, pi, items, boxes, csg, ox, oy, oz, dx, dy, dz, eps, t_hit, p_hit, l_hit, sf, si
-):
+def tally(p, n, t0, t1, t2, t3, t_hit, p_hit, l_hit, state):
+    """Chapter 11, for one primitive's n intersections (t0 ... t3): when an odd number of
+    them comes before the hit, it is a container; keep the latest-entered one. ``state``:
+    (other_t, other_p, other_l, hit_inside, hit_t, hit_l), returned updated."""
+    other_t, other_p, other_l, hit_inside, hit_t, hit_l = state
+    count = 0
+    last_t = -INF
+    last_l = -1
+    for local in range(n):
+        t = nth(t0, t1, t2, t3, local)
+        if before(t, p, local, t_hit, p_hit, l_hit):
+            count += 1
+            if later(t, p, local, last_t, p, last_l):
+                last_t = t
+                last_l = local
+    if count % 2 == 1:
+        if p == p_hit:
+            hit_inside = True
+            hit_t = last_t
+            hit_l = last_l
+        elif later(last_t, p, last_l, other_t, other_p, other_l):
+            other_t, other_p, other_l = last_t, p, last_l
+    return other_t, other_p, other_l, hit_inside, hit_t, hit_l
+
+
+@njit(**INLINE)
+def refractive_indices(w, s, ox, oy, oz, dx, dy, dz, eps, t_hit, p_hit, l_hit):
     """Chapter 11: (n1, n2) at the hit (t_hit, p_hit, l_hit), from every intersection along
     the ray (negative t included, as in the reference's list)."""
-    other_t = -INF  # the latest-entered container other than the hit's object
-    other_p = -1
-    other_l = -1
-    hit_inside = False  # is the hit's object a container just before the hit?
-    hit_t = -INF
-    hit_l = -1
+    pf, pi, items, n_items, boxes, _, balls, n_balls, _ = w
+    sf, si, _ = s
+    # the latest-entered container other than the hit's object (t, p, local); is the hit's
+    # object a container just before the hit, and its latest entry (t, local)
+    state = (-INF, -1, -1, False, -INF, -1)
     i = 0
-    n_items = items.shape[0]
     while i < n_items:
-        kind = items[i, ITEM_TYPE]
+        kind = items[i * NITEM + ITEM_TYPE]
         if kind == I_PRIM:
-            p = items[i, ITEM_A]
-            if starts_after(pf, p, ox, oy, oz, dx, dy, dz, t_hit):
-                i += 1
-                continue
-            n, t0, t1, t2, t3, _, _ = intersect_prim(pf, pi, p, ox, oy, oz, dx, dy, dz, eps, INF)
-            count = 0
-            last_t = -INF
-            last_l = -1
-            for local in range(n):
-                t = nth(t0, t1, t2, t3, local)
-                if before(t, p, local, t_hit, p_hit, l_hit):
-                    count += 1
-                    if later(t, p, local, last_t, p, last_l):
-                        last_t = t
-                        last_l = local
-            if count % 2 == 1:
-                if p == p_hit:
-                    hit_inside = True
-                    hit_t = last_t
-                    hit_l = last_l
-                elif later(last_t, p, last_l, other_t, other_p, other_l):
-                    other_t, other_p, other_l = last_t, p, last_l
+            p = items[i * NITEM + ITEM_A]
+            if not starts_after(pf, p, ox, oy, oz, dx, dy, dz, t_hit):
+                n, t0, t1, t2, t3, _, _ = intersect_prim(
+                    pf, pi, p, ox, oy, oz, dx, dy, dz, eps, INF
+                )
+                state = tally(p, n, t0, t1, t2, t3, t_hit, p_hit, l_hit, state)
             i += 1
         elif HAS_BOXES and kind == I_BOX:
             if box_range(boxes, i, ox, oy, oz, ONE / dx, ONE / dy, ONE / dz, -INF, t_hit):
                 i += 1
             else:
-                i = items[i, ITEM_A]
+                i = items[i * NITEM + ITEM_A]
         elif HAS_CSG and kind == I_CSG:
-            m = csg_collect(pf, pi, items, csg, i, ox, oy, oz, dx, dy, dz, eps, sf, si)
-            first = items[i, ITEM_C]
-            for q in range(first, items[i, ITEM_D]):
-                si[CS_COUNT, q - first] = 0
+            other_t, other_p, other_l, hit_inside, hit_t, hit_l = state
+            m = csg_collect(w, s, i, ox, oy, oz, dx, dy, dz, eps)
+            first = items[i * NITEM + ITEM_C]
+            for q in range(first, items[i * NITEM + ITEM_D]):
+                si[(q - first) * NSI + CS_COUNT] = 0
             for j in range(m):
-                q = si[CS_P, j]
-                if before(sf[CS_T, j], q, si[CS_L, j], t_hit, p_hit, l_hit):
-                    si[CS_COUNT, q - first] += 1
-                    sf[CS_LAST_T, q - first] = sf[CS_T, j]  # the list is sorted: the latest is last
-                    si[CS_LAST_L, q - first] = si[CS_L, j]
-            for q in range(first, items[i, ITEM_D]):
-                if si[CS_COUNT, q - first] % 2 == 1:
-                    last_t = sf[CS_LAST_T, q - first]
-                    last_l = si[CS_LAST_L, q - first]
+                q = si[j * NSI + CS_P]
+                if before(sf[j * NSF + CS_T], q, si[j * NSI + CS_L], t_hit, p_hit, l_hit):
+                    si[(q - first) * NSI + CS_COUNT] += 1
+                    # the list is sorted: the latest is last
+                    sf[(q - first) * NSF + CS_LAST_T] = sf[j * NSF + CS_T]
+                    si[(q - first) * NSI + CS_LAST_L] = si[j * NSI + CS_L]
+            for q in range(first, items[i * NITEM + ITEM_D]):
+                if si[(q - first) * NSI + CS_COUNT] % 2 == 1:
+                    last_t = sf[(q - first) * NSF + CS_LAST_T]
+                    last_l = si[(q - first) * NSI + CS_LAST_L]
                     if q == p_hit:
                         hit_inside = True
                         hit_t = last_t
                         hit_l = last_l
                     elif later(last_t, q, last_l, other_t, other_p, other_l):
                         other_t, other_p, other_l = last_t, q, last_l
+            state = (other_t, other_p, other_l, hit_inside, hit_t, hit_l)
             i += 1
         else:
             i += 1
-    outside = pf[other_p, REFRACTIVE_INDEX] if other_p >= 0 else ONE
+    if HAS_SPHERE:
+        a = dx * dx + dy * dy + dz * dz
+        # a ball other than the hit's can be a container only if the hit point is inside it
+        # (one root before t_hit, one after); a point well outside (1e-6 of r² to spare, more
+        # than rounding moves the roots of a grazing ray) skips them
+        hx = ox + dx * t_hit
+        hy = oy + dy * t_hit
+        hz = oz + dz * t_hit
+        for j in range(n_balls):
+            p = int(balls[B_PRIM * n_balls + j])
+            if p != p_hit:
+                cx = hx - balls[B_X * n_balls + j]
+                cy = hy - balls[B_Y * n_balls + j]
+                cz = hz - balls[B_Z * n_balls + j]
+                r2 = balls[B_R2 * n_balls + j]
+                if cx * cx + cy * cy + cz * cz > r2 + r2 * F(1e-6):
+                    continue
+            hb, cc = ball_soa_terms(balls, n_balls, j, ox, oy, oz, dx, dy, dz)
+            discriminant = hb * hb - a * cc
+            if discriminant >= ZERO:
+                t0, t1 = ball_roots(hb, cc, a, discriminant)
+                state = tally(p, 2, t0, t1, INF, INF, t_hit, p_hit, l_hit, state)
+    other_t, other_p, other_l, hit_inside, hit_t, hit_l = state
+    outside = pf[other_p * NF + REFRACTIVE_INDEX] if other_p >= 0 else ONE
+    own = pf[p_hit * NF + REFRACTIVE_INDEX]
     if hit_inside:
         if other_p >= 0 and later(other_t, other_p, other_l, hit_t, p_hit, hit_l):
             return outside, outside
-        return pf[p_hit, REFRACTIVE_INDEX], outside
-    return outside, pf[p_hit, REFRACTIVE_INDEX]
+        return own, outside
+    return outside, own
 
 
 @njit(**INLINE)
 def push(stack, top, ox, oy, oz, dx, dy, dz, weight, remaining):
-    stack[top, 0] = ox
-    stack[top, 1] = oy
-    stack[top, 2] = oz
-    stack[top, 3] = dx
-    stack[top, 4] = dy
-    stack[top, 5] = dz
-    stack[top, 6] = weight
-    stack[top, 7] = remaining
+    m = top * STACK_WIDTH
+    stack[m + 0] = ox
+    stack[m + 1] = oy
+    stack[m + 2] = oz
+    stack[m + 3] = dx
+    stack[m + 4] = dy
+    stack[m + 5] = dz
+    stack[m + 6] = weight
+    stack[m + 7] = remaining
     return top + 1
 
 
 @njit(**INLINE)
-def shade_and_push(
-    pf,
-    pi,
-    items,
-    boxes,
-    csg,
-    light,
-    p,
-    eyev,
-    normalv,
-    over,
-    under,
-    reflectv,
-    n1,
-    n2,
-    weight,
-    remaining,
-    eps,
-    stack,
-    top,
-    sf,
-    si,
-):
+def shade_and_push(w, s, p, eyev, normalv, over, under, reflectv, n1, n2, weight, remaining,
+                   eps, stack, top):  # fmt: skip
     """Chapters 7, 8 and 11 (``shade_hit``): the surface color at a prepared hit, times
     ``weight``; the reflected and refracted rays it spawns are pushed on the stack with
     their weights. Returns (r, g, b, new top)."""
+    pf, pi, _, _, _, _, _, _, light = w
+    _, si, _ = s
     ex, ey, ez = eyev
     nx, ny, nz = normalv
     over_x, over_y, over_z = over
     under_x, under_y, under_z = under
     rx, ry, rz = reflectv
-    lx, ly, lz, distance = towards_light(light, over_x, over_y, over_z)
-    light_dot_normal = lx * nx + ly * ny + lz * nz
-    lit = True
-    if HAS_SHADOWS and light_dot_normal >= ZERO:  # the light is in front of the surface
+    # towards the light, not normalized: a shadow ray along it meets the light at t = 1
+    vx = light[0] - over_x
+    vy = light[1] - over_y
+    vz = light[2] - over_z
+    facing = vx * nx + vy * ny + vz * nz >= ZERO  # the light is in front of the surface
+    lit = facing
+    if HAS_SHADOWS and facing:
         if COUNT_RAYS:
-            si[RAYS, 1] += 1
-        lit = not shadowed(
-            pf, pi, items, boxes, csg, over_x, over_y, over_z, lx, ly, lz, distance, eps, sf, si
-        )
+            si[1 * NSI + RAYS] += 1
+        lit = not shadowed(w, s, over_x, over_y, over_z, vx, vy, vz, ONE, eps)
+    lx = ZERO
+    ly = ZERO
+    lz = ZERO
+    light_dot_normal = -ONE  # in shadow, or facing away: ambient only (phong needs no more)
+    if lit:
+        scale = ONE / math.sqrt(vx * vx + vy * vy + vz * vz)
+        lx = vx * scale
+        ly = vy * scale
+        lz = vz * scale
+        light_dot_normal = lx * nx + ly * ny + lz * nz
     sr, sg, sb = phong(
-        pf,
-        pi,
-        p,
-        light,
-        over_x,
-        over_y,
-        over_z,
-        ex,
-        ey,
-        ez,
-        nx,
-        ny,
-        nz,
-        lx,
-        ly,
-        lz,
-        light_dot_normal,
-        lit,
-    )
+        pf, pi, p, light, over_x, over_y, over_z, ex, ey, ez, nx, ny, nz, lx, ly, lz,
+        light_dot_normal, lit,
+    )  # fmt: skip
     if remaining > 0 and (HAS_REFLECTION or HAS_REFRACTION):
-        reflective = pf[p, REFLECTIVE]
-        transparency = pf[p, TRANSPARENCY]
+        reflective = pf[p * NF + REFLECTIVE]
+        transparency = pf[p * NF + TRANSPARENCY]
         reflected_weight = weight * reflective
         refracted_weight = weight * transparency
         if HAS_SCHLICK and reflective > ZERO and transparency > ZERO:
@@ -462,17 +564,9 @@ def shade_and_push(
             ok, tx, ty, tz = refraction(ex, ey, ez, nx, ny, nz, n1, n2)
             if ok:
                 top = push(
-                    stack,
-                    top,
-                    under_x,
-                    under_y,
-                    under_z,
-                    tx,
-                    ty,
-                    tz,
-                    refracted_weight,
+                    stack, top, under_x, under_y, under_z, tx, ty, tz, refracted_weight,
                     remaining - 1,
-                )
+                )  # fmt: skip
     return sr * weight, sg * weight, sb * weight, top
 
 
@@ -486,7 +580,7 @@ def prepare(pf, pi, p, ox, oy, oz, dx, dy, dz, t, u, v, eps):
     ex = -dx
     ey = -dy
     ez = -dz
-    nx, ny, nz = world_normal(pf, pi, p, px, py, pz, u, v, eps)
+    nx, ny, nz = hit_normal(pf, pi, p, px, py, pz, u, v, eps)
     inside = nx * ex + ny * ey + nz * ez < ZERO
     if inside:
         nx = -nx
@@ -504,59 +598,40 @@ def prepare(pf, pi, p, ox, oy, oz, dx, dy, dz, t, u, v, eps):
 
 
 @njit(**INLINE)
-def drain(pf, pi, items, boxes, csg, light, eps, stack, top, r, g, b, sf, si):
+def drain(w, s, eps, stack, top, r, g, b):
     """Chapter 7 (``color_at``, iteratively): trace every ray on the stack and everything it
     spawns; returns the sum of their weighted surface colors added to (r, g, b)."""
+    pf, pi, _, _, _, _, _, _, _ = w
+    _, si, _ = s
     while top > 0:
         top -= 1
-        ox = stack[top, 0]
-        oy = stack[top, 1]
-        oz = stack[top, 2]
-        dx = stack[top, 3]
-        dy = stack[top, 4]
-        dz = stack[top, 5]
-        weight = stack[top, 6]
-        remaining = int(stack[top, 7])
+        m = top * STACK_WIDTH
+        ox = stack[m + 0]
+        oy = stack[m + 1]
+        oz = stack[m + 2]
+        dx = stack[m + 3]
+        dy = stack[m + 4]
+        dz = stack[m + 5]
+        weight = stack[m + 6]
+        remaining = int(stack[m + 7])
         if COUNT_RAYS:
-            si[RAYS, 0] += 1
-        t, p, local, u, v = nearest_hit(
-            pf, pi, items, boxes, csg, ox, oy, oz, dx, dy, dz, eps, sf, si
-        )
+            si[0 * NSI + RAYS] += 1
+        t, p, local, u, v = nearest_hit(w, s, ox, oy, oz, dx, dy, dz, eps)
         if p < 0:
             continue
         (_px, _py, _pz, ex, ey, ez, nx, ny, nz, _inside, over_x, over_y, over_z, under_x, under_y,
          under_z, rx, ry, rz) = prepare(pf, pi, p, ox, oy, oz, dx, dy, dz, t, u, v, eps)  # fmt: skip
         n1 = ONE
         n2 = ONE
-        if HAS_REFRACTION and remaining > 0 and pf[p, TRANSPARENCY] > ZERO:
+        if HAS_REFRACTION and remaining > 0 and pf[p * NF + TRANSPARENCY] > ZERO:
             if COUNT_RAYS:
-                si[RAYS, 2] += 1
-            n1, n2 = refractive_indices(
-                pf, pi, items, boxes, csg, ox, oy, oz, dx, dy, dz, eps, t, p, local, sf, si
-            )
+                si[2 * NSI + RAYS] += 1
+            n1, n2 = refractive_indices(w, s, ox, oy, oz, dx, dy, dz, eps, t, p, local)
         sr, sg, sb, top = shade_and_push(
-            pf,
-            pi,
-            items,
-            boxes,
-            csg,
-            light,
-            p,
-            (ex, ey, ez),
-            (nx, ny, nz),
-            (over_x, over_y, over_z),
-            (under_x, under_y, under_z),
-            (rx, ry, rz),
-            n1,
-            n2,
-            weight,
-            remaining,
-            eps,
-            stack,
+            w, s, p, (ex, ey, ez), (nx, ny, nz), (over_x, over_y, over_z),
+            (under_x, under_y, under_z), (rx, ry, rz), n1, n2, weight, remaining, eps, stack,
             top,
-            sf,
-            si,
-        )
+        )  # fmt: skip
         r += sr
         g += sg
         b += sb
@@ -571,18 +646,17 @@ def camera_ray(cam, px, py):
     wx = cam[CAM_HALF_WIDTH] - xoffset
     wy = cam[CAM_HALF_HEIGHT] - yoffset
     m = CAM_INV
-    zero = ZERO
     pixel_x = cam[m + 0] * wx + cam[m + 1] * wy + cam[m + 2] * -ONE + cam[m + 3]
     pixel_y = cam[m + 4] * wx + cam[m + 5] * wy + cam[m + 6] * -ONE + cam[m + 7]
     pixel_z = cam[m + 8] * wx + cam[m + 9] * wy + cam[m + 10] * -ONE + cam[m + 11]
-    ox = cam[m + 0] * zero + cam[m + 1] * zero + cam[m + 2] * zero + cam[m + 3]
-    oy = cam[m + 4] * zero + cam[m + 5] * zero + cam[m + 6] * zero + cam[m + 7]
-    oz = cam[m + 8] * zero + cam[m + 9] * zero + cam[m + 10] * zero + cam[m + 11]
+    ox = cam[m + 3]  # the inverse view transform of the point (0, 0, 0)
+    oy = cam[m + 7]
+    oz = cam[m + 11]
     vx = pixel_x - ox
     vy = pixel_y - oy
     vz = pixel_z - oz
-    length = math.sqrt(vx * vx + vy * vy + vz * vz)
-    return ox, oy, oz, vx / length, vy / length, vz / length
+    scale = ONE / math.sqrt(vx * vx + vy * vy + vz * vz)
+    return ox, oy, oz, vx * scale, vy * scale, vz * scale
 
 
 @njit(**INLINE)
@@ -605,162 +679,103 @@ def sample_offset(seed_key, x, y, i):
     return np.float64(first >> np.uint64(11)) * UNIT53, np.float64(second >> np.uint64(11)) * UNIT53
 
 
-@njit(**HOT)
-def render_rows(
-    out,
-    k,
-    step,
-    cam,
-    pf,
-    pi,
-    items,
-    boxes,
-    csg,
-    light,
-    depth,
-    samples,
-    seed_key,
-    eps,
-    stack,
-    sf,
-    si,
-):
-    """Chapter 7: render rows k, k + step, k + 2 step ... of ``out`` (height, width, 3), with
-    one thread's scratch: ``stack`` (depth + 2, STACK_WIDTH), ``sf`` and ``si``."""
+@njit(**INLINE)
+def sample_ray(cam, seed_key, samples, x, y, i):
+    """Chapter 7: the camera ray of sample i of pixel (x, y): through the pixel's centre
+    with one sample, else offset by ``sample_offset``."""
+    if samples == 1:
+        return camera_ray(cam, F(x), F(y))
+    sx, sy = sample_offset(seed_key, x, y, i)
+    return camera_ray(cam, F(np.float64(x) + sx - 0.5), F(np.float64(y) + sy - 0.5))
+
+
+@njit(**INLINE)
+def render_rows(out, height, width, k, step, cam, w, depth, samples, seed_key, eps, stack, s):
+    """Chapter 7: render rows k, k + step, k + 2 step ... of ``out`` (height x width x 3,
+    flat), with one thread's scratch: ``stack`` (depth + 2 entries) and ``s`` = (sf, si,
+    tb) (``layout``; si's MEMO entry set to -1 before the first call). Returns the rows
+    done. The next sample's camera ray is made before the current one is traced, so that
+    the processor can work on both at once."""
     eps = F(eps)
-    height = out.shape[0]
-    width = out.shape[1]
     scale = ONE / F(samples)
-    if COUNT_RAYS:
-        si[RAYS, 0] = 0
-        si[RAYS, 1] = 0
-        si[RAYS, 2] = 0
-    for y in range(k, height, step):
-        for x in range(width):
+    if k >= height or width <= 0:
+        return 0
+    x = 0
+    y = k
+    i = 0
+    ox, oy, oz, dx, dy, dz = sample_ray(cam, seed_key, samples, x, y, i)
+    r = ZERO
+    g = ZERO
+    b = ZERO
+    rows = 0
+    while True:
+        # the sample after this one
+        next_x = x
+        next_y = y
+        next_i = i + 1
+        if next_i == samples:
+            next_i = 0
+            next_x = x + 1
+            if next_x == width:
+                next_x = 0
+                next_y = y + step
+        more = next_y < height
+        nox, noy, noz, ndx, ndy, ndz = ox, oy, oz, dx, dy, dz
+        if more:
+            nox, noy, noz, ndx, ndy, ndz = sample_ray(
+                cam, seed_key, samples, next_x, next_y, next_i
+            )
+        top = push(stack, 0, ox, oy, oz, dx, dy, dz, ONE, depth)
+        r, g, b = drain(w, s, eps, stack, top, r, g, b)
+        if next_i == 0:  # the pixel is done
+            m = (y * width + x) * 3
+            if samples == 1:
+                out[m] = r
+                out[m + 1] = g
+                out[m + 2] = b
+            else:
+                out[m] = r * scale
+                out[m + 1] = g * scale
+                out[m + 2] = b * scale
             r = ZERO
             g = ZERO
             b = ZERO
-            for i in range(samples):
-                if samples == 1:
-                    px = F(x)
-                    py = F(y)
-                else:
-                    sx, sy = sample_offset(seed_key, x, y, i)
-                    px = F(np.float64(x) + sx - 0.5)
-                    py = F(np.float64(y) + sy - 0.5)
-                ox, oy, oz, dx, dy, dz = camera_ray(cam, px, py)
-                top = push(stack, 0, ox, oy, oz, dx, dy, dz, ONE, depth)
-                cr, cg, cb = drain(
-                    pf, pi, items, boxes, csg, light, eps, stack, top, ZERO, ZERO, ZERO, sf, si
-                )
-                r += cr
-                g += cg
-                b += cb
-            if samples == 1:
-                out[y, x, 0] = r
-                out[y, x, 1] = g
-                out[y, x, 2] = b
-            else:
-                out[y, x, 0] = r * scale
-                out[y, x, 1] = g * scale
-                out[y, x, 2] = b * scale
-    return 0
+            if next_x == 0:
+                rows += 1
+        if not more:
+            break
+        x, y, i = next_x, next_y, next_i
+        ox, oy, oz, dx, dy, dz = nox, noy, noz, ndx, ndy, ndz
+    return rows
 
 
-@njit(**ENTRY)
-def render_serial(
-    out,
-    cam,
-    pf,
-    pi,
-    items,
-    boxes,
-    csg,
-    light,
-    depth,
-    samples,
-    seed_key,
-    eps,
-    cs_size,
-    cs_prims,
-    counts,
-):
-    """Chapter 7: render on the calling thread (its scratch allocated once); with
-    COUNT_RAYS, ``counts[0]`` gets (rays traced, shadow rays)."""
-    stack = np.empty((depth + 2, STACK_WIDTH), F)
-    sf, si = scratch(cs_size, cs_prims)
-    render_rows(
-        out,
-        0,
-        1,
-        cam,
-        pf,
-        pi,
-        items,
-        boxes,
-        csg,
-        light,
-        depth,
-        samples,
-        seed_key,
-        eps,
-        stack,
-        sf,
-        si,
+def render_entry(
+    out, height, width, k, step, cam, pf, pi, items, n_items, boxes, csg, balls, n_balls,
+    light, depth, samples, seed_key, eps, stack, sf, si, tb,
+):  # fmt: skip
+    """The render's entry point, compiled as a C function (``make_render_entry``)."""
+    w = (pf, pi, items, n_items, boxes, csg, balls, n_balls, light)
+    return render_rows(
+        out, height, width, k, step, cam, w, depth, samples, seed_key, eps, stack, (sf, si, tb)
     )
-    if COUNT_RAYS:
-        counts[0, 0] = si[RAYS, 0]
-        counts[0, 1] = si[RAYS, 1]
-        counts[0, 2] = si[RAYS, 2]
-    return 0
 
 
-@njit(parallel=True, **ENTRY)
-def render_parallel(
-    out,
-    step,
-    cam,
-    pf,
-    pi,
-    items,
-    boxes,
-    csg,
-    light,
-    depth,
-    samples,
-    seed_key,
-    eps,
-    cs_size,
-    cs_prims,
-    counts,
-):
-    """Chapter 7: render on ``step`` threads, thread k taking rows k, k + step, ...; each
-    thread allocates its scratch once. With COUNT_RAYS, ``counts[k]`` gets thread k's
-    (rays traced, shadow rays)."""
-    for k in prange(step):
-        stack = np.empty((depth + 2, STACK_WIDTH), F)
-        sf, si = scratch(cs_size, cs_prims)
-        render_rows(
-            out,
-            k,
-            step,
-            cam,
-            pf,
-            pi,
-            items,
-            boxes,
-            csg,
-            light,
-            depth,
-            samples,
-            seed_key,
-            eps,
-            stack,
-            sf,
-            si,
-        )
-        if COUNT_RAYS:
-            counts[k, 0] = si[RAYS, 0]
-            counts[k, 1] = si[RAYS, 1]
-            counts[k, 2] = si[RAYS, 2]
-    return 0
+def make_render_entry(cache):
+    """Compile ``render_entry`` as a C-callable function (numba's ``cfunc``) over raw
+    pointers: ``int64 f(F* out, int64 height, int64 width, int64 k, int64 step, F* cam,
+    F* pf, int64* pi, int64* items, int64 n_items, F* boxes, int64* csg, F* balls, int64
+    n_balls, F* light, int64 depth, int64 samples, uint64 seed_key, float64 eps, F* stack,
+    F* sf, int64* si, F* tb)``. Without the numba runtime: it cannot allocate. ``cache``:
+    numba's disk cache (used only when the render cannot be linked as a shared library)."""
+    from numba import cfunc, types
+
+    real = types.float32 if F is np.float32 else types.float64
+    fp = types.CPointer(real)
+    ip = types.CPointer(types.int64)
+    i64 = types.int64
+    signature = types.int64(
+        fp, i64, i64, i64, i64, fp, fp, ip, ip, i64, fp, ip, fp, i64, fp, i64, i64,
+        types.uint64, types.float64, fp, fp, ip, fp,
+    )  # fmt: skip
+    flags: dict[str, Any] = {"_nrt": False, "fastmath": FASTMATH, "error_model": "numpy"}
+    return cfunc(signature, cache=cache, **flags)(render_entry)

@@ -1,6 +1,9 @@
 """Where everything sits in the packed arrays: shared by the packer and the kernel template.
 
-A packed world is a handful of flat arrays (see ``variants.numba.pack``):
+A packed world is a handful of arrays (see ``variants.numba.pack``), built as 2-D tables and
+handed to the kernels flattened (row-major): ``pf[p * NF + column]``. Flat indexing reads
+the same from a numpy array (the book-API kernels) and from a raw pointer (the render
+entry point, called through ctypes), and takes no row views (no reference counting).
 
 - ``pf[p, column]`` (floats) and ``pi[p, column]`` (ints): one row per primitive (a leaf shape:
   sphere, plane, cube, cylinder, cone, triangle, smooth triangle, test shape), holding its
@@ -9,6 +12,9 @@ A packed world is a handful of flat arrays (see ``variants.numba.pack``):
 - ``items[i, column]`` and ``boxes[i, column]``: the order in which a ray visits the world,
   depth first: a primitive, a group's bounding box (skip the group when the ray misses it,
   chapter 14), or a CSG tree (chapter 16);
+- ``balls[row, j]``: the spheres with a similarity transform outside CSG trees, column by
+  column (centre, radius², casts a shadow, primitive row), so that a ray meets all of them
+  in one loop that the compiler turns into vector instructions; their items are dropped;
 - ``csg[n, column]``: CSG operations in post-order, each over a range of primitives;
 - ``light`` (position, intensity) and ``cam`` (inverse view transform and pixel geometry).
 
@@ -42,15 +48,19 @@ TRI_N1 = 63  # 3: smooth triangles: the corner normals
 TRI_N2 = 66
 TRI_N3 = 69
 BOUND = 72  # 4: a world-space sphere holding the primitive: centre, radius (inf: none)
-POW_FLOOR = 76  # reflect_dot_eye at or below which reflect_dot_eye ** shininess <= 2**-80
-NF = 77
+POW_FLOOR = 76  # reflect_dot_eye at or below which reflect_dot_eye ** shininess < 1e-9
+SPH_CENTER = 77  # 3: spheres whose transform is a similarity: the world-space centre
+SPH_R2 = 80  # ... the radius squared
+SPH_INV_R = 81  # ... and 1 / radius
+NF = 82
 
 # pi: primitive ints
 KIND = 0  # one of the K_ values
 PATTERN = 1  # one of the P_ values
 CASTS_SHADOW = 2  # 0 or 1
 CLOSED = 3  # cylinders and cones: 1 when capped
-NI = 4
+WORLD_SPHERE = 4  # 1: a sphere tested in world space (SPH_*): its transform is a similarity
+NI = 5
 
 # shape kinds
 K_SPHERE = 0
@@ -80,7 +90,7 @@ NITEM = 5
 I_PRIM = 0
 I_BOX = 1
 I_CSG = 2
-I_SKIP = 3  # nothing (a group whose box would not help)
+I_SKIP = 3  # nothing (a group whose box would not help; dropped when packing ends)
 
 # csg nodes (post-order): the left operand is primitives [START, MID), the right [MID, END)
 CSG_START = 0
@@ -92,6 +102,19 @@ OP_UNION = 0
 OP_INTERSECTION = 1
 OP_DIFFERENCE = 2
 
+# balls: the world spheres outside CSG trees (WORLD_SPHERE rows whose item is I_PRIM), taken
+# out of the items and tested all at once; column j of row r at balls[r * n_balls + j]
+B_X = 0  # the centre
+B_Y = 1
+B_Z = 2
+B_R2 = 3  # the radius squared
+B_SHADOW = 4  # 1.0 when it casts a shadow, else 0.0
+B_PRIM = 5  # its primitive row (a float; exact below 2**24 in float32)
+NBALL = 6
+
+# boxes: one row per item (only I_BOX rows are used): lo x, y, z, hi x, y, z
+NBOX = 6
+
 # cam: the camera
 CAM_INV = 0  # 12: rows 0-2 of the inverse view transform
 CAM_HALF_WIDTH = 12
@@ -99,7 +122,8 @@ CAM_HALF_HEIGHT = 13
 CAM_PIXEL_SIZE = 14
 NCAM = 15
 
-# per-thread scratch for CSG trees: sf[row, j] (floats) and si[row, j] (ints)
+# per-thread scratch for CSG trees, entry j of column c at sf[j * NSF + c] (floats) and
+# si[j * NSI + c] (ints)
 CS_T = 0  # sf: the tree's intersection list: t
 CS_U = 1  # sf: ... a triangle's u
 CS_V = 2  # sf: ... and v
@@ -110,9 +134,11 @@ CS_L = 1  # si: the list: the index within the primitive's own list
 CS_START = 2  # si: per primitive of the tree: where its entries start in the list
 CS_COUNT = 3  # si: per primitive: how many of its intersections come before the hit
 CS_LAST_L = 4  # si: per primitive: the index of its latest one
-RAYS = 5  # si: ray counters (count_rays kernels): rays traced, shadow rays, n1/n2 passes
-MEMO = 6  # si: [MEMO, 0]: the primitive that last shadowed a point on this thread (-1: none)
+RAYS = 5  # si: entries 0, 1, 2 (count_rays kernels): rays traced, shadow rays, n1/n2 passes
+MEMO = 6  # si: entry 0: the primitive that last shadowed a point on this thread (-1: none)
 NSI = 7
+MIN_SCRATCH = 3  # entries at least (the RAYS counters)
 
-# the per-ray stack of reflected and refracted rays: origin, direction, weight, remaining
+# the per-ray stack of reflected and refracted rays: origin, direction, weight, remaining;
+# entry k at stack[k * STACK_WIDTH + column]
 STACK_WIDTH = 8

@@ -10,6 +10,16 @@ Only the reference's own shape and pattern classes are packed (or subclasses tha
 change how they intersect, shade or color); anything else is refused with a ``PackError``
 naming the object, never approximated. Inverses are the reference's ``inverse`` (cofactor
 expansion), so the kernels start from the very numbers the reference uses.
+
+Two precomputed values let the kernels take shortcuts (see their docstrings for the
+effect on the picture):
+
+- a sphere whose composed transform is a similarity (rotation, uniform scale, translation:
+  the reference scene's and the C++ workload's spheres) also gets its world-space centre,
+  radius squared and 1 / radius (``SPH_*``, ``WORLD_SPHERE``): the kernels intersect it in
+  world space, without the object-space transform; an ellipsoid keeps the transform;
+- ``POW_FLOOR``: the cosine below which the specular factor ``cos ** shininess`` is under
+  1e-9, so the kernels skip ``pow`` and the term (at most 1e-9 of the light's intensity).
 """
 
 from __future__ import annotations
@@ -174,12 +184,39 @@ def _compose(a: Matrix, b: Matrix) -> Matrix:
     return a * b
 
 
+SPECULAR_CUTOFF = 1e-9  # the specular factor below which the kernels leave the term out
+
+
 def _pow_floor(shininess: float) -> float:
-    """Chapter 6: the reflect_dot_eye below which the specular factor
-    ``reflect_dot_eye ** shininess`` is at most 2**-80 (-inf: never, for shininess <= 0)."""
+    """Chapter 6: the reflect_dot_eye at or below which the specular factor
+    ``reflect_dot_eye ** shininess`` is below ``SPECULAR_CUTOFF`` (-inf: never, for a
+    shininess that is not a positive finite number)."""
     if not shininess > 0 or not math.isfinite(shininess):
         return -math.inf
-    return 2.0 ** (-80.0 / shininess) * (1.0 - 1e-12)
+    return SPECULAR_CUTOFF ** (1.0 / shininess) * (1.0 - 1e-12)
+
+
+def _world_sphere(inv: Matrix) -> list[float] | None:
+    """Chapter 5: a sphere whose world-to-object transform ``inv`` is a similarity (AᵀA is
+    a multiple of the identity, to 1e-12 relative, for its 3x3 part A) is the world-space
+    ball |x - centre| = radius: [centre x, y, z, radius², 1 / radius]; None for an
+    ellipsoid (the kernels then intersect in object space)."""
+    a = [[float(v) for v in row[:3]] for row in inv.rows[:3]]
+    b = [float(row[3]) for row in inv.rows[:3]]
+    gram = [[sum(a[k][i] * a[k][j] for k in range(3)) for j in range(3)] for i in range(3)]
+    k = gram[0][0]  # 1 / s² for inv = (1 / s) R (x - centre)
+    if not (k > 0 and math.isfinite(k)):
+        return None
+    scaled = (abs(gram[i][j] - (k if i == j else 0.0)) for i in range(3) for j in range(3))
+    if max(scaled) > 1e-12 * k:
+        return None
+    # a centre + b = 0, and the inverse of a is aᵀ / k
+    centre = [-sum(a[r][c] * b[r] for r in range(3)) / k for c in range(3)]
+    radius = 1.0 / math.sqrt(k)
+    values = [*centre, radius * radius, 1.0 / radius]
+    if not all(math.isfinite(v) for v in values):
+        return None
+    return values
 
 
 def _rows3x4(m: Matrix) -> list[float]:
@@ -248,14 +285,23 @@ def _bounding_sphere(shape: Shape, kind: int, fwd: Matrix | None) -> list[float]
     lo = [min(p[k] for p in points) for k in range(3)]
     hi = [max(p[k] for p in points) for k in range(3)]
     centre = [(lo[k] + hi[k]) / 2 for k in range(3)]
-    radius = max(math.dist(centre, p) for p in points)
-    linear = np.array([row[:3] for row in fwd.rows[:3]], dtype=np.float64)
-    stretch = float(np.linalg.norm(linear, 2))  # the largest singular value
+    # a sphere lies in its unit ball, not only in the corners' hull
+    radius = 1.0 if kind == L.K_SPHERE else max(math.dist(centre, p) for p in points)
     world_centre = _apply(fwd, *centre)
-    world_radius = radius * stretch * (1.0 + 1e-6) + 1e-9
+    world_radius = radius * _stretch(fwd) * (1.0 + 1e-6) + 1e-9
     if not (math.isfinite(world_radius) and all(math.isfinite(v) for v in world_centre)):
         return none
     return [*world_centre, world_radius]
+
+
+def _stretch(m: Matrix) -> float:
+    """An upper bound of how much the 3x3 part A of ``m`` can lengthen a vector: the square
+    root of the largest row sum of |AᵀA| (Gershgorin; exact for a rotation times a scale
+    along the axes). Plain Python: a numpy call here would wake BLAS threads, which then
+    spin beside the render's threads."""
+    a = [row[:3] for row in m.rows[:3]]
+    gram = [[sum(a[k][i] * a[k][j] for k in range(3)) for j in range(3)] for i in range(3)]
+    return math.sqrt(max(sum(abs(v) for v in row) for row in gram))
 
 
 def _local_bounds(shape: Shape, kind: int) -> list[tuple[float, float, float]] | None:
@@ -295,14 +341,30 @@ class Packed:
     cs_size: int
     cs_prims: int
     rows_by_id: dict[int, int] = field(default_factory=dict, repr=False)
+    balls: np.ndarray = field(default_factory=lambda: np.zeros((L.NBALL, 0)), repr=False)
 
     def row_of(self, shape: Shape) -> int:
         """The primitive row of ``shape`` (by identity), or -1."""
         return self.rows_by_id.get(id(shape), -1)
 
     def arrays(self) -> tuple[np.ndarray, ...]:
-        """(pf, pi, items, boxes, csg): what every traversal kernel takes first."""
+        """(pf, pi, items, boxes, csg): the tables (2-D, one row per primitive, item ...)."""
         return self.pf, self.pi, self.items, self.boxes, self.csg
+
+    def flat(self) -> tuple[Any, ...]:
+        """(pf, pi, items, n_items, boxes, csg, balls, n_balls): the tables flattened
+        (row-major; ``layout``) and the counts, as the kernels take a world."""
+        return (
+            _flat(self.pf), _flat(self.pi), _flat(self.items), len(self.items),
+            _flat(self.boxes), _flat(self.csg), _flat(self.balls), self.balls.shape[1],
+        )  # fmt: skip
+
+
+def _flat(table: np.ndarray) -> np.ndarray:
+    """A table as the 1-D, C-contiguous array the kernels index (at least one element, so
+    that a pointer to it is valid)."""
+    flat = np.ascontiguousarray(table).reshape(-1)
+    return flat if flat.size else np.zeros(1, dtype=table.dtype)
 
 
 class _Packer:
@@ -381,6 +443,10 @@ class _Packer:
                 f[L.TRI_N2 : L.TRI_N2 + 3] = _xyz(t.n2)
                 f[L.TRI_N3 : L.TRI_N3 + 3] = _xyz(t.n3)
         f[L.BOUND : L.BOUND + 4] = _bounding_sphere(shape, kind, fwd)
+        ball = _world_sphere(inv) if kind == L.K_SPHERE else None
+        if ball is not None:
+            f[L.SPH_CENTER : L.SPH_INV_R + 1] = ball
+            i[L.WORLD_SPHERE] = 1
         self.rows_f.append(f)
         self.rows_i.append(i)
         self.shapes.append(shape)
@@ -483,8 +549,50 @@ class _Packer:
 
     # -- result
 
+    def take_out_balls(self) -> list[int]:
+        """Chapter 5: the world spheres reached by a plain item (not in a CSG tree) leave
+        the items (I_SKIP) for the ball list; a box left with nothing to skip is dropped.
+        Returns their rows, in item order."""
+        rows = []
+        for item in self.items:
+            if item[L.ITEM_TYPE] == L.I_PRIM and self.rows_i[item[L.ITEM_A]][L.WORLD_SPHERE]:
+                rows.append(item[L.ITEM_A])
+                item[:] = [L.I_SKIP, 0, 0, 0, 0]
+        for at in reversed(range(len(self.items))):  # inner boxes first
+            item = self.items[at]
+            if item[L.ITEM_TYPE] == L.I_BOX:
+                inside = self.items[at + 1 : item[L.ITEM_A]]
+                if all(other[L.ITEM_TYPE] == L.I_SKIP for other in inside):
+                    item[:] = [L.I_SKIP, 0, 0, 0, 0]
+        self.drop_skips()
+        return rows
+
+    def drop_skips(self) -> None:
+        """Remove the I_SKIP items (and their box rows); a box's jump target moves to the
+        first item kept at or after it."""
+        kept = [at for at, item in enumerate(self.items) if item[L.ITEM_TYPE] != L.I_SKIP]
+        moved = [0] * (len(self.items) + 1)  # old index -> items kept before it
+        count = 0
+        for at in range(len(self.items) + 1):
+            moved[at] = count
+            if at < len(self.items) and self.items[at][L.ITEM_TYPE] != L.I_SKIP:
+                count += 1
+        for at in kept:
+            if self.items[at][L.ITEM_TYPE] == L.I_BOX:
+                self.items[at][L.ITEM_A] = moved[self.items[at][L.ITEM_A]]
+        self.items = [self.items[at] for at in kept]
+        self.boxes = [self.boxes[at] for at in kept]
+
     def build(self, light: PointLight | None) -> Packed:
         dtype = self.dtype
+        ball_rows = self.take_out_balls()
+        balls = np.zeros((L.NBALL, len(ball_rows)), dtype=dtype)
+        for j, row in enumerate(ball_rows):
+            f = self.rows_f[row]
+            balls[L.B_X : L.B_Z + 1, j] = f[L.SPH_CENTER : L.SPH_CENTER + 3]
+            balls[L.B_R2, j] = f[L.SPH_R2]
+            balls[L.B_SHADOW, j] = float(self.rows_i[row][L.CASTS_SHADOW])
+            balls[L.B_PRIM, j] = float(row)
         n = len(self.rows_f)
         pf = np.array(self.rows_f, dtype=dtype).reshape(n, L.NF)
         pi = np.array(self.rows_i, dtype=np.int64).reshape(n, L.NI)
@@ -497,7 +605,7 @@ class _Packer:
         return Packed(
             pf, pi, items, boxes, csg, np.array(light_row, dtype=dtype), list(self.shapes),
             max(self.capacity, 1), self.cs_size, self.cs_prims,
-            {id(shape): row for row, shape in enumerate(self.shapes)},
+            {id(shape): row for row, shape in enumerate(self.shapes)}, balls,
         )  # fmt: skip
 
 
@@ -546,7 +654,7 @@ def pack_surface(
     pattern: Pattern | None = None,
     leaf: bool = True,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """One primitive row (pf, pi) for a single shape's surface, with world-to-object ``inv``
+    """One primitive row (pf, pi, flat) for a single shape's surface, with world-to-object ``inv``
     (default: through its parents), optionally another material or pattern. ``leaf=False``
     packs only the transforms (for ``world_to_object`` / ``normal_to_world`` on a group)."""
     packer = _Packer(dtype, allow_test_shape=True)
@@ -557,7 +665,7 @@ def pack_surface(
     kind = shape_kind(target, where) if leaf else L.K_SPHERE
     packer.leaf_row(target, kind, inv, where, material, pattern)
     built = packer.build(None)
-    return built.pf, built.pi
+    return _flat(built.pf), _flat(built.pi)
 
 
 def _label(shape: object) -> str:

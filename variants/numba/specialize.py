@@ -1,16 +1,32 @@
-"""One compiled kernel module per (feature set, float type, fastmath): generated, cached.
+"""One compiled kernel per (feature set, float type, fastmath): generated, compiled, cached.
 
 The kernel template is the body of five files (``layout``, ``kernels_geometry``,
 ``kernels_shading``, ``kernels_trace``, ``kernels_api``: everything below their
 ``# ---- kernel template ----`` line). A kernel module is a header setting the
 ``kernel_flags`` switches, followed by those bodies, written to
-``<kernel folder>/rtc_numba_<digest>.py`` and imported. numba reads module globals as
-constants, so switches that are off remove their code; and since every function is
-``cache=True``, each module's machine code is cached on disk next to it, under its own name.
+``<kernel folder>/rtc_numba_<digest>.py``. numba reads module globals as constants, so
+switches that are off remove their code. The digest is a hash of the module's text, so
+editing any template file gives new modules (numba's cache only checks the file a function
+is in, not the files its callees come from; here there is only one file).
 
-The digest is a hash of the module's text, so editing any template file gives new modules
-(numba's cache only checks the file a function is in, not the files its callees come from;
-here there is only one file).
+Two things are compiled from a kernel module:
+
+- the book-API entry points (``api_*``): numba dispatchers with ``cache=True``, compiled on
+  first use (``load_kernels``);
+- the render (``load_renderer``): ``render_entry`` compiled once as a C function over raw
+  pointers (numba's ``cfunc``), its machine code written as a position-independent object
+  file and linked by the system C compiler into ``rtc_numba_<digest>.so``. Later processes
+  load that library with ctypes and never import numba: importing numba (about 0.17 s) and
+  the first call of any cached numba function (about 0.15 s, numba fills its typing and
+  lowering registries even to load cached code) cost more than the whole render. The
+  library's digest also covers the CPU (the code uses its instruction set) and the
+  installed numba and llvmlite. Where no C compiler works, the render falls back to the
+  same ``cfunc`` with numba's own disk cache (and pays numba's start-up).
+
+numba's generated wrapper keeps an error path that calls numba's runtime helpers
+(``numba_do_raise`` ...), which are not in the library; the kernels cannot raise (no
+``raise``, ``error_model="numpy"``, no bounds checks), so the path is dead, and the library
+defines those names as stubs that abort with a message, should it ever run.
 
 The kernel folder is ``$RTC_NUMBA_KERNELS`` if set, else ``$XDG_CACHE_HOME/rtc-workbook/
 numba-kernels`` (``~/.cache/...``), else a folder in the temporary directory.
@@ -18,16 +34,22 @@ numba-kernels`` (``~/.cache/...``), else a folder in the temporary directory.
 
 from __future__ import annotations
 
+import ctypes
 import functools
 import hashlib
 import importlib.util
 import os
+import platform
+import shlex
+import shutil
+import subprocess
 import sys
 import tempfile
 import threading
 from dataclasses import dataclass
 from pathlib import Path
 from types import ModuleType
+from typing import Any
 
 from variants.numba.features import ALL_FLAGS, FeatureSet
 
@@ -36,7 +58,9 @@ TEMPLATE_PARTS = ("layout", "kernels_geometry", "kernels_shading", "kernels_trac
 MARKER = "# ---- kernel template ----"
 PREFIX = "rtc_numba_"
 FAST_FLAGS = '{"afn", "arcp", "contract", "nsz", "reassoc"}'  # (as text: a set's order varies)
-_lock = threading.Lock()
+ENTRY_NAME = "rtc_render_rows"  # the render's exported name in the shared library
+_lock = threading.RLock()
+_renderers: dict[str, Renderer] = {}
 
 
 @dataclass(frozen=True)
@@ -72,7 +96,7 @@ def module_source(config: KernelConfig) -> str:
         "from typing import Any",
         "",
         "import numpy as np",
-        "from numba import njit, prange",
+        "from numba import njit",
         "",
         f"F = np.{'float32' if config.float32 else 'float64'}",
         # every fast-math flag but nnan and ninf: the kernels use infinity (no bound, no hit)
@@ -82,6 +106,12 @@ def module_source(config: KernelConfig) -> str:
     ]
     parts = [f"# ---- {part}.py{_body(part)}" for part in TEMPLATE_PARTS]
     return "\n".join(header) + "\n\n" + "\n".join(parts)
+
+
+def module_name(config: KernelConfig) -> str:
+    """The kernel module's name: ``rtc_numba_`` and a digest of its text."""
+    text = module_source(config)
+    return PREFIX + hashlib.sha256(text.encode("utf-8")).hexdigest()[:16]
 
 
 def kernel_folder() -> Path:
@@ -115,15 +145,15 @@ def _write_if_changed(path: Path, text: str) -> None:
 
 
 def load_kernels(config: KernelConfig) -> ModuleType:
-    """The kernel module for ``config`` (generated and imported once per process)."""
-    text = module_source(config)
-    name = PREFIX + hashlib.sha256(text.encode("utf-8")).hexdigest()[:16]
+    """The kernel module for ``config`` (generated and imported once per process; this
+    imports numba)."""
+    name = module_name(config)
     with _lock:
         loaded = sys.modules.get(name)
         if loaded is not None:
             return loaded
         path = kernel_folder() / f"{name}.py"
-        _write_if_changed(path, text)
+        _write_if_changed(path, module_source(config))
         spec = importlib.util.spec_from_file_location(name, path)
         if spec is None or spec.loader is None:
             raise ImportError(f"cannot import the generated kernel module {path}")
@@ -135,3 +165,192 @@ def load_kernels(config: KernelConfig) -> ModuleType:
             del sys.modules[name]
             raise
         return module
+
+
+# ------------------------------------------------------------------------ the render entry
+
+
+@dataclass(frozen=True)
+class Renderer:
+    """The compiled render entry point (``kernels_trace.render_entry``), callable through
+    ctypes without the GIL: ``function(out, height, width, k, step, cam, pf, pi, items,
+    n_items, boxes, csg, balls, n_balls, light, depth, samples, seed_key, eps, stack, sf,
+    si, tb)`` with
+    pointers as integer addresses. ``origin`` says where it came from; ``keep`` holds what
+    must stay alive while it is used."""
+
+    function: Any
+    origin: str
+    keep: Any = None
+
+
+def _argument_types() -> list[Any]:
+    p, i64 = ctypes.c_void_p, ctypes.c_int64
+    return [
+        p, i64, i64, i64, i64, p, p, p, p, i64, p, p, p, i64, p, i64, i64, ctypes.c_uint64,
+        ctypes.c_double, p, p, p, p,
+    ]  # fmt: skip
+
+
+def _stat_key(package: str) -> str:
+    """An installed package's identity without importing it: its path, size and mtime."""
+    spec = importlib.util.find_spec(package)
+    if spec is None or spec.origin is None:
+        return f"{package}: missing"
+    stat = os.stat(spec.origin)
+    return f"{package}: {spec.origin} {stat.st_size} {stat.st_mtime_ns}"
+
+
+@functools.lru_cache(maxsize=1)
+def _platform_key() -> str:
+    """What the machine code depends on besides the kernel's text: the CPU (model and
+    instruction-set flags), the OS and Python, numba and llvmlite."""
+    cpu = platform.processor()
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8") as info:
+            lines = info.read().split("\n\n", 1)[0].splitlines()
+        cpu = "\n".join(
+            line for line in lines if line.split(":")[0].strip() in ("model name", "flags")
+        )
+    except OSError:
+        pass
+    packages = [_stat_key(name) for name in ("numba", "llvmlite")]
+    return "\n".join([cpu, platform.machine(), platform.system(), sys.version, *packages])
+
+
+def library_path(config: KernelConfig) -> Path:
+    """Where the render's shared library for ``config`` is (or will be) kept."""
+    key = "\n".join([module_source(config), STUB, ENTRY_NAME, _platform_key()])
+    digest = hashlib.sha256(key.encode("utf-8")).hexdigest()[:16]
+    return kernel_folder() / f"{PREFIX}{digest}.so"
+
+
+def load_renderer(config: KernelConfig) -> Renderer:
+    """The render entry point for ``config``: from its shared library (built first if
+    missing), else from numba's cached ``cfunc``. Once per process and config."""
+    path = library_path(config)
+    key = str(path)
+    with _lock:
+        found = _renderers.get(key)
+        if found is not None:
+            return found
+        problem = ""
+        if not path.is_file():
+            try:
+                _build_library(config, path)
+            except BuildError as error:
+                problem = str(error)
+        if path.is_file():
+            library = ctypes.CDLL(str(path))
+            function = getattr(library, ENTRY_NAME)
+            function.restype = ctypes.c_int64
+            function.argtypes = _argument_types()
+            found = Renderer(function, f"shared library {path}", library)
+        else:
+            entry = load_kernels(config).make_render_entry(True)
+            prototype = ctypes.CFUNCTYPE(ctypes.c_int64, *_argument_types())
+            found = Renderer(
+                prototype(entry.address),
+                f"numba cfunc with numba's disk cache (no shared library: {problem})",
+                entry,
+            )
+        _renderers[key] = found
+        return found
+
+
+class BuildError(RuntimeError):
+    """The render's shared library could not be built (no C compiler, a link error ...)."""
+
+
+STUB = """/* Generated by variants.numba.specialize: the render's C entry point, and stubs for
+   numba runtime helpers that only numba's (dead) error path calls. Do not edit. */
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+extern int64_t numba_entry(
+    REAL *out, int64_t height, int64_t width, int64_t k, int64_t step, REAL *cam,
+    REAL *pf, int64_t *pi, int64_t *items, int64_t n_items, REAL *boxes, int64_t *csg,
+    REAL *balls, int64_t n_balls, REAL *light, int64_t depth, int64_t samples,
+    uint64_t seed_key, double eps, REAL *stack, REAL *sf, int64_t *si, REAL *tb)
+    __asm__("ENTRY_SYMBOL");
+
+int64_t ENTRY_NAME(
+    REAL *out, int64_t height, int64_t width, int64_t k, int64_t step, REAL *cam,
+    REAL *pf, int64_t *pi, int64_t *items, int64_t n_items, REAL *boxes, int64_t *csg,
+    REAL *balls, int64_t n_balls, REAL *light, int64_t depth, int64_t samples,
+    uint64_t seed_key, double eps, REAL *stack, REAL *sf, int64_t *si, REAL *tb) {
+    return numba_entry(out, height, width, k, step, cam, pf, pi, items, n_items, boxes, csg,
+                       balls, n_balls, light, depth, samples, seed_key, eps, stack, sf, si,
+                       tb);
+}
+
+static void unreachable(const char *name) {
+    fprintf(stderr, "rtc numba render: compiled code reached %s (an exception inside a "
+                    "kernel, which cannot raise): this is a bug\\n", name);
+    abort();
+}
+"""
+
+
+def _build_library(config: KernelConfig, path: Path) -> None:
+    """Compile the render entry of ``config``'s kernel module and link it into ``path``."""
+    compiler = (
+        shlex.split(os.environ.get("CC", ""))
+        or [found for found in (shutil.which("cc"), shutil.which("gcc")) if found][:1]
+    )
+    if not compiler:
+        raise BuildError("no C compiler (cc, gcc or $CC) found")
+    entry = load_kernels(config).make_render_entry(False)
+    try:
+        obj, helpers = _object_code(entry)
+    except Exception as error:  # numba's internals moved: fall back to numba's own cache
+        raise BuildError(f"cannot take the compiled render out of numba: {error!r}") from None
+    runtime = [name for name in helpers if not name.startswith("numba_")]
+    if runtime:
+        raise BuildError(f"the compiled render calls numba's runtime ({', '.join(runtime)})")
+    real = "float" if config.float32 else "double"
+    source = (
+        STUB.replace("REAL", real)
+        .replace("ENTRY_SYMBOL", entry.native_name)
+        .replace("ENTRY_NAME", ENTRY_NAME)
+    ) + "".join(f'void {name}(void) {{ unreachable("{name}"); }}\n' for name in helpers)
+    with tempfile.TemporaryDirectory(prefix="rtc-numba-link-", dir=path.parent) as folder:
+        work = Path(folder)
+        (work / "kernel.o").write_bytes(obj)
+        (work / "entry.c").write_text(source, encoding="utf-8")
+        built = work / path.name
+        command = [
+            *compiler, "-shared", "-fPIC", "-O2", "-o", str(built), str(work / "entry.c"),
+            str(work / "kernel.o"), "-lm",
+        ]  # fmt: skip
+        try:
+            done = subprocess.run(command, capture_output=True, text=True, timeout=300)
+        except (OSError, subprocess.SubprocessError) as error:
+            raise BuildError(f"{compiler[0]} failed to run: {error}") from None
+        if done.returncode != 0 or not built.is_file():
+            problem = done.stderr.strip()[:500] or f"exit status {done.returncode}"
+            raise BuildError(f"{compiler[0]} could not link the render: {problem}")
+        os.replace(built, path)
+
+
+def _object_code(entry: Any) -> tuple[bytes, list[str]]:
+    """The position-independent machine code of a compiled ``cfunc`` (numba's optimized,
+    linked LLVM module, for this CPU), and the numba runtime functions it declares."""
+    import llvmlite.binding as llvm
+
+    module = entry._library._final_module
+    target = llvm.Target.from_triple(llvm.get_process_triple())
+    machine = target.create_target_machine(
+        cpu=llvm.get_host_cpu_name(),
+        features=llvm.get_host_cpu_features().flatten(),
+        opt=3,
+        reloc="pic",
+        codemodel="default",
+    )
+    helpers = sorted(
+        f.name
+        for f in module.functions
+        if f.is_declaration and f.name.startswith(("numba_", "NRT_"))
+    )
+    return machine.emit_object(module), helpers
