@@ -12,12 +12,14 @@ from dataclasses import dataclass
 
 from raytracer.canvas import Canvas, canvas, write_pixel
 from raytracer.colors import BLACK, Color
-from raytracer.matrices import Matrix, identity_matrix, inverse
+from raytracer.matrices import Matrix, identity_matrix, inverse_of
 from raytracer.rays import Ray
 from raytracer.sampling import MAX_SAMPLES, sample_offset
 from raytracer.tolerance import EPSILON, using_epsilon
 from raytracer.tuples import normalize, point
 from raytracer.world import World, color_at
+
+VIEW_HINT = "; view_transform(from, to, up) needs 'up' across the line from 'from' to 'to'"
 
 
 @dataclass(frozen=True, slots=True)
@@ -58,7 +60,7 @@ class Camera:
     @property
     def inverse_transform(self) -> Matrix:
         """The inverse of ``transform``, computed on every access (the naive baseline)."""
-        return inverse(self.transform)
+        return inverse_of(self.transform, "camera", VIEW_HINT)
 
 
 def camera(hsize: int, vsize: int, field_of_view: float) -> Camera:

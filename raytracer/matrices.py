@@ -149,3 +149,23 @@ def inverse(m: Matrix) -> Matrix:
     n = m.size
     # element [row][col] of the inverse is cofactor(col, row) / det: the transpose is built in
     return Matrix(tuple(tuple(cofactor(m, c, r) / det for c in range(n)) for r in range(n)))
+
+
+def inverse_of(m: Matrix, owner: str, hint: str = "") -> Matrix:
+    """Chapter 3's inverse of ``owner``'s transform ``m``; a singular one is reported by
+    naming ``owner`` (and ``hint``: what to do about it), not as a bare matrix."""
+    try:
+        return inverse(m)
+    except NotInvertibleError:
+        raise NotInvertibleError(
+            f"{owner}: its transform is not invertible (determinant 0){hint}"
+        ) from None
+
+
+def book_name(thing: object) -> str:
+    """The name of ``thing``'s class in the reference (``Sphere`` for a variant's twin of
+    a sphere), for messages."""
+    for cls in type(thing).__mro__:
+        if cls.__module__.startswith("raytracer."):
+            return cls.__name__
+    return type(thing).__name__

@@ -13,7 +13,14 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from raytracer.colors import Color
-from raytracer.matrices import Matrix, NotInvertibleError, identity_matrix, inverse, is_invertible
+from raytracer.matrices import (
+    Matrix,
+    NotInvertibleError,
+    book_name,
+    identity_matrix,
+    inverse_of,
+    is_invertible,
+)
 from raytracer.shapes.space import world_to_object
 from raytracer.tuples import Tuple
 
@@ -33,7 +40,7 @@ class Pattern(ABC):
     @property
     def inverse_transform(self) -> Matrix:
         """The inverse of ``transform``, computed on every access (the naive baseline)."""
-        return inverse(self.transform)
+        return inverse_of(self.transform, f"the pattern {book_name(self)}")
 
     @abstractmethod
     def local_pattern_at(self, point: Tuple) -> Color:

@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import dataclasses
+from collections.abc import Mapping
+from typing import Any
+
 import pytest
 
 from harness.images import read_png, write_image
@@ -21,6 +25,7 @@ from raytracer import (
     translation,
     write_pixel,
 )
+from variants.registry import load_variant
 
 
 def test_singular_set_transform_names_the_shape() -> None:
@@ -46,6 +51,33 @@ def test_singular_pattern_transform() -> None:
     p = stripe_pattern(color(1, 1, 1), color(0, 0, 0))
     with pytest.raises(ValueError, match=r"set_pattern_transform\(StripePattern\)"):
         set_pattern_transform(p, scaling(1, 1, 0))
+
+
+@pytest.mark.parametrize("variant", ["naive", "cached", "robust"])
+def test_a_singular_transform_assigned_directly_is_named_when_used(variant: str) -> None:
+    """The book's ``s.transform ← m`` does not check; the first use names the shape."""
+    api = load_variant_api(variant)
+    s = api["sphere"]()
+    s.transform = api["scaling"](1, 0, 1)
+    r = api["ray"](api["point"](0, 0, -5), api["vector"](0, 0, 1))
+    with pytest.raises(NotInvertibleError, match=r"^Sphere: its transform is not invertible"):
+        api["intersect"](s, r)
+    with pytest.raises(NotInvertibleError, match=r"^Sphere: its transform is not invertible"):
+        api["normal_at"](s, api["point"](0, 0, -1))
+
+
+@pytest.mark.parametrize("variant", ["naive", "cached"])
+def test_a_camera_looking_along_its_up_vector_is_named(variant: str) -> None:
+    api = load_variant_api(variant)
+    view = api["view_transform"](api["point"](0, 5, 0), api["point"](0, 0, 0),
+                                 api["vector"](0, 1, 0))  # fmt: skip
+    c = dataclasses.replace(api["camera"](4, 3, 1.0), transform=view)
+    with pytest.raises(NotInvertibleError, match=r"^camera: .*'up' across the line"):
+        api["ray_for_pixel"](c, 1, 1)
+
+
+def load_variant_api(name: str) -> Mapping[str, Any]:
+    return load_variant(name).api
 
 
 def test_inverse_of_a_singular_matrix_says_determinant_0() -> None:

@@ -51,6 +51,11 @@ NAME = "cached"
 
 _SHAPE_TRANSFORM: Any = Shape.__dict__["transform"]  # the reference's slot (member descriptor)
 _PATTERN_TRANSFORM: Any = Pattern.__dict__["transform"]
+# the reference's properties: what a singular transform falls back to (a clear error)
+_REFERENCE_SHAPE_INVERSE: Any = Shape.__dict__["inverse_transform"].fget
+_REFERENCE_SHAPE_INVERSE_T: Any = Shape.__dict__["inverse_transpose"].fget
+_REFERENCE_PATTERN_INVERSE: Any = Pattern.__dict__["inverse_transform"].fget
+_REFERENCE_CAMERA_INVERSE: Any = Camera.__dict__["inverse_transform"].fget
 
 
 def _inverse_or_none(m: Any) -> Matrix | None:
@@ -84,12 +89,12 @@ class CachedShape:
     @property
     def inverse_transform(self) -> Matrix:
         inv = self._inverse
-        return inv if inv is not None else inverse(self.transform)
+        return inv if inv is not None else _REFERENCE_SHAPE_INVERSE(self)
 
     @property
     def inverse_transpose(self) -> Matrix:
         inv_t = self._inverse_transpose
-        return inv_t if inv_t is not None else transpose(inverse(self.transform))
+        return inv_t if inv_t is not None else _REFERENCE_SHAPE_INVERSE_T(self)
 
 
 class CachedPattern:
@@ -111,7 +116,7 @@ class CachedPattern:
     @property
     def inverse_transform(self) -> Matrix:
         inv = self._inverse
-        return inv if inv is not None else inverse(self.transform)
+        return inv if inv is not None else _REFERENCE_PATTERN_INVERSE(self)
 
 
 @dataclass(frozen=True, slots=True)
@@ -126,7 +131,7 @@ class CachedCamera(Camera):
     @property
     def inverse_transform(self) -> Matrix:
         inv = self._inverse
-        return inv if inv is not None else inverse(self.transform)
+        return inv if inv is not None else _REFERENCE_CAMERA_INVERSE(self)
 
 
 # ------------------------------------------------------------------- deriving the twins

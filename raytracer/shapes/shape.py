@@ -19,8 +19,9 @@ from raytracer.materials import Material, material
 from raytracer.matrices import (
     Matrix,
     NotInvertibleError,
+    book_name,
     identity_matrix,
-    inverse,
+    inverse_of,
     is_invertible,
     transpose,
 )
@@ -43,6 +44,8 @@ __all__ = [
     "world_to_object",
 ]
 
+SHAPE_HINT = ", so it cannot be intersected or shaded (set_transform refuses such a transform)"
+
 
 @dataclass(slots=True, eq=True, kw_only=True)
 class Shape(ABC):
@@ -63,7 +66,7 @@ class Shape(ABC):
     @property
     def inverse_transform(self) -> Matrix:
         """The inverse of ``transform``, computed on every access (the naive baseline)."""
-        return inverse(self.transform)
+        return inverse_of(self.transform, book_name(self), SHAPE_HINT)
 
     @property
     def inverse_transpose(self) -> Matrix:

@@ -28,12 +28,9 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
 from typing import Any
 
-from raytracer.camera import Camera
 from raytracer.intersections import Intersection
-from raytracer.matrices import Matrix, NotInvertibleError
 from raytracer.patterns import Pattern
 from raytracer.rays import Ray
 from raytracer.shapes.cone import Cone
@@ -43,7 +40,7 @@ from raytracer.shapes.plane import Plane
 from raytracer.shapes.shape import Shape
 from raytracer.shapes.sphere import Sphere
 from raytracer.shapes.triangle import Triangle
-from variants.cached import CACHED_CLASSES, CachedCamera, derive_class
+from variants.cached import CACHED_CLASSES, derive_class
 
 # a triangle is missed when det² <= FLAT² |e1|² |e2|² |d|² (the sine of the angle between the
 # ray and the plane, or between the triangle's sides, below 2**-40, about 1e-12)
@@ -66,33 +63,11 @@ def _roots(a: float, half_b: float, c: float, disc: float) -> tuple[float, float
 
 
 class RobustShape:
-    """Mixin over a ``cached`` shape twin: a singular transform is reported with the shape's
-    name when the inverse is needed (``cached`` stores None for it)."""
+    """Base of the solver mixins below; a shape without its own solver (a group, CSG) gets
+    it alone and keeps ``cached``'s intersection. (A singular transform is already reported
+    by name by the reference's ``inverse_transform``, which ``cached`` falls back to.)"""
 
     __slots__ = ()
-    _inverse: Matrix | None
-    _inverse_transpose: Matrix | None
-
-    def _singular(self) -> NotInvertibleError:
-        kind = type(self).__name__.removeprefix("Robust")
-        return NotInvertibleError(
-            f"{kind}: its transform is not invertible (determinant 0), so it cannot be "
-            f"intersected or shaded; give it an invertible transform (set_transform checks)"
-        )
-
-    @property
-    def inverse_transform(self) -> Matrix:
-        inv = self._inverse
-        if inv is None:
-            raise self._singular()
-        return inv
-
-    @property
-    def inverse_transpose(self) -> Matrix:
-        inv_t = self._inverse_transpose
-        if inv_t is None:
-            raise self._singular()
-        return inv_t
 
 
 class SphereSolver(RobustShape):
@@ -288,21 +263,6 @@ class TriangleSolver(RobustShape):
         return [shape.intersection_at(t, u, v)]
 
 
-@dataclass(frozen=True, slots=True)
-class RobustCamera(CachedCamera):
-    """Chapter 7's camera (``cached``'s) whose singular view transform is reported by name."""
-
-    @property
-    def inverse_transform(self) -> Matrix:
-        inv = self._inverse
-        if inv is None:
-            raise NotInvertibleError(
-                "camera: its view transform is not invertible (determinant 0); "
-                "view_transform(from, to, up) needs 'up' across the line from 'from' to 'to'"
-            )
-        return inv
-
-
 # reference class -> the mixin that replaces its intersection (every other shape: RobustShape)
 _MIXINS: dict[type, type] = {
     Sphere: SphereSolver,
@@ -323,12 +283,10 @@ def _mixin_for(reference: type) -> type:
 
 def _derive_twins() -> dict[type, type]:
     """Every reference class -> its robust twin: shapes derive from ``cached``'s twins with
-    the mixin above; patterns stay ``cached``'s twins; the camera is ``RobustCamera``."""
+    the mixin above; patterns and the camera stay ``cached``'s twins."""
     twins: dict[type, type] = {}
     for reference, cached in CACHED_CLASSES.items():
-        if reference is Camera:
-            twins[reference] = RobustCamera
-        elif issubclass(reference, Pattern):
+        if issubclass(reference, Pattern):
             twins[reference] = cached
         elif issubclass(reference, Shape):
             name = f"Robust{reference.__name__}"
