@@ -136,15 +136,28 @@ class RenderSettings:
             )
 
 
-def pixel_color(c: Camera, w: World, x: int, y: int, settings: RenderSettings) -> Color:
+def pixel_color(
+    c: Camera,
+    w: World,
+    x: int,
+    y: int,
+    settings: RenderSettings,
+    ray_at: Callable[[Camera, float, float], Ray] | None = None,
+    color_of: Callable[[World, Ray, int], Color] | None = None,
+) -> Color:
     """The color of pixel (x, y): one ray through its centre, or the mean of the samples
-    (summed in order i = 0, 1, ... then multiplied by 1 / samples)."""
+    (summed in order i = 0, 1, ... then multiplied by 1 / samples).
+
+    ray_at, color_of: the ``ray_for_pixel`` and ``color_at`` to trace with (default: these
+    modules'; a variant that keeps this loop passes its own)."""
+    ray_at = ray_at or ray_for_pixel
+    color_of = color_of or color_at
     if settings.samples == 1:
-        return color_at(w, ray_for_pixel(c, x, y), settings.depth)
+        return color_of(w, ray_at(c, x, y), settings.depth)
     total = BLACK
     for i in range(settings.samples):
         dx, dy = sample_offset(settings.seed, x, y, i)
-        total = total + color_at(w, ray_for_pixel(c, x + dx - 0.5, y + dy - 0.5), settings.depth)
+        total = total + color_of(w, ray_at(c, x + dx - 0.5, y + dy - 0.5), settings.depth)
     return total * (1.0 / settings.samples)
 
 

@@ -29,6 +29,18 @@ class UserError(Exception):
     """A mistake in what the user asked for; printed as one line, without a traceback."""
 
 
+def add_results_dir(
+    parser: argparse.ArgumentParser,
+    help: str = "where the run file goes (DIR/runs/; default ./results)",
+) -> None:
+    """The ``--results-dir DIR`` option of the commands that write or read ``results/``."""
+    from pathlib import Path
+
+    parser.add_argument(
+        "--results-dir", type=Path, default=Path("results"), metavar="DIR", help=help
+    )
+
+
 def _commands(argv: list[str] | None = None) -> list[ModuleType]:
     """The command modules the parser needs: only the chosen one when ``argv`` starts with a
     command's name (``rtc/cmd_NAME.py``), so that start-up imports only what runs."""

@@ -5,10 +5,9 @@ from __future__ import annotations
 import argparse
 import sys
 import time
-from pathlib import Path
 from typing import TYPE_CHECKING
 
-from rtc.cli import UserError
+from rtc.cli import UserError, add_results_dir
 
 if TYPE_CHECKING:
     from harness.plan import BenchSettings
@@ -76,13 +75,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="A,B",
         help=f"which parts to run (default all: {', '.join(SECTIONS)})",
     )
-    parser.add_argument(
-        "--results-dir",
-        type=Path,
-        default=Path("results"),
-        metavar="DIR",
-        help="where the run file goes (DIR/runs/; default ./results)",
-    )
+    add_results_dir(parser)
 
 
 def settings_from(args: argparse.Namespace) -> BenchSettings:

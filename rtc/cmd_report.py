@@ -3,21 +3,16 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
-from rtc.cli import UserError
+from rtc.cli import UserError, add_results_dir
 
 NAME = "report"
 HELP = "write results/README.md and a self-contained results/report.html from results/runs/"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument(
-        "--results-dir",
-        type=Path,
-        default=Path("results"),
-        metavar="DIR",
-        help="the results folder (default ./results): reads DIR/runs/, writes DIR/README.md",
+    add_results_dir(
+        parser, "the results folder (default ./results): reads DIR/runs/, writes DIR/README.md"
     )
 
 

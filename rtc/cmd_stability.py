@@ -10,7 +10,7 @@ import time
 from datetime import UTC, datetime
 from pathlib import Path
 
-from rtc.cli import UserError
+from rtc.cli import UserError, add_results_dir
 
 NAME = "stability"
 HELP = (
@@ -46,13 +46,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--details", action="store_true", help="also list what every failing cell saw"
     )
-    parser.add_argument(
-        "--results-dir",
-        type=Path,
-        default=Path("results"),
-        metavar="DIR",
-        help="where the run file goes (DIR/runs/; default ./results)",
-    )
+    add_results_dir(parser)
 
 
 def run(args: argparse.Namespace) -> int:

@@ -48,10 +48,8 @@ from multiprocessing import get_context
 from multiprocessing.connection import Connection, wait
 from typing import Any
 
-from raytracer.camera import Camera, RenderSettings
+from raytracer.camera import Camera, RenderSettings, pixel_color
 from raytracer.canvas import Canvas
-from raytracer.colors import BLACK
-from raytracer.sampling import sample_offset
 from raytracer.tolerance import using_epsilon
 from raytracer.world import World
 from variants.registry import (
@@ -130,18 +128,10 @@ def _pixel_function(
     api: Mapping[str, Any],
 ) -> Callable[[Camera, World, int, int, RenderSettings], Any]:
     """The reference's ``pixel_color`` through an API's ``ray_for_pixel`` and ``color_at``."""
-    ray_for_pixel = api["ray_for_pixel"]
-    color_at = api["color_at"]
+    ray_at, color_of = api["ray_for_pixel"], api["color_at"]
 
     def pixel(c: Camera, w: World, x: int, y: int, settings: RenderSettings) -> Any:
-        if settings.samples == 1:
-            return color_at(w, ray_for_pixel(c, x, y), settings.depth)
-        total = BLACK
-        for i in range(settings.samples):
-            dx, dy = sample_offset(settings.seed, x, y, i)
-            ray = ray_for_pixel(c, x + dx - 0.5, y + dy - 0.5)
-            total = total + color_at(w, ray, settings.depth)
-        return total * (1.0 / settings.samples)
+        return pixel_color(c, w, x, y, settings, ray_at, color_of)
 
     return pixel
 

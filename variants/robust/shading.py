@@ -34,13 +34,12 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
-from raytracer.camera import Camera, RenderSettings, ray_for_pixel
+from raytracer.camera import Camera, RenderSettings, pixel_color, ray_for_pixel
 from raytracer.canvas import Canvas, canvas, write_pixel
 from raytracer.colors import BLACK, Color
 from raytracer.intersections import Computations, Intersection, hit
 from raytracer.materials import lighting
 from raytracer.rays import Ray, position
-from raytracer.sampling import sample_offset
 from raytracer.shapes.shape import Shape
 from raytracer.shapes.space import world_to_object
 from raytracer.tolerance import epsilon, using_epsilon
@@ -237,14 +236,7 @@ class _Tracer:
 
     def pixel(self, x: int, y: int) -> Color:
         """The reference's ``pixel_color``, tracing with this variant's ``color_at``."""
-        c, w, s = self.camera, self.world, self.settings
-        if s.samples == 1:
-            return color_at(w, ray_for_pixel(c, x, y), s.depth)
-        total = BLACK
-        for i in range(s.samples):
-            dx, dy = sample_offset(s.seed, x, y, i)
-            total = total + color_at(w, ray_for_pixel(c, x + dx - 0.5, y + dy - 0.5), s.depth)
-        return total * (1.0 / s.samples)
+        return pixel_color(self.camera, self.world, x, y, self.settings, ray_for_pixel, color_at)
 
 
 def render(
