@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 from raytracer.intersections import Intersection
 from raytracer.rays import Ray
-from raytracer.shapes.cylinder import _within_radius
+from raytracer.shapes.cylinder import intersect_caps
 from raytracer.shapes.shape import Shape
 from raytracer.tolerance import epsilon
 from raytracer.tuples import Tuple, vector
@@ -53,16 +53,10 @@ class Cone(Shape):
         return xs
 
     def _intersect_caps(self, local_ray: Ray) -> list[Intersection]:
-        """Chapter 13: the caps at minimum and maximum, for a closed cone."""
-        direction_y = local_ray.direction.y
-        if not self.closed or abs(direction_y) < epsilon():
+        """Chapter 13: the caps at minimum and maximum, for a closed cone (radius |y|)."""
+        if not self.closed:
             return []
-        xs: list[Intersection] = []
-        for y in (self.minimum, self.maximum):
-            t = (y - local_ray.origin.y) / direction_y
-            if _within_radius(local_ray, t, abs(y)):
-                xs.append(Intersection(t, self))
-        return xs
+        return intersect_caps(self, local_ray, self.minimum, self.maximum, abs)
 
     def local_normal_at(self, local_point: Tuple, hit: Intersection | None = None) -> Tuple:
         """Chapter 13: straight up or down on a cap; on the sides (x, ∓√(x² + z²), z),

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from raytracer.intersections import Intersection
@@ -17,6 +18,26 @@ def _within_radius(ray: Ray, t: float, radius: float) -> bool:
     x = ray.origin.x + t * ray.direction.x
     z = ray.origin.z + t * ray.direction.z
     return x * x + z * z <= radius * radius
+
+
+def intersect_caps(
+    shape: Shape, local_ray: Ray, minimum: float, maximum: float, radius: Callable[[float], float]
+) -> list[Intersection]:
+    """Chapter 13: the hits on the end caps at y = minimum and y = maximum of a closed
+    cylinder or cone; ``radius(y)``: the cap's radius at height y."""
+    direction_y = local_ray.direction.y
+    if abs(direction_y) < epsilon():
+        return []
+    xs: list[Intersection] = []
+    for y in (minimum, maximum):
+        t = (y - local_ray.origin.y) / direction_y
+        if _within_radius(local_ray, t, radius(y)):
+            xs.append(Intersection(t, shape))
+    return xs
+
+
+def _unit_radius(_: float) -> float:
+    return 1.0
 
 
 @dataclass(slots=True, eq=True)
@@ -57,15 +78,9 @@ class Cylinder(Shape):
 
     def _intersect_caps(self, local_ray: Ray) -> list[Intersection]:
         """Chapter 13: the caps at minimum and maximum, for a closed cylinder."""
-        direction_y = local_ray.direction.y
-        if not self.closed or abs(direction_y) < epsilon():
+        if not self.closed:
             return []
-        xs: list[Intersection] = []
-        for y in (self.minimum, self.maximum):
-            t = (y - local_ray.origin.y) / direction_y
-            if _within_radius(local_ray, t, 1.0):
-                xs.append(Intersection(t, self))
-        return xs
+        return intersect_caps(self, local_ray, self.minimum, self.maximum, _unit_radius)
 
     def local_normal_at(self, local_point: Tuple, hit: Intersection | None = None) -> Tuple:
         """Chapter 13: straight up or down on a cap, else away from the y axis."""
