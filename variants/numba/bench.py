@@ -19,7 +19,9 @@ of the process over wall seconds: up to 1.0 per thread that really ran):
    grow with the image size (target: zero per pixel);
 6. the C++ report's workload (cpp-spheres.yml, 500x500, 8 samples, depth 5) in MRay/s
    (width x height x samples per second), target 20 with 2 threads;
-7. the options: time against pixels that differ from float64 by more than 1/255.
+7. the options: time against pixels that differ from float64 by more than 1/255;
+8. what specialization buys: the specialized and the generic kernel, alternating, on the
+   reference scene and on cpp-spheres.
 
 Timings on a shared machine are rough: the CPU share column says how much of a core each
 run really had. Pin the process with ``taskset -c 0,1`` for steadier figures.
@@ -410,7 +412,33 @@ def options(runs: int) -> None:
         )
 
 
-SECTIONS = ("cold", "render", "balance", "command", "naive", "allocations", "cpp", "options")
+def specialization(runs: int) -> None:
+    """The kernel specialized to the scene against the generic one, side by side: renders
+    alternate between the two, and the median of each pair's ratio is printed."""
+    for label, path, settings in (
+        ("reference 640x480", REFERENCE, _settings()),
+        ("cpp-spheres 500x500x8", CPP, _settings(samples=8, depth=5)),
+    ):
+        loaded = [_load(name, path) for name in ("numba", "numba[specialize=off]")]
+        for variant, c, w in loaded:
+            variant.api["render"](c, w, settings)  # warm: compile or load both
+        times: list[list[float]] = [[], []]
+        for _ in range(runs):
+            for which, (variant, c, w) in enumerate(loaded):
+                action = functools.partial(_render_once, variant, c, w, settings)
+                times[which].append(_timed(action)[0])
+        ratio = statistics.median(g / s for s, g in zip(times[0], times[1], strict=True))
+        print(
+            f"{label}, 2 threads, {runs} alternating pairs: specialized median "
+            f"{statistics.median(times[0]):.3f} s, generic (specialize=off) "
+            f"{statistics.median(times[1]):.3f} s; generic/specialized per pair: {ratio:.2f}x"
+        )
+
+
+SECTIONS = (
+    "cold", "render", "balance", "command", "naive", "allocations", "cpp", "options",
+    "specialize",
+)  # fmt: skip
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -461,6 +489,8 @@ def main(argv: list[str] | None = None) -> int:
         cpp_workload(args.runs)
     if "options" not in skip:
         options(args.runs)
+    if "specialize" not in skip:
+        specialization(args.runs)
     return 0
 
 
