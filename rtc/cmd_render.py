@@ -15,7 +15,6 @@ from harness.scenefile import SceneError, load_scene
 from raytracer.camera import RenderSettings
 from rtc.cli import UserError
 from rtc.cmd_demo import parse_size
-from variants.pooled import RenderWorkerError
 
 NAME = "render"
 HELP = "render a scene file (the book's YAML scene format) to a PNG or PPM image"
@@ -92,7 +91,7 @@ def _progress_bar(rows: int) -> tuple[Callable[[int], object] | None, Callable[[
 
 
 def run(args: argparse.Namespace) -> int:
-    from variants.registry import load_variant
+    from variants.registry import RenderError, load_variant
 
     settings = _settings(args)
     size = parse_size(args.size) if args.size else None
@@ -121,7 +120,7 @@ def run(args: argparse.Namespace) -> int:
     start = time.perf_counter()
     try:
         image = variant.api["render"](camera, scene.world, settings, update)
-    except RenderWorkerError as error:
+    except RenderError as error:
         raise UserError(f"{variant.name} could not render {args.scene}: {error}") from None
     finally:
         close()

@@ -53,6 +53,7 @@ from raytracer.canvas import Canvas
 from raytracer.tolerance import using_epsilon
 from raytracer.world import World
 from variants.registry import (
+    RenderError,
     Variant,
     VariantError,
     canonical_name,
@@ -87,7 +88,7 @@ BENCH_CONFIGS = (
 Job = tuple[int, int, int, int]  # x0, y0, x1, y1: the pixels x0 <= x < x1, y0 <= y < y1
 
 
-class RenderWorkerError(RuntimeError):
+class RenderWorkerError(RenderError):
     """A pooled render failed in a worker; no image was produced."""
 
 

@@ -42,6 +42,11 @@ class Unavailable(Exception):
     """Raised by a variant factory that cannot run here; the message says why."""
 
 
+class RenderError(RuntimeError):
+    """A variant's render failed for a reason outside the scene and the book's code (a worker
+    process died or raised); no image was produced. ``rtc render`` reports it in one line."""
+
+
 class VariantError(LookupError, ValueError):
     """A variant name that cannot be used: bad syntax, an unknown variant, an option or an
     inner variant the factory does not accept, a bad option value, or a variant that is not
