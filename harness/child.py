@@ -146,21 +146,33 @@ def _larger(target: Size, previous: Size | None, pixels: int) -> Size:
     return size
 
 
+def probed_enough(probes: list[tuple[Size, float]], target: Size) -> bool:
+    """Whether the probes so far, (size, seconds) smallest first, can estimate ``target``'s
+    time: ``target`` itself was rendered, or there are two, the last took PROBE_SECONDS and
+    at least twice the first (so the cost per pixel shows above a fixed start-up cost such as
+    a process pool's, and noise in that cost does not decide the estimate)."""
+    if not probes:
+        return False
+    if probes[-1][0] == target:
+        return True
+    last = probes[-1][1]
+    return len(probes) >= 2 and last >= PROBE_SECONDS and last >= 2 * probes[0][1]
+
+
 def _probe(
     renderer: Renderer, target: Size, samples: int, warm: Mapping[str, Any], log: Any
 ) -> tuple[dict[str, Any], Estimate]:
-    """Renders of growing size (the aspect of ``target``) until two have been made and the
-    last took PROBE_SECONDS, or ``target`` is reached; the last two give the estimate."""
+    """Renders of growing size (the aspect of ``target``) until ``probed_enough``; the last
+    two give the estimate."""
     probes: list[tuple[Size, float]] = []
     if samples == 1:
         probes.append((_size(warm["size"]), float(warm["second"])))
     pixels = PROBE_PIXELS
-    while not probes or not (
-        probes[-1][0] == target or (len(probes) >= 2 and probes[-1][1] >= PROBE_SECONDS)
-    ):
+    while not probed_enough(probes, target):
         size = _larger(target, probes[-1][0] if probes else None, pixels)
         probes.append((size, renderer.timed(size, samples).wall))
-        pixels = size.pixels * (2 if probes[-1][1] >= PROBE_SECONDS else 4)
+        long_enough = probes[-1][1] >= max(PROBE_SECONDS, 2 * probes[0][1])
+        pixels = size.pixels * (2 if long_enough else 4)
     estimate = Estimate.from_probes(probes)
     log(
         f"probes {', '.join(f'{s}: {t:.3f} s' for s, t in probes)}: estimate "

@@ -178,3 +178,20 @@ def _no_numba_env_leak(monkeypatch):
     monkeypatch.delenv("RTC_ALLOCCOUNT_DIR", raising=False)
     yield
     assert "RTC_ALLOCCOUNT_DIR" not in os.environ
+
+
+def test_each_section_of_the_report_comes_from_the_newest_run_that_measured_it():
+    from harness.report import pick_runs
+
+    everything = {
+        "stem": "quick", "rows": [{"section": "table"}, {"section": "preset"}],
+        "series": [{"section": "sweep"}, {"section": "sizes"}], "kata": {"summary": [1]},
+    }  # fmt: skip
+    table_only = {"stem": "table", "rows": [{"section": "table"}], "series": []}
+    chosen = pick_runs([everything, table_only])
+    assert {section: run["stem"] for section, run in chosen.items()} == {
+        "table": "table", "sweep": "quick", "scaling": "quick", "preset": "quick",
+        "kata": "quick",
+    }  # fmt: skip
+    nothing = {"stem": "empty", "rows": [], "series": []}
+    assert {run["stem"] for run in pick_runs([nothing]).values()} == {"empty"}

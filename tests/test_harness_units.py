@@ -69,6 +69,21 @@ def test_an_estimate_separates_a_fixed_cost_from_the_cost_per_pixel():
     assert single.fixed == 0 and single.per_pixel == pytest.approx(1.096 / 48)
 
 
+def test_probing_goes_on_until_the_cost_per_pixel_shows_above_a_start_up_cost():
+    from harness.child import probed_enough
+
+    target = Size(640, 480)
+    # a pool: 0.4 s to start, then cheap pixels; its first probes cost the start-up alone
+    pool = [(Size(4, 3), 0.40), (Size(8, 6), 0.35)]
+    assert not probed_enough(pool, target)  # long enough, but no cost per pixel visible
+    assert probed_enough([*pool, (Size(96, 72), 0.95)], target)
+    # a slow variant: two probes and the last above PROBE_SECONDS is enough
+    assert probed_enough([(Size(4, 3), 0.2), (Size(8, 6), 1.0)], target)
+    assert not probed_enough([(Size(4, 3), 0.01), (Size(8, 6), 0.04)], target)  # too short
+    assert probed_enough([(Size(4, 3), 0.3)], Size(4, 3))  # the target itself
+    assert not probed_enough([], target)
+
+
 def test_image_error_figures():
     reference = np.zeros((2, 2, 3))
     same = image_error(reference.copy(), reference)
