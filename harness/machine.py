@@ -33,7 +33,8 @@ def _version(distribution: str) -> str | None:
 
 
 def git_state(folder: Path) -> dict[str, Any]:
-    """The commit checked out in ``folder`` and whether the working tree differs from it."""
+    """The commit checked out in ``folder`` and whether the working tree's code differs from
+    it (``results/``, which the runs themselves write, does not count)."""
 
     def git(*args: str) -> str | None:
         try:
@@ -47,7 +48,7 @@ def git_state(folder: Path) -> dict[str, Any]:
     commit = git("rev-parse", "HEAD")
     if commit is None:
         return {"commit": None, "dirty": None}
-    status = git("status", "--porcelain", "--untracked-files=no")
+    status = git("status", "--porcelain", "--untracked-files=no", "--", ":(top,exclude)results")
     return {"commit": commit.strip(), "dirty": None if status is None else bool(status.strip())}
 
 
