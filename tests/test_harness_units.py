@@ -129,3 +129,24 @@ def test_rays_of_the_reference_are_counted_by_kind():
     assert sys.modules["raytracer.world"].color_at is raytracer.color_at
     assert sys.modules["raytracer.world"].is_shadowed is raytracer.is_shadowed
     assert sys.modules["raytracer.camera"].color_at is raytracer.color_at
+
+
+def test_a_changed_result_file_does_not_make_the_tree_dirty_but_changed_code_does(tmp_path):
+    import subprocess
+
+    from harness.machine import git_state
+
+    def git(*args: str) -> None:
+        subprocess.run(["git", *args], cwd=tmp_path, check=True, capture_output=True)
+
+    (tmp_path / "results").mkdir()
+    (tmp_path / "results" / "README.md").write_text("old\n")
+    (tmp_path / "code.py").write_text("x = 1\n")
+    git("init", "-q")
+    git("add", ".")
+    git("-c", "user.name=t", "-c", "user.email=t@t", "commit", "-qm", "start")
+    assert git_state(tmp_path)["dirty"] is False
+    (tmp_path / "results" / "README.md").write_text("new\n")
+    assert git_state(tmp_path)["dirty"] is False
+    (tmp_path / "code.py").write_text("x = 2\n")
+    assert git_state(tmp_path)["dirty"] is True
