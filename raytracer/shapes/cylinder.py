@@ -13,7 +13,7 @@ from raytracer.tolerance import epsilon
 from raytracer.tuples import Tuple, vector
 
 
-def _within_radius(ray: Ray, t: float, radius: float) -> bool:
+def within_radius(ray: Ray, t: float, radius: float) -> bool:
     """Chapter 13: True when the ray at ``t`` is within ``radius`` of the y axis (a cap)."""
     x = ray.origin.x + t * ray.direction.x
     z = ray.origin.z + t * ray.direction.z
@@ -31,7 +31,7 @@ def intersect_caps(
     xs: list[Intersection] = []
     for y in (minimum, maximum):
         t = (y - local_ray.origin.y) / direction_y
-        if _within_radius(local_ray, t, radius(y)):
+        if within_radius(local_ray, t, radius(y)):
             xs.append(Intersection(t, shape))
     return xs
 

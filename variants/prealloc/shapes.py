@@ -282,7 +282,7 @@ class CylinderRecord(ShapeRecord):
             return
         for y in (self.minimum, self.maximum):
             t = (y - oy) / dy
-            # _within_radius
+            # within_radius
             x = ox + t * dx
             z = oz + t * dz
             radius = self.cap_radius(y)

@@ -35,7 +35,7 @@ from raytracer.patterns import Pattern
 from raytracer.rays import Ray
 from raytracer.shapes.cone import Cone
 from raytracer.shapes.cube import Cube
-from raytracer.shapes.cylinder import Cylinder
+from raytracer.shapes.cylinder import Cylinder, within_radius
 from raytracer.shapes.plane import Plane
 from raytracer.shapes.shape import Shape
 from raytracer.shapes.sphere import Sphere
@@ -143,12 +143,6 @@ class CubeSolver(RobustShape):
         return [Intersection(tmin, shape), Intersection(tmax, shape)]
 
 
-def _within_radius(ray: Ray, t: float, radius: float) -> bool:
-    x = ray.origin.x + t * ray.direction.x
-    z = ray.origin.z + t * ray.direction.z
-    return x * x + z * z <= radius * radius
-
-
 class CylinderSolver(RobustShape):
     """Chapter 13's cylinder: the side solved without cancellation, exact parallel tests."""
 
@@ -176,7 +170,7 @@ class CylinderSolver(RobustShape):
         if self.closed and d.y != 0.0:
             for y in (self.minimum, self.maximum):
                 t = (y - o.y) / d.y
-                if math.isfinite(t) and _within_radius(local_ray, t, 1.0):
+                if math.isfinite(t) and within_radius(local_ray, t, 1.0):
                     xs.append(Intersection(t, shape))
         return xs
 
@@ -218,7 +212,7 @@ class ConeSolver(RobustShape):
         if self.closed and d.y != 0.0:
             for y in (self.minimum, self.maximum):
                 t = (y - o.y) / d.y
-                if math.isfinite(t) and _within_radius(local_ray, t, abs(y)):
+                if math.isfinite(t) and within_radius(local_ray, t, abs(y)):
                     xs.append(Intersection(t, shape))
         return xs
 
