@@ -348,31 +348,41 @@ def test_a_tie_between_a_ball_and_a_plane_goes_to_the_earlier_object(sphere_firs
     assert results["naive"][1][0] == ("ball" if sphere_first else "floor")
 
 
+RENDER_IN_A_FRESH_PROCESS = (
+    "import sys\n"
+    "import numpy as np\n"
+    "from tests.test_numba import default_world\n"
+    "from variants.registry import load_variant\n"
+    "from variants.numba import specialize\n"
+    "api = load_variant('numba').api\n"
+    "c, w = default_world(api)\n"
+    "np.save(sys.argv[1], api['render'](c, w).to_array())\n"
+    "print('numba' in sys.modules, [r.origin for r in specialize._renderers.values()])\n"
+)
+
+
+def _render_in_a_fresh_process(folder: str, **env: str) -> tuple[str, np.ndarray]:
+    """The default world rendered by ``numba`` in a new interpreter: what it printed
+    (whether numba was imported, where the render came from) and the picture."""
+    saved = Path(folder) / "image.npy"
+    done = subprocess.run(
+        [sys.executable, "-c", RENDER_IN_A_FRESH_PROCESS, str(saved)], cwd=ROOT,
+        capture_output=True, text=True, env={**os.environ, **env},
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    return done.stdout, np.load(saved)
+
+
 def test_a_render_needs_no_numba_once_its_library_is_built() -> None:
     """The render entry is a shared library, built once (this test's first render) and
     then loaded with ctypes: a fresh process renders without importing numba."""
     api = load_variant("numba").api
     c, w = default_world(api)
     expected = api["render"](c, w).to_array()
-    code = (
-        "import sys\n"
-        "import numpy as np\n"
-        "from tests.test_numba import default_world\n"
-        "from variants.registry import load_variant\n"
-        "from variants.numba import specialize\n"
-        "api = load_variant('numba').api\n"
-        "c, w = default_world(api)\n"
-        "np.save(sys.argv[1], api['render'](c, w).to_array())\n"
-        "print('numba' in sys.modules, [r.origin for r in specialize._renderers.values()])\n"
-    )
     with tempfile.TemporaryDirectory() as folder:
-        saved = Path(folder) / "image.npy"
-        done = subprocess.run(
-            [sys.executable, "-c", code, str(saved)], cwd=ROOT, capture_output=True, text=True
-        )
-        assert done.returncode == 0, done.stderr
-        assert done.stdout.startswith("False ['shared library "), done.stdout
-        assert np.array_equal(np.load(saved), expected)
+        printed, picture = _render_in_a_fresh_process(folder)
+        assert printed.startswith("False ['shared library "), printed
+        assert np.array_equal(picture, expected)
 
 
 def test_without_a_c_compiler_the_render_falls_back_to_numba() -> None:
@@ -381,29 +391,14 @@ def test_without_a_c_compiler_the_render_falls_back_to_numba() -> None:
     api = load_variant("numba").api
     c, w = default_world(api)
     expected = api["render"](c, w).to_array()
-    code = (
-        "import sys\n"
-        "import numpy as np\n"
-        "from tests.test_numba import default_world\n"
-        "from variants.registry import load_variant\n"
-        "from variants.numba import specialize\n"
-        "api = load_variant('numba').api\n"
-        "c, w = default_world(api)\n"
-        "np.save(sys.argv[1], api['render'](c, w).to_array())\n"
-        "print([r.origin for r in specialize._renderers.values()])\n"
-    )
     with tempfile.TemporaryDirectory() as folder:
-        saved = Path(folder) / "image.npy"
-        env = {**os.environ, "CC": "/bin/false", "RTC_NUMBA_KERNELS": folder}
-        done = subprocess.run(
-            [sys.executable, "-c", code, str(saved)], cwd=ROOT, capture_output=True,
-            text=True, env=env,
-        )  # fmt: skip
-        assert done.returncode == 0, done.stderr
-        assert "numba cfunc with numba's disk cache" in done.stdout, done.stdout
-        assert "could not link" in done.stdout, done.stdout
+        printed, picture = _render_in_a_fresh_process(
+            folder, CC="/bin/false", RTC_NUMBA_KERNELS=folder
+        )
+        assert "numba cfunc with numba's disk cache" in printed, printed
+        assert "could not link" in printed, printed
         assert not list(Path(folder).glob("*.so"))
-        assert np.array_equal(np.load(saved), expected)
+        assert np.array_equal(picture, expected)
 
 
 def test_specialize_off_uses_the_generic_kernel() -> None:
