@@ -47,10 +47,12 @@ def runs_dir(results: Path) -> Path:
     return results / RUNS
 
 
-def new_stem(now: datetime | None = None) -> str:
-    """A fresh, sortable run name: ``bench-20250101T120000Z-1a2b3c``."""
-    stamp = (now or datetime.now(UTC)).strftime("%Y%m%dT%H%M%SZ")
-    return f"bench-{stamp}-{secrets.token_hex(3)}"
+def new_stem(now: datetime | None = None, prefix: str = "bench-") -> str:
+    """A fresh run name that sorts by start time, to the millisecond (two short runs can
+    start within one second): ``bench-20250101T120000123Z-1a2b3c``."""
+    now = now or datetime.now(UTC)
+    stamp = now.strftime("%Y%m%dT%H%M%S") + f"{now.microsecond // 1000:03d}Z"
+    return f"{prefix}{stamp}-{secrets.token_hex(3)}"
 
 
 def _pid_alive(pid: int) -> bool:

@@ -150,3 +150,18 @@ def test_a_changed_result_file_does_not_make_the_tree_dirty_but_changed_code_doe
     assert git_state(tmp_path)["dirty"] is False
     (tmp_path / "code.py").write_text("x = 2\n")
     assert git_state(tmp_path)["dirty"] is True
+
+
+def test_run_names_sort_by_start_time_within_one_second():
+    from datetime import UTC, datetime
+
+    from harness.results import new_stem
+
+    first = new_stem(datetime(2026, 11, 21, 15, 5, 46, 998_000, tzinfo=UTC))
+    second = new_stem(datetime(2026, 11, 21, 15, 5, 46, 999_000, tzinfo=UTC))
+    later = new_stem(datetime(2026, 11, 21, 15, 5, 47, 0, tzinfo=UTC))
+    assert first.startswith("bench-20261121T150546998Z-")
+    assert sorted([later, second, first]) == [first, second, later]
+    assert sorted([second, "bench-20261121T150545Z-ffffff"])[0].endswith("ffffff")  # older names
+    stability = new_stem(datetime(2026, 11, 21, tzinfo=UTC), prefix="stability-")
+    assert stability.startswith("stability-20261121T000000000Z-")

@@ -12,13 +12,12 @@ from __future__ import annotations
 
 import json
 import math
-import secrets
 from collections.abc import Sequence
-from datetime import UTC, datetime
+from datetime import datetime
 from pathlib import Path
 from typing import Any
 
-from harness.results import ResultFileError, runs_dir, write_new_file
+from harness.results import ResultFileError, new_stem, runs_dir, write_new_file
 from harness.stability.model import Case, Verdict
 from harness.stability.suite import Cell
 
@@ -80,17 +79,12 @@ def document(
     }
 
 
-def new_stem(now: datetime | None = None) -> str:
-    stamp = (now or datetime.now(UTC)).strftime("%Y%m%dT%H%M%SZ")
-    return f"{PREFIX}{stamp}-{secrets.token_hex(3)}"
-
-
 def write_run(results: Path, data: dict[str, Any]) -> Path:
     """Write ``data`` as a new run file under ``results/runs``; returns its path."""
     folder = runs_dir(results)
     folder.mkdir(parents=True, exist_ok=True)
     while True:
-        stem = new_stem()
+        stem = new_stem(prefix=PREFIX)
         path = folder / f"{stem}.json"
         if not path.exists():
             break
