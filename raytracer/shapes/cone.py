@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 from raytracer.intersections import Intersection
 from raytracer.rays import Ray
-from raytracer.shapes.cylinder import intersect_caps
+from raytracer.shapes.cylinder import intersect_caps, side_hits
 from raytracer.shapes.shape import Shape
 from raytracer.tolerance import epsilon
 from raytracer.tuples import Tuple, vector
@@ -44,11 +44,7 @@ class Cone(Shape):
                 t0 = (-b - root) / (2 * a)
                 t1 = (-b + root) / (2 * a)
                 ts.extend((t0, t1) if t0 <= t1 else (t1, t0))
-        xs: list[Intersection] = []
-        for t in ts:
-            y = origin.y + t * direction.y
-            if self.minimum < y < self.maximum:
-                xs.append(Intersection(t, self))
+        xs = side_hits(self, local_ray, tuple(ts), self.minimum, self.maximum)
         xs.extend(self._intersect_caps(local_ray))
         return xs
 

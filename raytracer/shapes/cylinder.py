@@ -36,6 +36,15 @@ def intersect_caps(
     return xs
 
 
+def side_hits(
+    shape: Shape, local_ray: Ray, ts: tuple[float, ...], minimum: float, maximum: float
+) -> list[Intersection]:
+    """Chapter 13: the side hits at ``ts`` that lie strictly between minimum and maximum
+    along y (a truncated cylinder or cone)."""
+    origin_y, direction_y = local_ray.origin.y, local_ray.direction.y
+    return [Intersection(t, shape) for t in ts if minimum < origin_y + t * direction_y < maximum]
+
+
 def _unit_radius(_: float) -> float:
     return 1.0
 
@@ -69,10 +78,7 @@ class Cylinder(Shape):
             t1 = (-b + root) / (2 * a)
             if t0 > t1:
                 t0, t1 = t1, t0
-            for t in (t0, t1):
-                y = origin.y + t * direction.y
-                if self.minimum < y < self.maximum:
-                    xs.append(Intersection(t, self))
+            xs = side_hits(self, local_ray, (t0, t1), self.minimum, self.maximum)
         xs.extend(self._intersect_caps(local_ray))
         return xs
 
