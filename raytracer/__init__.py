@@ -5,7 +5,7 @@ names to them (the book's ``tuple`` is ``tuple_`` here). Pure Python: importing 
 imports neither numpy nor numba.
 """
 
-from raytracer.camera import Camera, RenderSettings, camera, pixel_color, ray_for_pixel, render
+from raytracer.camera import Camera, RenderSettings, camera
 from raytracer.canvas import (
     Canvas,
     canvas,
@@ -22,11 +22,9 @@ from raytracer.intersections import (
     intersection,
     intersection_with_uv,
     intersections,
-    prepare_computations,
-    schlick,
 )
 from raytracer.lights import PointLight, point_light
-from raytracer.materials import Material, lighting, material
+from raytracer.materials import Material, material
 from raytracer.matrices import (
     Matrix,
     NotInvertibleError,
@@ -88,6 +86,22 @@ from raytracer.shapes.sphere import Sphere, glass_sphere, sphere
 from raytracer.shapes.test_shape import TestShape, test_shape
 from raytracer.shapes.triangle import Triangle, triangle
 from raytracer.tolerance import EPSILON, epsilon, using_epsilon
+from raytracer.tracer import (
+    TRACER,
+    Tracer,
+    color_at,
+    intersect_world,
+    is_shadowed,
+    lighting,
+    pixel_color,
+    prepare_computations,
+    ray_for_pixel,
+    reflected_color,
+    refracted_color,
+    render,
+    schlick,
+    shade_hit,
+)
 from raytracer.transformations import (
     rotation_x,
     rotation_y,
@@ -109,21 +123,12 @@ from raytracer.tuples import (
     tuple_,
     vector,
 )
-from raytracer.world import (
-    World,
-    color_at,
-    default_world,
-    intersect_world,
-    is_shadowed,
-    reflected_color,
-    refracted_color,
-    shade_hit,
-    world,
-)
+from raytracer.world import World, default_world, world
 
 __all__ = [
     "CSG",
     "EPSILON",
+    "TRACER",
     "Camera",
     "Canvas",
     "CheckersPattern",
@@ -152,6 +157,7 @@ __all__ = [
     "StripePattern",
     "TestPattern",
     "TestShape",
+    "Tracer",
     "Triangle",
     "Tuple",
     "World",

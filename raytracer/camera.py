@@ -1,4 +1,5 @@
-"""The camera (chapter 7): which ray goes through which pixel, and rendering a world.
+"""The camera (chapter 7): which ray goes through which pixel, and how to render
+(``RenderSettings``); the render loop itself is the ``Tracer``'s (``raytracer.tracer``).
 
 Naive on purpose: the camera's half extents and pixel size are computed on every access, and
 ``ray_for_pixel`` inverts the camera transform for every ray.
@@ -7,17 +8,13 @@ Naive on purpose: the camera's half extents and pixel size are computed on every
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass
 
-from raytracer.canvas import Canvas, canvas, write_pixel
-from raytracer.colors import BLACK, Color
 from raytracer.matrices import Matrix, identity_matrix, inverse_of
 from raytracer.rays import Ray
-from raytracer.sampling import MAX_SAMPLES, sample_offset
-from raytracer.tolerance import EPSILON, using_epsilon
+from raytracer.sampling import MAX_SAMPLES
+from raytracer.tolerance import EPSILON
 from raytracer.tuples import normalize, point
-from raytracer.world import World, color_at
 
 VIEW_HINT = "; view_transform(from, to, up) needs 'up' across the line from 'from' to 'to'"
 
@@ -134,50 +131,3 @@ class RenderSettings:
             raise ValueError(
                 f"RenderSettings: epsilon must be a number between 0 and 1, got {self.epsilon!r}"
             )
-
-
-def pixel_color(
-    c: Camera,
-    w: World,
-    x: int,
-    y: int,
-    settings: RenderSettings,
-    ray_at: Callable[[Camera, float, float], Ray] | None = None,
-    color_of: Callable[[World, Ray, int], Color] | None = None,
-) -> Color:
-    """The color of pixel (x, y): one ray through its centre, or the mean of the samples
-    (summed in order i = 0, 1, ... then multiplied by 1 / samples).
-
-    ray_at, color_of: the ``ray_for_pixel`` and ``color_at`` to trace with (default: these
-    modules'; a variant that keeps this loop passes its own)."""
-    ray_at = ray_at or ray_for_pixel
-    color_of = color_of or color_at
-    if settings.samples == 1:
-        return color_of(w, ray_at(c, x, y), settings.depth)
-    total = BLACK
-    for i in range(settings.samples):
-        dx, dy = sample_offset(settings.seed, x, y, i)
-        total = total + color_of(w, ray_at(c, x + dx - 0.5, y + dy - 0.5), settings.depth)
-    return total * (1.0 / settings.samples)
-
-
-def render(
-    c: Camera,
-    w: World,
-    settings: RenderSettings | None = None,
-    progress: Callable[[int], object] | None = None,
-) -> Canvas:
-    """Chapter 7: render ``w`` as seen by ``c`` into a new canvas, row by row.
-
-    settings: depth, samples per pixel, seed and epsilon (default ``RenderSettings()``);
-    progress: called with the number of rows just finished (for a progress bar).
-    """
-    settings = settings if settings is not None else RenderSettings()
-    image = canvas(c.hsize, c.vsize)
-    with using_epsilon(settings.epsilon):
-        for y in range(c.vsize):
-            for x in range(c.hsize):
-                write_pixel(image, x, y, pixel_color(c, w, x, y, settings))
-            if progress is not None:
-                progress(1)
-    return image

@@ -44,8 +44,9 @@ from raytracer.materials import Material
 from raytracer.matrices import Matrix, inverse, transpose
 from raytracer.patterns import Pattern
 from raytracer.shapes.shape import Shape
+from raytracer.tracer import Tracer
 from raytracer.world import World
-from variants.registry import Variant, check_options, reject_inner
+from variants.registry import Variant, check_options, reject_inner, tracer_variant
 
 NAME = "cached"
 
@@ -355,9 +356,10 @@ def variant(inner: Variant | None = None, **options: str) -> Variant:
     reject_inner(NAME, inner)
     check_options(NAME, options)
     api, overrides = cached_api()
-    return Variant(
-        name=NAME,
-        summary="inverse transforms of shapes, patterns and the camera computed once, when set",
+    return tracer_variant(
+        NAME,
+        "inverse transforms of shapes, patterns and the camera computed once, when set",
+        Tracer(),  # the reference's pipeline: what changes is the shapes and the camera
         api=api,
         overrides=overrides,
         base="naive",

@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from raytracer.api import naive_api
-from variants.registry import Variant, check_options, reject_inner
+from raytracer.tracer import TRACER
+from variants.registry import Variant, check_options, reject_inner, tracer_variant
 
 NAME = "naive"
 
@@ -12,8 +12,8 @@ def variant(inner: Variant | None = None, **options: str) -> Variant:
     """The reference; it takes no options and wraps nothing."""
     reject_inner(NAME, inner)
     check_options(NAME, options)
-    return Variant(
-        name=NAME,
-        summary="the reference: the book's tracer, immutable values, inverses recomputed on use",
-        api=naive_api(),
+    return tracer_variant(
+        NAME,
+        "the reference: the book's tracer, immutable values, inverses recomputed on use",
+        TRACER,
     )

@@ -55,50 +55,66 @@ class VariantError(LookupError, ValueError):
 
 @dataclass(frozen=True)
 class Variant:
-    """A tracer that answers the book's API.
+    """A tracer, named, with the book's API it answers.
 
     name: the canonical name (what ``--variant`` accepts and test ids show).
     summary: one line for ``rtc variants``.
-    api: the book's names (see ``raytracer.api.BOOK_API``) mapped to callables and constants.
-    overrides: the book names whose implementation differs from the reference's (a wrapper
-        includes its inner variant's).
+    api: the book's names (see ``raytracer.api.BOOK_API``) mapped to callables and constants;
+        the pipeline's names are the tracer's bound methods (``tracer_variant`` builds it).
+    tracer: the ``raytracer.tracer.Tracer`` that renders (None for a learner's own tracer,
+        which answers through ``api`` alone).
+    overrides: the book names whose code differs from the reference's (a wrapper's includes
+        its inner variant's).
+    steps: the ``Tracer`` methods whose code differs from the reference's (the same).
     base: the variant this one builds on or wraps (its canonical name), if any.
     usage: the options and inner variant the factory accepts, for ``rtc variants``.
     tolerance: the largest difference from ``naive``'s image, per colour channel, that this
         variant accepts (0: identical pixels, as every pure-Python float64 variant gives).
-    bench_configs: option sets ``rtc bench --variants all`` measures besides the defaults,
-        spelled in the grammar below, e.g. ``("numba[threads=1]", "numba[float32]")``; a
-        ``workers=`` or ``threads=`` option among them also puts the variant in the
-        scaling-with-workers plot.
-    count_rays: optional hook ``count_rays(camera, world, settings) -> {kind: count}``: render
-        once with counting on and return every ray cast by kind (``camera``, ``shadow``,
-        ``secondary`` ...); the harness calls it in an untimed render. Without it, only a
-        variant that renders through the reference's ``render`` gets its rays counted.
-    explain: optional hook ``explain(world) -> str``: what a render of ``world`` would run
-        (``rtc render --explain`` prints it; e.g. the feature set a compiled kernel is
-        specialized to).
-    region_renderer: optional hook ``region_renderer(camera, world, settings) -> trace``
-        where ``trace(x0, y0, x1, y1)`` returns the pixels of that rectangle (x1, y1
-        exclusive) as row-major ``[r, g, b, r, g, b, ...]`` floats, identical to what
-        ``render`` gives. It prepares once (packs the world, builds scratch) and traces
-        many regions: what a ``pooled`` worker calls per job. Without it, a worker traces
-        each pixel through the API's ``ray_for_pixel`` and ``color_at``.
     """
 
     name: str
     summary: str
     api: Mapping[str, Any] = field(repr=False)
+    tracer: Any = field(default=None, repr=False, compare=False)
     overrides: frozenset[str] = frozenset()
+    steps: tuple[str, ...] = ()
     base: str | None = None
     usage: str = "none"
     tolerance: float = 0.0
-    bench_configs: tuple[str, ...] = ()
-    count_rays: Callable[[Any, Any, Any], Mapping[str, int]] | None = field(
-        default=None, repr=False, compare=False
-    )
-    explain: Callable[[Any], str] | None = field(default=None, repr=False, compare=False)
-    region_renderer: Callable[[Any, Any, Any], Callable[[int, int, int, int], Any]] | None = field(
-        default=None, repr=False, compare=False
+
+
+def tracer_variant(
+    name: str,
+    summary: str,
+    tracer: Any,
+    *,
+    api: Mapping[str, Any] | None = None,
+    overrides: Iterable[str] = (),
+    base: str | None = None,
+    usage: str = "none",
+    tolerance: float = 0.0,
+) -> Variant:
+    """A ``Variant`` around ``tracer``: the book's API is ``api`` (default: the reference's)
+    with every pipeline name bound to ``tracer``; ``overrides`` adds the book names the
+    variant changes outside the tracer (constructors of its own shapes ...)."""
+    from raytracer.api import naive_api
+    from raytracer.tracer import BOOK_STEPS
+    from variants.wrapper import steps_overridden
+
+    mapping = dict(api if api is not None else naive_api())
+    for step in BOOK_STEPS:
+        mapping[step] = getattr(tracer, step)
+    steps = steps_overridden(tracer)
+    return Variant(
+        name=name,
+        summary=summary,
+        api=mapping,
+        tracer=tracer,
+        overrides=frozenset(overrides) | frozenset(s for s in steps if s in BOOK_STEPS),
+        steps=steps,
+        base=base,
+        usage=usage,
+        tolerance=tolerance,
     )
 
 

@@ -6,10 +6,10 @@ What changes (everything else is ``cached``'s, which is the reference's):
 - ``geometry``: shapes whose quadratics are solved without cancellation, whose parallel
   tests are exact (or relative, for triangles) instead of comparing with ``EPSILON``, and
   whose singular transforms are reported by name;
-- ``shading``: the over/under-point offset scaled to the object's size in world space and
+- ``shading``: ``RobustTracer``, which overrides four steps of the reference's pipeline:
+  the over/under-point offset scaled to the object's size in world space and
   bounded below by the rounding error of the hit point; shadows that ignore what touches the
-  light; refraction without ``inf * 0`` at very high indices; a render loop tracing with
-  these.
+  light; refraction without ``inf * 0`` at very high indices.
 
 The book's scenarios pass unchanged (``pytest tests/test_features.py --variant robust``): at
 the book's scales the offsets are the book's. Pictures differ from ``naive``'s where the
@@ -21,13 +21,9 @@ the last bits of the quadratics: by at most 0.001 per channel on
 
 from __future__ import annotations
 
-from variants.registry import Variant, check_options, reject_inner
+from variants.registry import Variant, check_options, reject_inner, tracer_variant
 
 NAME = "robust"
-SHADING = (
-    "prepare_computations", "is_shadowed", "shade_hit", "color_at", "reflected_color",
-    "refracted_color", "schlick", "render",
-)  # fmt: skip
 TOLERANCE = 1.0 / 255.0
 
 
@@ -37,18 +33,17 @@ def variant(inner: Variant | None = None, **options: str) -> Variant:
     check_options(NAME, options)
     from raytracer.api import naive_api
     from variants.cached import twin_api
-    from variants.robust import shading
     from variants.robust.geometry import ROBUST_CLASSES
+    from variants.robust.shading import RobustTracer
 
     api, overrides = twin_api(naive_api(), ROBUST_CLASSES)
-    for name in SHADING:
-        api[name] = getattr(shading, name)
-    return Variant(
-        name=NAME,
-        summary="cached, with offsets scaled to the scene, cancellation-free quadratics and "
+    return tracer_variant(
+        NAME,
+        "cached, with offsets scaled to the scene, cancellation-free quadratics and "
         "exact parallel tests: the same picture at any scale",
+        RobustTracer(),
         api=api,
-        overrides=overrides | frozenset(SHADING),
+        overrides=overrides,
         base="cached",
         tolerance=TOLERANCE,
     )

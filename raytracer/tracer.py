@@ -1,0 +1,310 @@
+"""The book's shading pipeline and render loop as one interface (chapters 6-11), after
+pbrt-v4's ``Integrator``: methods that reach each other through ``self``, so a variant
+overrides only the step it changes and every other step calls the override.
+
+::
+
+    render ─> render_region ─> prepare (once a frame) ─> pixel_color ─> ray_for_pixel
+                                                                    └─> color_at
+    color_at ─> intersect_world, prepare_computations, shade_hit
+    shade_hit ─> is_shadowed, lighting, reflected_color, refracted_color, schlick
+    reflected_color, refracted_color ─> color_at (one level deeper)
+
+The book's module-level names (``raytracer.color_at`` ...) are the bound methods of
+``TRACER``, the default instance, so ``color_at(w, r)`` means what it always meant. The
+leaf steps keep their code beside the values they work on (``lighting`` in
+``materials``, ``prepare_computations`` and ``schlick`` in ``intersections``,
+``ray_for_pixel`` in ``camera``); their methods here are what a variant overrides.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from typing import Any
+
+from raytracer.camera import Camera, RenderSettings
+from raytracer.camera import ray_for_pixel as camera_ray
+from raytracer.canvas import Canvas, canvas, write_pixel
+from raytracer.colors import BLACK, Color
+from raytracer.intersections import Computations, Intersection, hit, intersections
+from raytracer.intersections import prepare_computations as computations_for
+from raytracer.intersections import schlick as schlick_reflectance
+from raytracer.lights import PointLight
+from raytracer.materials import Material
+from raytracer.materials import lighting as phong
+from raytracer.rays import Ray, ray
+from raytracer.sampling import sample_offset
+from raytracer.shapes.shape import Shape, intersect
+from raytracer.tolerance import using_epsilon
+from raytracer.tuples import Tuple, dot, magnitude, normalize
+from raytracer.world import World
+
+Region = tuple[int, int, int, int]
+"""x0, y0, x1, y1: the pixels x0 <= x < x1, y0 <= y < y1 of an image (a row, a tile)."""
+
+Progress = Callable[[int], object]
+"""Called with the number of image rows just finished."""
+
+BOOK_STEPS = (
+    "lighting", "intersect_world", "prepare_computations", "shade_hit", "is_shadowed",
+    "color_at", "reflected_color", "refracted_color", "schlick", "ray_for_pixel", "render",
+)  # fmt: skip
+"""The methods that are book names (``raytracer.api.BOOK_API``)."""
+
+STEPS = (*BOOK_STEPS, "pixel_color", "prepare", "render_region")
+"""Every overridable step of the interface, book names first."""
+
+
+def region_rows(region: Region) -> range:
+    return range(region[1], region[3])
+
+
+def region_pixels(region: Region) -> int:
+    x0, y0, x1, y1 = region
+    return max(x1 - x0, 0) * max(y1 - y0, 0)
+
+
+def _light(w: World, caller: str) -> PointLight:
+    if w.light is None:
+        raise ValueError(f"{caller}: the world has no light source")
+    return w.light
+
+
+class Tracer:
+    """The book's tracer. Subclass it and override a step; wrap it to change where
+    ``render_region`` runs (a pool, a cluster)."""
+
+    __slots__ = ("_frame",)
+
+    def __init__(self) -> None:
+        self._frame: tuple[Camera, World, RenderSettings, Any] | None = None
+
+    # -- chapter 6
+
+    def lighting(
+        self,
+        material: Material,
+        object: Shape | None,
+        light: PointLight,
+        point: Tuple,
+        eyev: Tuple,
+        normalv: Tuple,
+        in_shadow: bool = False,
+    ) -> Color:
+        """Chapters 6, 8, 10: the Phong color of one point lit by one light."""
+        return phong(material, object, light, point, eyev, normalv, in_shadow)
+
+    # -- chapters 7 and 8
+
+    def intersect_world(self, w: World, r: Ray) -> list[Intersection]:
+        """Chapter 7: every intersection of ``r`` with every object, in a new list sorted
+        by t."""
+        xs: list[Intersection] = []
+        for obj in w.objects:
+            xs.extend(intersect(obj, r))
+        return intersections(*xs)
+
+    def prepare_computations(
+        self, hit: Intersection, r: Ray, xs: Sequence[Intersection] | None = None
+    ) -> Computations:
+        """Chapters 7, 8, 11: the state shading needs for ``hit`` (xs: every intersection
+        along ``r``, for n1 and n2)."""
+        return computations_for(hit, r, xs)
+
+    def shade_hit(self, w: World, comps: Computations, remaining: int = 5) -> Color:
+        """Chapters 7, 8, 11: the color at a hit: surface (shadowed or not), plus reflection
+        and refraction, blended with Schlick's reflectance for reflective, transparent
+        surfaces. remaining: how many more reflected or refracted rays may be spawned."""
+        light = _light(w, "shade_hit")
+        shadowed = self.is_shadowed(w, comps.over_point)
+        m = comps.object.material
+        surface = self.lighting(
+            m, comps.object, light, comps.over_point, comps.eyev, comps.normalv, shadowed
+        )
+        reflected = self.reflected_color(w, comps, remaining)
+        refracted = self.refracted_color(w, comps, remaining)
+        if m.reflective > 0 and m.transparency > 0:
+            reflectance = self.schlick(comps)
+            return surface + reflected * reflectance + refracted * (1 - reflectance)
+        return surface + reflected + refracted
+
+    def color_at(self, w: World, r: Ray, remaining: int = 5) -> Color:
+        """Chapter 7: the color seen along ``r``: black when it hits nothing."""
+        xs = self.intersect_world(w, r)
+        h = hit(xs)
+        if h is None:
+            return BLACK
+        return self.shade_hit(w, self.prepare_computations(h, r, xs), remaining)
+
+    def is_shadowed(self, w: World, point: Tuple) -> bool:
+        """Chapter 8: True when an object that casts shadows lies between ``point`` and the
+        light."""
+        light = _light(w, "is_shadowed")
+        v = light.position - point
+        distance = magnitude(v)
+        r = ray(point, normalize(v))
+        xs = [i for i in self.intersect_world(w, r) if i.object.casts_shadow]
+        h = hit(xs)
+        return h is not None and h.t < distance
+
+    # -- chapter 11
+
+    def reflected_color(self, w: World, comps: Computations, remaining: int = 5) -> Color:
+        """Chapter 11: the color reflected at the hit, scaled by the material's
+        reflectivity; black at ``remaining`` 0."""
+        reflective = comps.object.material.reflective
+        if reflective == 0 or remaining <= 0:
+            return BLACK
+        reflect_ray = ray(comps.over_point, comps.reflectv)
+        return self.color_at(w, reflect_ray, remaining - 1) * reflective
+
+    def refracted_color(self, w: World, comps: Computations, remaining: int = 5) -> Color:
+        """Chapter 11: the color seen through the surface (Snell's law), scaled by
+        transparency; black at ``remaining`` 0 and under total internal reflection."""
+        transparency = comps.object.material.transparency
+        if transparency == 0 or remaining <= 0:
+            return BLACK
+        n_ratio = comps.n1 / comps.n2
+        cos_i = dot(comps.eyev, comps.normalv)
+        sin2_t = n_ratio * n_ratio * (1 - cos_i * cos_i)
+        if sin2_t > 1:
+            return BLACK  # total internal reflection
+        cos_t = math.sqrt(1.0 - sin2_t)
+        direction = comps.normalv * (n_ratio * cos_i - cos_t) - comps.eyev * n_ratio
+        refract_ray = ray(comps.under_point, direction)
+        return self.color_at(w, refract_ray, remaining - 1) * transparency
+
+    def schlick(self, comps: Computations) -> float:
+        """Chapter 11: Schlick's approximation of the reflectance (0 to 1) at the hit."""
+        return schlick_reflectance(comps)
+
+    # -- chapter 7: the camera and the render loop
+
+    def ray_for_pixel(self, c: Camera, px: float, py: float) -> Ray:
+        """Chapter 7: the ray from the camera through (px, py) (floats aim inside a pixel)."""
+        return camera_ray(c, px, py)
+
+    def pixel_color(self, c: Camera, w: World, x: int, y: int, settings: RenderSettings) -> Color:
+        """The color of pixel (x, y): one ray through its centre (the book), or the mean of
+        ``settings.samples`` rays placed by ``raytracer.sampling`` (summed in order, then
+        multiplied by 1 / samples)."""
+        if settings.samples == 1:
+            return self.color_at(w, self.ray_for_pixel(c, x, y), settings.depth)
+        total = BLACK
+        for i in range(settings.samples):
+            dx, dy = sample_offset(settings.seed, x, y, i)
+            sample = self.ray_for_pixel(c, x + dx - 0.5, y + dy - 0.5)
+            total = total + self.color_at(w, sample, settings.depth)
+        return total * (1.0 / settings.samples)
+
+    def prepare(self, c: Camera, w: World, settings: RenderSettings) -> Any:
+        """What ``render_region`` needs for every region of one frame, made once per frame
+        (``prepared``). The reference's: a function from (x, y) to the pixel's color. A
+        variant that keeps per-render state (buffers, packed arrays) returns its own."""
+
+        def pixel(x: int, y: int) -> Color:
+            return self.pixel_color(c, w, x, y, settings)
+
+        return pixel
+
+    def prepared(self, c: Camera, w: World, settings: RenderSettings) -> Any:
+        """``prepare(c, w, settings)``, reused while the same three objects come back (a
+        worker renders many regions of one frame). The world must not change between the
+        regions of one frame; ``render`` prepares afresh on every call."""
+        frame = self._frame
+        if frame is not None and frame[0] is c and frame[1] is w and frame[2] is settings:
+            return frame[3]
+        state = self.prepare(c, w, settings)
+        self._frame = (c, w, settings, state)
+        return state
+
+    def forget(self) -> None:
+        """Drop the prepared frame (the next region prepares anew)."""
+        self._frame = None
+
+    def render_region(
+        self, c: Camera, w: World, settings: RenderSettings, region: Region
+    ) -> Sequence[float]:
+        """The pixels of ``region`` (x1, y1 exclusive) as row-major ``[r, g, b, r, g, b,
+        ...]``: the unit that ``render``, pools and clusters hand out. The one pixel loop."""
+        pixel = self.prepared(c, w, settings)
+        x0, y0, x1, y1 = region
+        values: list[float] = []
+        with using_epsilon(settings.epsilon):
+            for y in range(y0, y1):
+                for x in range(x0, x1):
+                    color = pixel(x, y)
+                    values += (color.red, color.green, color.blue)
+        return values
+
+    def render(
+        self,
+        c: Camera,
+        w: World,
+        settings: RenderSettings | None = None,
+        progress: Progress | None = None,
+    ) -> Canvas:
+        """Chapter 7: render ``w`` as seen by ``c`` into a new canvas, one row per region.
+
+        settings: depth, samples per pixel, seed and epsilon (default ``RenderSettings()``);
+        progress: called with 1 after each row.
+        """
+        settings = settings if settings is not None else RenderSettings()
+        image = canvas(c.hsize, c.vsize)
+        self.forget()
+        try:
+            for y in range(c.vsize):
+                values = self.render_region(c, w, settings, (0, y, c.hsize, y + 1))
+                write_row(image, y, values)
+                if progress is not None:
+                    progress(1)
+        finally:
+            self.forget()
+        return image
+
+    # -- what the harness asks of a tracer
+
+    def explain(self, w: World) -> str:
+        """What a render of ``w`` would run (``rtc render --explain``)."""
+        return (
+            f"{type(self).__name__}: the book's pipeline in Python, one pixel at a time; "
+            f"{len(w.objects)} objects at the top of the world"
+        )
+
+
+def write_row(image: Canvas, y: int, values: Sequence[float], x0: int = 0) -> None:
+    """Write row-major ``[r, g, b, ...]`` values into ``image`` from pixel (x0, y) on."""
+    for k in range(len(values) // 3):
+        write_pixel(image, x0 + k, y, Color(values[3 * k], values[3 * k + 1], values[3 * k + 2]))
+
+
+def write_region(image: Canvas, region: Region, values: Sequence[float]) -> None:
+    """Write a region's row-major ``[r, g, b, ...]`` values into ``image``."""
+    x0, _, x1, _ = region
+    width = 3 * (x1 - x0)
+    for row, y in enumerate(region_rows(region)):
+        write_row(image, y, values[row * width : (row + 1) * width], x0)
+
+
+def overridden_steps(tracer: Tracer) -> tuple[str, ...]:
+    """The steps whose code in ``type(tracer)`` is not the reference ``Tracer``'s."""
+    cls = type(tracer)
+    return tuple(name for name in STEPS if getattr(cls, name) is not getattr(Tracer, name))
+
+
+TRACER = Tracer()
+"""The default instance: the book's module-level names are its bound methods."""
+
+lighting = TRACER.lighting
+intersect_world = TRACER.intersect_world
+prepare_computations = TRACER.prepare_computations
+shade_hit = TRACER.shade_hit
+color_at = TRACER.color_at
+is_shadowed = TRACER.is_shadowed
+reflected_color = TRACER.reflected_color
+refracted_color = TRACER.refracted_color
+schlick = TRACER.schlick
+ray_for_pixel = TRACER.ray_for_pixel
+pixel_color = TRACER.pixel_color
+render = TRACER.render
