@@ -1,4 +1,5 @@
-"""The ``pooled`` variant: jobs cover the image, progress counts rows, and a worker that dies
+"""The ``pooled`` variant: jobs cover the image, workers trace them with the inner tracer's
+``render_region`` (one frame prepared per worker), progress counts rows, and a worker that dies
 or fails makes the render fail quickly and clearly, returning (and writing) nothing."""
 
 from __future__ import annotations
@@ -14,10 +15,13 @@ from typing import Any
 
 import pytest
 
-from raytracer.camera import RenderSettings
+from raytracer.camera import Camera, RenderSettings
+from raytracer.tracer import TRACER, Tracer
+from raytracer.world import World
 from rtc.cli import main
-from variants.pooled import PooledRender, RenderWorkerError, make_jobs
-from variants.registry import Variant, load_variant
+from variants.pooled import PooledTracer, RenderWorkerError, _serve, make_jobs
+from variants.pooled import variant as pooled_variant
+from variants.registry import Variant, VariantError, load_variant
 
 REFERENCE_SCENE = Path(__file__).resolve().parent.parent / "harness" / "scenes" / "reference.yml"
 
@@ -92,12 +96,10 @@ def test_an_exception_in_a_worker_names_the_job_and_carries_its_traceback() -> N
 
 
 def test_a_worker_that_cannot_load_its_inner_variant_says_so() -> None:
-    naive = load_variant("naive")
-    render = PooledRender("no-such-variant", naive.api["canvas"], naive.api["color"],
-                          naive.api["write_pixel"], workers=1)  # fmt: skip
-    c, w = _scene(naive, 4, 4)
+    tracer = PooledTracer(TRACER, "no-such-variant", workers=1)
+    c, w = _scene(load_variant("naive"), 4, 4)
     with pytest.raises(RenderWorkerError, match=r"worker 0 \(pid \d+\) could not start") as error:
-        render(c, w)
+        tracer.render(c, w)
     assert "unknown variant 'no-such-variant'" in str(error.value)
 
 
@@ -155,45 +157,61 @@ def test_pooling_works_after_numba_threads_ran_in_the_same_process() -> None:
     assert (image.width, image.height) == (6, 6)
 
 
-def test_a_worker_uses_the_inner_variants_region_renderer_when_it_has_one() -> None:
-    """A worker prepares the inner variant's region renderer once and calls it per job."""
-    from raytracer import camera, default_world
-    from raytracer.camera import RenderSettings
-    from variants.pooled import _region_function
-    from variants.registry import load_variant
-
-    prepared: list[object] = []
-
-    def region_renderer(c, w, settings):
-        prepared.append((c, w, settings))
-        return lambda x0, y0, x1, y1: [float(x0), float(y0), float(x1 * y1)]
-
-    base = load_variant("naive")
-    inner = dataclasses.replace(base, region_renderer=region_renderer)
-    c, w, settings = camera(4, 3, 1.0), default_world(), RenderSettings()
-    trace = _region_function(inner, c, w, settings)
-    assert prepared == [(c, w, settings)]
-    assert trace(1, 2, 3, 4) == [1.0, 2.0, 12.0]
+@pytest.mark.parametrize("inner", ["cached", "prealloc"])
+def test_a_pooled_render_is_its_inner_variants_picture(inner: str) -> None:
+    """Workers trace with the inner tracer's ``render_region``: the pixels are its own (and
+    naive's, bit for bit, for these two)."""
+    pooled = load_variant(f"pooled[workers=2,granularity=tile,tile=3]:{inner}")
+    plain = load_variant(inner)
+    c, w = _scene(plain, 9, 7)
+    settings = RenderSettings(depth=3, samples=2, seed=5)
+    expected = plain.api["render"](c, w, settings)
+    assert pooled.api["render"](c, w, settings).pixels == expected.pixels
+    naive_c, naive_w = _scene(load_variant("naive"), 9, 7)
+    assert load_variant("naive").api["render"](naive_c, naive_w, settings).pixels == expected.pixels
 
 
-def test_without_a_region_renderer_a_worker_traces_pixel_by_pixel_like_render() -> None:
-    from raytracer import camera, default_world, pixel_at, render, view_transform
-    from raytracer.camera import RenderSettings
-    from raytracer.tuples import point, vector
-    from variants.pooled import _region_function
-    from variants.registry import load_variant
+class CountingTracer(Tracer):
+    """The reference's tracer, counting the frames it prepares."""
 
-    c = dataclasses.replace(
-        camera(5, 4, 1.2),
-        transform=view_transform(point(0, 0, -5), point(0, 0, 0), vector(0, 1, 0)),
-    )
-    w = default_world()
-    trace = _region_function(load_variant("naive"), c, w, RenderSettings())
-    image = render(c, w)
-    values = trace(1, 1, 4, 3)
-    expected = []
-    for y in range(1, 3):
-        for x in range(1, 4):
-            p = pixel_at(image, x, y)
-            expected += [p.red, p.green, p.blue]
-    assert values == expected
+    __slots__ = ("prepared_frames",)
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.prepared_frames = 0
+
+    def prepare(self, c: Camera, w: World, settings: RenderSettings) -> Any:
+        self.prepared_frames += 1
+        return super().prepare(c, w, settings)
+
+
+def test_a_worker_prepares_its_frame_once_and_calls_render_region_per_job() -> None:
+    c, w = _scene(load_variant("naive"), 5, 4)
+    settings = RenderSettings()
+    jobs = make_jobs(5, 4, "tile", 2)
+    parent_end, worker_end = multiprocessing.Pipe()
+    for index, job in enumerate(jobs):
+        parent_end.send((index, job))
+    parent_end.send(None)
+    tracer, reference = CountingTracer(), Tracer()
+    try:
+        _serve(worker_end, tracer, c, w, settings)
+        assert tracer.prepared_frames == 1
+        for index, job in enumerate(jobs):
+            assert parent_end.recv() == (
+                "done",
+                index,
+                reference.render_region(c, w, settings, job),
+            )
+        assert not parent_end.poll()
+    finally:
+        parent_end.close()
+        worker_end.close()
+
+
+def test_a_variant_without_a_tracer_cannot_be_pooled() -> None:
+    """A learner's own variant answers through its api alone: no ``render_region`` for the
+    workers to call."""
+    learners = Variant("learners", "a learner's own", dict(load_variant("naive").api))
+    with pytest.raises(VariantError, match=r"'pooled' cannot wrap 'learners': it has no tracer"):
+        pooled_variant(learners, workers="1")

@@ -22,6 +22,7 @@ import pytest
 import raytracer as rt
 from harness.scenefile import load_scene
 from raytracer.camera import RenderSettings
+from raytracer.tracer import BOOK_STEPS
 from variants.cached import to_twins
 from variants.prealloc import api as pa
 from variants.prealloc.buffers import IntersectionBuffer, new_ray
@@ -29,10 +30,12 @@ from variants.prealloc.context import TraceContext
 from variants.prealloc.records import PreallocUnsupported
 from variants.prealloc.render import PixelTracer
 from variants.prealloc.shading import intersect_world_into
+from variants.prealloc.tracer import PreallocTracer
 from variants.registry import VariantError, load_variant
 
 REFERENCE_SCENE = Path(__file__).resolve().parents[1] / "harness" / "scenes" / "reference.yml"
 Api = Mapping[str, Any]
+PT = PreallocTracer()  # the pipeline's steps, each converting at the boundary
 
 
 @pytest.fixture(scope="module")
@@ -220,6 +223,33 @@ def test_a_pixel_tracer_carries_nothing_from_one_pixel_to_the_next(prealloc: Api
         assert tracer(x, y) == rt.pixel_at(image, x, y), f"pixel ({x}, {y})"
 
 
+class CountingTracer(PreallocTracer):
+    """Counts the frames it prepares (each a ``PixelTracer``)."""
+
+    __slots__ = ("frames",)
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.frames: list[PixelTracer] = []
+
+    def prepare(self, c: Any, w: Any, settings: RenderSettings) -> PixelTracer:
+        self.frames.append(super().prepare(c, w, settings))
+        return self.frames[-1]
+
+
+def test_a_render_prepares_one_pixel_tracer_per_frame(prealloc: Api) -> None:
+    """The reference's pixel loop asks ``prepare`` once a frame: one set of records and
+    buffers for every row."""
+    c = aimed_camera(prealloc, 5, 4, rt.point(0, 0, -5), rt.point(0, 0, 0))
+    w = prealloc["default_world"]()
+    tracer = CountingTracer()
+    image = tracer.render(c, w)
+    assert len(tracer.frames) == 1 and isinstance(tracer.frames[0], PixelTracer)
+    assert image.pixels == prealloc["render"](c, w).pixels
+    tracer.render(c, w)
+    assert len(tracer.frames) == 2, "each render prepares afresh"
+
+
 def test_progress_is_called_once_per_row(prealloc: Api) -> None:
     rows: list[int] = []
     c = aimed_camera(prealloc, 5, 4, rt.point(0, 0, -5), rt.point(0, 0, 0))
@@ -294,16 +324,16 @@ def test_random_rays_give_the_reference_s_computations_in_the_every_feature_worl
     w = every_feature_world(load_variant("cached").api)  # the reference's code, fast inverses
     shaded = 0
     for r in random_rays(120, seed=9):
-        expected, got = rt.intersect_world(w, r), pa.intersect_world(w, r)
+        expected, got = rt.intersect_world(w, r), PT.intersect_world(w, r)
         assert same_intersections(expected, got)
         h = rt.hit(expected)
         assert pa.hit(expected) is h
         if h is None:
             continue
         comps = rt.prepare_computations(h, r, expected)
-        assert pa.prepare_computations(h, r, expected) == comps
-        assert pa.shade_hit(w, comps, 3) == rt.shade_hit(w, comps, 3)
-        assert pa.is_shadowed(w, comps.over_point) == rt.is_shadowed(w, comps.over_point)
+        assert PT.prepare_computations(h, r, expected) == comps
+        assert PT.shade_hit(w, comps, 3) == rt.shade_hit(w, comps, 3)
+        assert PT.is_shadowed(w, comps.over_point) == rt.is_shadowed(w, comps.over_point)
         shaded += 1
     assert shaded > 30
 
@@ -335,7 +365,7 @@ def test_an_unknown_shape_type_is_refused_by_name() -> None:
     w.objects.append(Blob())
     w.light = rt.point_light(rt.point(0, 5, -5), rt.color(1, 1, 1))
     with pytest.raises(PreallocUnsupported, match="shape type Blob"):
-        pa.render(rt.camera(4, 3, 1.0), w)
+        PreallocTracer().render(rt.camera(4, 3, 1.0), w)
     with pytest.raises(PreallocUnsupported, match="shape type Blob"):
         pa.intersect(Blob(), rt.ray(rt.point(0, 0, -5), rt.vector(0, 0, 1)))
 
@@ -363,9 +393,14 @@ def test_the_registry_entry_builds_on_cached_and_overrides_the_hot_path() -> Non
     v = load_variant("prealloc")
     cached = load_variant("cached")
     assert v.name == "prealloc" and v.base == "cached"
-    assert v.overrides >= pa.OVERRIDES and cached.overrides <= v.overrides
+    assert isinstance(v.tracer, PreallocTracer)
+    pipeline = set(BOOK_STEPS) - {"render"}  # the one render loop is the reference's
+    assert set(v.steps) == pipeline | {"prepare"}
+    assert v.overrides == pa.OVERRIDES | pipeline | cached.overrides
     for name in pa.OVERRIDES:
         assert v.api[name] is pa.API[name]
+    for name in BOOK_STEPS:
+        assert v.api[name].__self__ is v.tracer, name
     assert type(v.api["sphere"]()) is type(cached.api["sphere"]())
 
 

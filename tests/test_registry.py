@@ -8,9 +8,11 @@ from typing import Any
 
 import pytest
 
+from raytracer.tracer import BOOK_STEPS
 from rtc.cli import main
 from steps.plugin import select_variants
 from variants import registry
+from variants.pooled import PooledTracer
 from variants.registry import (
     Variant,
     VariantError,
@@ -138,9 +140,11 @@ def test_pooled_alone_wraps_naive_and_overrides_only_render() -> None:
     pooled = load_variant("pooled[workers=2]")
     naive = load_variant("naive")
     assert pooled.name == "pooled[workers=2]:naive" and pooled.base == "naive"
-    assert pooled.overrides == {"render"}
+    assert pooled.overrides == {"render"} and pooled.steps == ("render",)
+    assert isinstance(pooled.tracer, PooledTracer) and pooled.tracer.inner is naive.tracer
     differing = {name for name in naive.api if pooled.api[name] is not naive.api[name]}
-    assert differing == {"render"}
+    assert differing == set(BOOK_STEPS)  # bound to the wrapper, which forwards all but render
+    assert all(pooled.api[name].__self__ is pooled.tracer for name in BOOK_STEPS)
     over_cached = load_variant("pooled[workers=2]:cached")
     assert over_cached.overrides == load_variant("cached").overrides | {"render"}
 

@@ -13,19 +13,19 @@ Name and options (the grammar of ``variants.registry``)::
 - ``INNER``: the variant that traces the rays (default ``naive``): ``pooled:cached``,
   ``pooled[workers=2]:prealloc``.
 
-Only ``render`` is overridden; every other book name is the inner variant's. ``render(c, w,
-settings, progress)``:
+``PooledTracer`` is a ``Wrapper`` of the inner variant's tracer that overrides ``render``
+only; every other step (and book name) is the inner variant's. ``render(c, w, settings,
+progress)``:
 
 - starts the workers with the ``spawn`` start method (a fork after numba's OpenMP threads
   hangs, see DESIGN.md); each worker loads the inner variant from the registry by its
   canonical name and receives the camera, the world and the settings once, when it starts
   (they must pickle: the twins of ``variants.cached`` do); never per job;
 - sends each worker at most ``IN_FLIGHT`` jobs at a time over its own pipe, so the parent
-  always knows which jobs each worker holds; a worker traces a job with the inner variant's
-  ``region_renderer`` hook if it has one (prepared once per worker: ``prealloc`` and
-  ``numba`` pack the world once), or else each pixel with the inner variant's
-  ``ray_for_pixel`` and ``color_at``, exactly as the reference's ``pixel_color`` does (same
-  samples, same order, so the pixels are identical);
+  always knows which jobs each worker holds; a worker traces a job with its inner tracer's
+  ``render_region`` (the frame prepared once per worker, through ``Tracer.prepared``:
+  ``prealloc`` builds one ``PixelTracer``, ``numba`` packs the world once), so the pixels
+  are the inner variant's own;
 - calls ``progress(rows)`` as jobs complete, with the number of image rows just finished;
 - keeps the pool for one render only: starting it (a fresh interpreter per worker, about
   0.2 to 0.5 s) is part of every render's time;
@@ -42,15 +42,15 @@ import os
 import signal
 import traceback
 from collections import deque
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 from multiprocessing import get_context
 from multiprocessing.connection import Connection, wait
 from typing import Any
 
-from raytracer.camera import Camera, RenderSettings, pixel_color
-from raytracer.canvas import Canvas
-from raytracer.tolerance import using_epsilon
+from raytracer.camera import Camera, RenderSettings
+from raytracer.canvas import Canvas, canvas
+from raytracer.tracer import Progress, Region, Tracer, write_region
 from raytracer.world import World
 from variants.registry import (
     RenderError,
@@ -61,7 +61,9 @@ from variants.registry import (
     load_variant,
     parse_choice,
     parse_int,
+    tracer_variant,
 )
+from variants.wrapper import Wrapper
 
 NAME = "pooled"
 GRANULARITIES = ("line", "pixel", "tile")
@@ -77,15 +79,7 @@ USAGE = (
     "wraps INNER (pooled:INNER, default naive)"
 )
 
-# what ``rtc bench --variants all`` measures besides the default (see variants.registry)
-BENCH_CONFIGS = (
-    "pooled[workers=1]",
-    "pooled[granularity=pixel]",
-    "pooled[granularity=tile]",
-    "pooled:prealloc",
-)
-
-Job = tuple[int, int, int, int]  # x0, y0, x1, y1: the pixels x0 <= x < x1, y0 <= y < y1
+Job = Region  # x0, y0, x1, y1: the pixels x0 <= x < x1, y0 <= y < y1
 
 
 class RenderWorkerError(RenderError):
@@ -113,6 +107,10 @@ def make_jobs(hsize: int, vsize: int, granularity: str, tile: int = DEFAULT_TILE
     ]
 
 
+def _unit(granularity: str, tile: int) -> str:
+    return f"{tile}x{tile} tile" if granularity == "tile" else granularity
+
+
 def describe_job(job: Job) -> str:
     x0, y0, x1, y1 = job
     if (x1 - x0, y1 - y0) == (1, 1):
@@ -125,64 +123,38 @@ def describe_job(job: Job) -> str:
 # ------------------------------------------------------------------------------ a worker
 
 
-def _pixel_function(
-    api: Mapping[str, Any],
-) -> Callable[[Camera, World, int, int, RenderSettings], Any]:
-    """The reference's ``pixel_color`` through an API's ``ray_for_pixel`` and ``color_at``."""
-    ray_at, color_of = api["ray_for_pixel"], api["color_at"]
-
-    def pixel(c: Camera, w: World, x: int, y: int, settings: RenderSettings) -> Any:
-        return pixel_color(c, w, x, y, settings, ray_at, color_of)
-
-    return pixel
-
-
-def _region_function(
-    inner: Variant, c: Camera, w: World, settings: RenderSettings
-) -> Callable[[int, int, int, int], Any]:
-    """How a worker traces a job: the inner variant's ``region_renderer`` (prepared once per
-    worker), or else each pixel through its ``ray_for_pixel`` and ``color_at``."""
-    if inner.region_renderer is not None:
-        return inner.region_renderer(c, w, settings)
-    pixel = _pixel_function(inner.api)
-
-    def trace(x0: int, y0: int, x1: int, y1: int) -> list[float]:
-        values: list[float] = []
-        for y in range(y0, y1):
-            for x in range(x0, x1):
-                color = pixel(c, w, x, y, settings)
-                values += (color.red, color.green, color.blue)
-        return values
-
-    return trace
+def _serve(conn: Connection, tracer: Tracer, c: Camera, w: World, settings: RenderSettings) -> None:
+    """Trace the jobs ``conn`` brings with ``tracer.render_region`` until ``None`` (one frame:
+    the tracer prepares it once, for the first job)."""
+    while True:
+        message = conn.recv()
+        if message is None:
+            return
+        index, job = message
+        try:
+            values = list(tracer.render_region(c, w, settings, job))
+        except BaseException:
+            conn.send(("error", index, traceback.format_exc()))
+            return
+        conn.send(("done", index, values))
 
 
 def _worker_main(
     conn: Connection, inner: str, c: Camera, w: World, settings: RenderSettings
 ) -> None:
-    """One worker: load the inner variant, then trace the jobs it is sent until ``None``.
+    """One worker: load the inner variant by name, then trace the jobs it is sent until
+    ``None`` with its tracer.
 
     Sends ``("done", index, [r, g, b, ...])`` per job (row-major), or ``("error", index,
     traceback)`` and stops; ``("init-error", -1, traceback)`` if it cannot start.
     """
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
     try:
-        trace = _region_function(load_variant(inner), c, w, settings)
+        tracer = _tracer_of(load_variant(inner))
     except BaseException:
         conn.send(("init-error", -1, traceback.format_exc()))
         return
-    with using_epsilon(settings.epsilon):
-        while True:
-            message = conn.recv()
-            if message is None:
-                return
-            index, (x0, y0, x1, y1) = message
-            try:
-                values = list(trace(x0, y0, x1, y1))
-            except BaseException:
-                conn.send(("error", index, traceback.format_exc()))
-                return
-            conn.send(("done", index, values))
+    _serve(conn, tracer, c, w, settings)
 
 
 # ------------------------------------------------------------------------------ the pool
@@ -330,41 +302,42 @@ class _Pool:
 # ------------------------------------------------------------------------------ render
 
 
-@dataclass(frozen=True)
-class PooledRender:
-    """Chapter 7's ``render`` on a pool of ``workers`` processes over the ``inner`` variant
-    (its canonical name); ``granularity`` and ``tile`` choose the jobs."""
+class PooledTracer(Wrapper):
+    """Chapter 7's ``render`` on a pool of ``workers`` processes, each tracing regions with
+    the ``inner_name`` variant's tracer; every other step is ``inner``'s (the same variant's
+    tracer in this process). ``granularity`` and ``tile`` choose the jobs."""
 
-    inner: str
-    canvas: Callable[[int, int], Canvas]
-    color: Callable[[float, float, float], Any]
-    write_pixel: Callable[[Canvas, int, int, Any], None]
-    workers: int
-    granularity: str = DEFAULT_GRANULARITY
-    tile: int = DEFAULT_TILE
+    def __init__(
+        self,
+        inner: Tracer,
+        inner_name: str,
+        workers: int,
+        granularity: str = DEFAULT_GRANULARITY,
+        tile: int = DEFAULT_TILE,
+    ) -> None:
+        super().__init__(inner)
+        self.inner_name = inner_name
+        self.workers = workers
+        self.granularity = granularity
+        self.tile = tile
 
-    def __call__(
+    def render(
         self,
         c: Camera,
         w: World,
         settings: RenderSettings | None = None,
-        progress: Callable[[int], object] | None = None,
+        progress: Progress | None = None,
     ) -> Canvas:
-        """Render ``w`` as seen by ``c``; ``progress(rows)`` as rows complete."""
+        """Chapter 7: render ``w`` as seen by ``c``; ``progress(rows)`` as rows complete."""
         settings = settings if settings is not None else RenderSettings()
-        image = self.canvas(c.hsize, c.vsize)
+        image = canvas(c.hsize, c.vsize)
         jobs = make_jobs(c.hsize, c.vsize, self.granularity, self.tile)
         left_in_row = [c.hsize] * c.vsize
-        pool = _Pool(min(self.workers, len(jobs)), self.inner, c, w, settings)
+        pool = _Pool(min(self.workers, len(jobs)), self.inner_name, c, w, settings)
         try:
             for index, values in pool.results(jobs):
+                write_region(image, jobs[index], values)
                 x0, y0, x1, y1 = jobs[index]
-                at = 0
-                for y in range(y0, y1):
-                    for x in range(x0, x1):
-                        red, green, blue = values[at : at + 3]
-                        self.write_pixel(image, x, y, self.color(red, green, blue))
-                        at += 3
                 finished = 0
                 for y in range(y0, y1):
                     left_in_row[y] -= x1 - x0
@@ -374,6 +347,13 @@ class PooledRender:
         finally:
             pool.close()
         return image
+
+    def explain(self, w: World) -> str:
+        unit = _unit(self.granularity, self.tile)
+        return (
+            f"{type(self).__name__}: {self.workers} worker processes, one {unit} per job, "
+            f"each tracing with {self.inner_name}; {self.inner.explain(w)}"
+        )
 
 
 # ------------------------------------------------------------------------------ factory
@@ -400,42 +380,35 @@ def _settings(options: Mapping[str, str]) -> tuple[int, str, int]:
     return workers, granularity, tile
 
 
+def _tracer_of(inner: Variant) -> Tracer:
+    """The inner variant's tracer; a ``VariantError`` for a variant without one."""
+    if not isinstance(inner.tracer, Tracer):
+        raise VariantError(
+            f"variant {NAME!r} cannot wrap {inner.name!r}: it has no tracer (a "
+            "raytracer.tracer.Tracer whose render_region the workers call); a variant that "
+            "answers through its api alone can only render in one process"
+        )
+    return inner.tracer
+
+
 def variant(inner: Variant | None = None, **options: str) -> Variant:
     """The registry's factory: ``pooled[workers=N,granularity=G,tile=S]:INNER``."""
     workers, granularity, tile = _settings(options)
     inner = inner if inner is not None else load_variant("naive")
-    missing = [
-        name
-        for name in ("ray_for_pixel", "color_at", "canvas", "color", "write_pixel")
-        if name not in inner.api
-    ]
-    if missing:
-        raise VariantError(
-            f"variant {NAME!r} cannot wrap {inner.name!r}: it has no {', '.join(missing)}"
-        )
+    tracer = PooledTracer(_tracer_of(inner), inner.name, workers, granularity, tile)
     spelled: dict[str, object] = {"workers": workers}
     if granularity != DEFAULT_GRANULARITY:
         spelled["granularity"] = granularity
     if granularity == "tile" and tile != DEFAULT_TILE:
         spelled["tile"] = tile
-    render = PooledRender(
-        inner=inner.name,
-        canvas=inner.api["canvas"],
-        color=inner.api["color"],
-        write_pixel=inner.api["write_pixel"],
-        workers=workers,
-        granularity=granularity,
-        tile=tile,
-    )
-    unit = f"{tile}x{tile} tile" if granularity == "tile" else granularity
-    return Variant(
-        name=canonical_name(NAME, spelled, inner),
-        summary=f"render on {workers} worker processes, one {unit} per job, tracing with "
-        f"{inner.name}",
-        api={**inner.api, "render": render},
-        overrides=inner.overrides | {"render"},
+    return tracer_variant(
+        canonical_name(NAME, spelled, inner),
+        f"render on {workers} worker processes, one {_unit(granularity, tile)} per job, "
+        f"tracing with {inner.name}",
+        tracer,
+        api={**inner.api},
+        overrides=inner.overrides,
         base=inner.name,
         usage=USAGE,
         tolerance=inner.tolerance,
-        bench_configs=BENCH_CONFIGS,
     )

@@ -21,13 +21,15 @@ Paired micro-benchmarks of each change against its naive twin: see
 
 Modules: ``buffers`` (the reused containers), ``geometry`` (matrix and tuple arithmetic),
 ``records``/``patterns``/``shapes`` (flat per-render copies of the scene), ``context`` (one
-render's records and scratch), ``shading`` (chapters 6-11), ``render`` (the camera,
-``PixelTracer`` and the loop), ``api`` (the book's functions, converting at the boundary).
+render's records and scratch), ``shading`` (chapters 6-11), ``render`` (the camera and
+``PixelTracer``, one per frame), ``tracer`` (``PreallocTracer``: the pipeline's steps,
+converting at the boundary, and ``prepare``), ``api`` (the book's other functions). The
+pixel loop is the reference ``Tracer.render_region``.
 """
 
 from __future__ import annotations
 
-from variants.registry import Variant, check_options, reject_inner
+from variants.registry import Variant, check_options, reject_inner, tracer_variant
 
 NAME = "prealloc"
 
@@ -37,18 +39,18 @@ def variant(inner: Variant | None = None, **options: str) -> Variant:
     ``cached``: wrap it instead, e.g. ``pooled:prealloc``)."""
     reject_inner(NAME, inner)
     check_options(NAME, options)
-    from variants.cached import variant as cached_variant
+    from variants.cached import cached_api
     from variants.prealloc.api import API, OVERRIDES
-    from variants.prealloc.render import region_renderer
+    from variants.prealloc.tracer import PreallocTracer
 
-    base = cached_variant()
-    return Variant(
-        name=NAME,
-        summary="cached, plus a hot path that reuses preallocated buffers instead of making "
+    api, constructors = cached_api()
+    return tracer_variant(
+        NAME,
+        "cached, plus a hot path that reuses preallocated buffers instead of making "
         "Tuple/Ray/Intersection/Color objects",
-        api={**base.api, **API},
-        # differs from the reference: its own hot path (OVERRIDES) and cached's constructors
-        overrides=OVERRIDES | base.overrides,
-        base=base.name,
-        region_renderer=region_renderer,
+        PreallocTracer(),
+        api={**api, **API},
+        # besides the tracer's steps: the functions of ``api`` and cached's constructors
+        overrides=OVERRIDES | constructors,
+        base="cached",
     )

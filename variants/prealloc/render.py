@@ -1,5 +1,5 @@
-"""The camera and the render loop (chapter 7) with one ray buffer and one colour buffer for
-the whole image.
+"""The camera and the pixels (chapter 7) with one ray buffer and one colour buffer for the
+whole image; the loop over the pixels is the reference ``Tracer.render_region``.
 
 The camera's inverse transform, its origin in world space and its pixel size are read once
 per render (the naive ``ray_for_pixel`` inverts the camera transform for every pixel).
@@ -10,13 +10,10 @@ Samples per pixel, seed and epsilon follow ``raytracer.camera.RenderSettings`` a
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 
 from raytracer.camera import Camera, RenderSettings
-from raytracer.canvas import Canvas, canvas, write_pixel
 from raytracer.colors import Color
 from raytracer.sampling import sample_offset
-from raytracer.tolerance import using_epsilon
 from raytracer.world import World
 from variants.prealloc.buffers import Vec, new_color, new_ray
 from variants.prealloc.context import TraceContext
@@ -93,12 +90,12 @@ def pixel_color_into(
 
 
 class PixelTracer:
-    """Everything one render reuses for every pixel: the context (records, per-depth
-    scratch), the camera record and the ray and colour buffers. ``tracer(x, y)`` is pixel
-    (x, y)'s colour, as the reference's ``pixel_color(c, w, x, y, settings)`` computes it.
+    """Chapter 7: everything one frame reuses for every pixel: the context (records,
+    per-depth scratch), the camera record and the ray and colour buffers. ``tracer(x, y)``
+    is pixel (x, y)'s colour, as the reference's ``pixel_color`` computes it.
 
-    A process that renders part of an image (a ``pooled`` worker) can build one tracer and
-    call it for each of its pixels, instead of ``color_at``, which builds a context per call.
+    ``PreallocTracer.prepare`` makes one per frame (a ``pooled`` worker: one for all its
+    jobs); ``Tracer.render_region`` calls it for each pixel.
     """
 
     __slots__ = ("camera", "color", "ctx", "ray", "sample", "settings")
@@ -113,45 +110,3 @@ class PixelTracer:
         color = self.color
         pixel_color_into(self.ctx, self.camera, x, y, self.settings, self.ray, self.sample, color)
         return Color(color[0], color[1], color[2])
-
-
-def region_renderer(
-    c: Camera, w: World, settings: RenderSettings | None = None
-) -> Callable[[int, int, int, int], list[float]]:
-    """The registry's ``region_renderer`` hook: one ``PixelTracer`` for many regions, so a
-    ``pooled`` worker builds the records and scratch once, not per pixel."""
-    tracer = PixelTracer(c, w, settings)
-
-    def trace(x0: int, y0: int, x1: int, y1: int) -> list[float]:
-        values: list[float] = []
-        with using_epsilon(tracer.settings.epsilon):
-            for y in range(y0, y1):
-                for x in range(x0, x1):
-                    color = tracer(x, y)
-                    values += (color.red, color.green, color.blue)
-        return values
-
-    return trace
-
-
-def render(
-    c: Camera,
-    w: World,
-    settings: RenderSettings | None = None,
-    progress: Callable[[int], object] | None = None,
-) -> Canvas:
-    """Chapter 7: render ``w`` through ``c`` row by row with one ``PixelTracer`` (naive
-    twin: ``raytracer.camera.render``).
-
-    settings: depth, samples per pixel, seed and epsilon; progress: called with 1 after
-    each row.
-    """
-    tracer = PixelTracer(c, w, settings)
-    image = canvas(c.hsize, c.vsize)
-    with using_epsilon(tracer.settings.epsilon):
-        for y in range(c.vsize):
-            for x in range(c.hsize):
-                write_pixel(image, x, y, tracer(x, y))
-            if progress is not None:
-                progress(1)
-    return image

@@ -1,0 +1,156 @@
+"""``PreallocTracer``: the book's pipeline (chapters 6, 7, 8, 11) on the ``prealloc`` hot path.
+
+Each step the book's scenarios call converts the reference's values into buffers, runs its
+``..._into`` twin (``shading``, ``render``) on a small context of its own, and converts the
+result back. A render is where preallocation pays: ``prepare`` builds one ``PixelTracer``
+per frame (the records of the scene, the per-depth scratch, the ray and colour buffers) and
+the reference's ``render_region`` calls it for every pixel.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+
+from raytracer.camera import Camera, RenderSettings
+from raytracer.colors import Color
+from raytracer.intersections import Computations, Intersection
+from raytracer.lights import PointLight
+from raytracer.materials import Material
+from raytracer.rays import Ray
+from raytracer.shapes.shape import Shape
+from raytracer.tracer import Tracer
+from raytracer.tuples import Tuple
+from raytracer.world import World
+from variants.prealloc import shading
+from variants.prealloc.api import (
+    buffer_in,
+    call_context,
+    color_out,
+    comps_in,
+    comps_out,
+    intersections_out,
+    ray_in,
+    ray_out,
+    tuple_in,
+)
+from variants.prealloc.buffers import (
+    ComputationsBuffer,
+    IntersectionBuffer,
+    Vec,
+    new_color,
+    new_ray,
+)
+from variants.prealloc.context import TraceContext, material_record
+from variants.prealloc.records import LightRecord
+from variants.prealloc.render import CameraRecord, PixelTracer, ray_for_pixel_into
+
+
+def _shade(
+    step: Callable[[TraceContext, ComputationsBuffer, int, Vec], None],
+    w: World,
+    comps: Computations,
+    remaining: int,
+) -> Color:
+    ctx = call_context(w, remaining)
+    out = new_color()
+    step(ctx, comps_in(ctx, comps), remaining, out)
+    return color_out(out)
+
+
+class PreallocTracer(Tracer):
+    """The book's tracer with every step on preallocated buffers (chapters 6-11)."""
+
+    __slots__ = ()
+
+    def lighting(
+        self,
+        material: Material,
+        object: Shape | None,
+        light: PointLight,
+        point: Tuple,
+        eyev: Tuple,
+        normalv: Tuple,
+        in_shadow: bool = False,
+    ) -> Color:
+        """Chapters 6, 8, 10: ``lighting_into`` on a new buffer."""
+        ctx = call_context()
+        obj = None if object is None else ctx.record(object)
+        out = new_color()
+        shading.lighting_into(
+            ctx,
+            material_record(material),
+            obj,
+            LightRecord(light),
+            tuple_in(point),
+            tuple_in(eyev),
+            tuple_in(normalv),
+            bool(in_shadow),
+            out,
+        )
+        return color_out(out)
+
+    def intersect_world(self, w: World, r: Ray) -> list[Intersection]:
+        """Chapter 7: ``intersect_world_into`` on a new buffer."""
+        xs = IntersectionBuffer()
+        shading.intersect_world_into(call_context(w), ray_in(r), xs)
+        return intersections_out(xs)
+
+    def prepare_computations(
+        self, hit: Intersection, r: Ray, xs: Sequence[Intersection] | None = None
+    ) -> Computations:
+        """Chapters 7, 8, 11: ``prepare_computations_into`` on new buffers."""
+        ctx = call_context()
+        ray = ray_in(r)
+        comps = ComputationsBuffer()
+        if xs is None:
+            only = buffer_in(ctx, [hit])
+            shading.prepare_computations_into(ctx, only, 0, ray, only, 0, comps)
+        else:
+            buffer = buffer_in(ctx, xs)
+            index = next((j for j, i in enumerate(xs) if i is hit), -1)
+            hits, h = (buffer, index) if index >= 0 else (buffer_in(ctx, [hit]), 0)
+            shading.prepare_computations_into(ctx, hits, h, ray, buffer, index, comps)
+        return comps_out(comps)
+
+    def shade_hit(self, w: World, comps: Computations, remaining: int = 5) -> Color:
+        """Chapters 7, 8, 11: ``shade_hit_into`` on a new buffer."""
+        return _shade(shading.shade_hit_into, w, comps, remaining)
+
+    def color_at(self, w: World, r: Ray, remaining: int = 5) -> Color:
+        """Chapter 7: ``color_at_into`` on a new buffer."""
+        out = new_color()
+        shading.color_at_into(call_context(w, remaining), ray_in(r), remaining, out)
+        return color_out(out)
+
+    def is_shadowed(self, w: World, point: Tuple) -> bool:
+        """Chapter 8: ``is_shadowed`` with the context's shadow buffers."""
+        return shading.is_shadowed(call_context(w), tuple_in(point))
+
+    def reflected_color(self, w: World, comps: Computations, remaining: int = 5) -> Color:
+        """Chapter 11: ``reflected_color_into`` on a new buffer."""
+        return _shade(shading.reflected_color_into, w, comps, remaining)
+
+    def refracted_color(self, w: World, comps: Computations, remaining: int = 5) -> Color:
+        """Chapter 11: ``refracted_color_into`` on a new buffer."""
+        return _shade(shading.refracted_color_into, w, comps, remaining)
+
+    def schlick(self, comps: Computations) -> float:
+        """Chapter 11: ``schlick`` of the buffered computations."""
+        return shading.schlick(comps_in(call_context(), comps))
+
+    def ray_for_pixel(self, c: Camera, px: float, py: float) -> Ray:
+        """Chapter 7: ``ray_for_pixel_into`` on a new buffer."""
+        out = new_ray()
+        ray_for_pixel_into(CameraRecord(c), px, py, out)
+        return ray_out(out)
+
+    def prepare(self, c: Camera, w: World, settings: RenderSettings) -> PixelTracer:
+        """Chapter 7: one frame's records and buffers, reused for every pixel."""
+        return PixelTracer(c, w, settings)
+
+    def explain(self, w: World) -> str:
+        return (
+            f"{type(self).__name__}: cached's shapes traced through per-frame records and "
+            f"reused buffers (one PixelTracer per frame); {len(w.objects)} objects at the top "
+            "of the world"
+        )
