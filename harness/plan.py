@@ -1,9 +1,9 @@
 """What a bench run measures: its settings (quick, full or custom) and its list of variants.
 
 ``--variants all`` means every available variant with its default options plus the option
-sets it advertises for benchmarking (``Variant.bench_configs``, spelled in the registry's
-grammar, e.g. ``numba[float32]`` or ``pooled[workers=1]``). ``naive`` is always measured: the
-speed-ups and image errors are taken against it, in the same run.
+sets ``BENCH_CONFIGS`` lists for it (spelled in the registry's grammar, e.g.
+``numba[float32]`` or ``pooled[workers=1]``). ``naive`` is always measured: the speed-ups and
+image errors are taken against it, in the same run.
 """
 
 from __future__ import annotations
@@ -18,6 +18,18 @@ from harness.sizes import Size, smaller_sizes
 BASELINE = "naive"
 SECTIONS = ("table", "sweep", "scaling", "preset", "kata")
 PARALLEL_OPTIONS = ("workers", "threads")  # options whose value is a worker or thread count
+BENCH_CONFIGS: dict[str, tuple[str, ...]] = {
+    "pooled": (
+        "pooled[workers=1]",
+        "pooled[granularity=pixel]",
+        "pooled[granularity=tile]",
+        "pooled:prealloc",
+        "pooled[workers=1]:numba",
+        "pooled[workers=2]:numba[threads=1]",
+    ),
+    "numba": ("numba[threads=1]", "numba[float32]", "numba[fastmath]", "numba[specialize=off]"),
+}
+"""Registry name -> what ``--variants all`` measures besides its default options."""
 
 
 @dataclass(frozen=True)
@@ -124,8 +136,11 @@ def split_names(text: str) -> list[str]:
 
 
 def bench_configs(variant: Any) -> tuple[str, ...]:
-    """The option sets a variant advertises for benchmarking (none if it has no such field)."""
-    return tuple(getattr(variant, "bench_configs", ()) or ())
+    """``BENCH_CONFIGS`` of a variant's registry entry (a name, or a ``Variant``)."""
+    from variants.registry import parse_variant_name
+
+    name = variant if isinstance(variant, str) else variant.name
+    return BENCH_CONFIGS.get(parse_variant_name(name).name, ())
 
 
 def expand_variants(text: str) -> tuple[list[str], dict[str, str]]:
@@ -144,7 +159,11 @@ def expand_variants(text: str) -> tuple[list[str], dict[str, str]]:
                     unavailable[entry.name] = entry.reason
                     continue
                 wanted.append(entry.variant.name)
-                wanted.extend(load_variant(c).name for c in bench_configs(entry.variant))
+                for config in bench_configs(entry.name):
+                    try:
+                        wanted.append(load_variant(config).name)
+                    except LookupError as error:  # its inner variant is unavailable here
+                        unavailable[config] = str(error)
         else:
             wanted.append(load_variant(token).name)
     ordered = [BASELINE] + [name for name in wanted if name != BASELINE]
@@ -170,7 +189,7 @@ def parallel_configs(names: list[str], counts: list[int]) -> dict[str, list[tupl
             continue
         keys = {
             key
-            for config in bench_configs(entry.variant)
+            for config in bench_configs(entry.name)
             for key, _ in parse_variant_name(config).options
             if key in PARALLEL_OPTIONS
         }

@@ -2,69 +2,73 @@
 
 Two ways, tried in order:
 
-1. The variant's own hook, ``Variant.count_rays(camera, world, settings) -> {kind: count}``
-   (see ``variants.registry``): it renders once with counting on and returns counts by kind,
-   e.g. ``{"camera": ..., "shadow": ..., "secondary": ...}``.
-2. For a variant that renders through the reference's own ``render`` (``naive`` and variants
-   that only replace shapes or values), the harness instruments the reference for one render:
-   chapter 7's ``color_at`` called by the camera is a camera ray, called by chapter 11's
-   ``reflected_color``/``refracted_color`` a secondary ray, and every chapter 8
-   ``is_shadowed`` a shadow ray.
+1. A tracer with its own ``count_rays(camera, world, settings) -> {kind: count}`` (numba's)
+   is asked: it renders once with counting on.
+2. A tracer whose render goes through the pipeline's steps (it overrides none of
+   ``prepare``, ``render_region``, ``render``: naive, cached, robust) renders once as a
+   copy of itself whose class is a counting subclass: every ``ray_for_pixel`` is a camera
+   ray, every ``color_at`` a traced ray (secondary: traced minus camera, the reflected and
+   refracted ones) and every ``is_shadowed`` a shadow ray. Nothing global is changed.
 
-Other variants cannot be counted and their rows say so. Counting runs in a separate render,
-never in a timed one.
+Other variants (prealloc, pooled, a learner's) cannot be counted and their rows say so.
+Counting runs in a separate render, never in a timed one.
 """
 
 from __future__ import annotations
 
-import importlib
+import copy
 from collections import Counter
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from typing import Any
 
-# by path: ``raytracer.camera`` and ``raytracer.world`` are also the package's functions
-reference_camera: Any = importlib.import_module("raytracer.camera")
-reference_world: Any = importlib.import_module("raytracer.world")
+from raytracer.tracer import Tracer
+from variants.wrapper import Wrapper, steps_overridden
 
-HOOK = "variant hook count_rays"
-INSTRUMENTED = "the reference instrumented (render goes through raytracer.world)"
+HOOK = "the tracer's count_rays"
+INSTRUMENTED = "a counting subclass of the tracer (its render goes through the pipeline)"
+OWN_LOOP = ("prepare", "render_region", "render")  # steps that bypass the counted ones
+
+
+class CountingMixin:
+    """Counts camera rays, traced rays and shadow rays in the class's ``counts``."""
+
+    __slots__ = ()
+    counts: Counter[str]
+
+    def ray_for_pixel(self, *args: Any, **kwargs: Any) -> Any:
+        self.counts["camera"] += 1
+        return super().ray_for_pixel(*args, **kwargs)  # type: ignore[misc]
+
+    def color_at(self, *args: Any, **kwargs: Any) -> Any:
+        self.counts["traced"] += 1
+        return super().color_at(*args, **kwargs)  # type: ignore[misc]
+
+    def is_shadowed(self, *args: Any, **kwargs: Any) -> Any:
+        self.counts["shadow"] += 1
+        return super().is_shadowed(*args, **kwargs)  # type: ignore[misc]
 
 
 def counting_method(variant: Any) -> str | None:
     """How rays of ``variant`` can be counted, or None."""
-    if callable(getattr(variant, "count_rays", None)):
+    tracer = getattr(variant, "tracer", None)
+    if not isinstance(tracer, Tracer):
+        return None
+    if callable(getattr(tracer, "count_rays", None)):
         return HOOK
-    if variant.api.get("render") is reference_camera.render:
-        return INSTRUMENTED
-    return None
+    # a wrapper's steps run in its inner tracer, which the counting copy does not reach
+    if isinstance(tracer, Wrapper) or set(steps_overridden(tracer)) & set(OWN_LOOP):
+        return None
+    return INSTRUMENTED
 
 
-def _count_reference(render: Callable[[], Any]) -> dict[str, int]:
-    counts: Counter[str] = Counter()
-    color_at = reference_world.color_at
-    is_shadowed = reference_world.is_shadowed
-
-    def camera_color_at(w: Any, r: Any, remaining: int = 5) -> Any:
-        counts["camera"] += 1
-        return color_at(w, r, remaining)
-
-    def secondary_color_at(w: Any, r: Any, remaining: int = 5) -> Any:
-        counts["secondary"] += 1
-        return color_at(w, r, remaining)
-
-    def counted_is_shadowed(w: Any, p: Any, *args: Any, **kwargs: Any) -> Any:
-        counts["shadow"] += 1
-        return is_shadowed(w, p, *args, **kwargs)
-
-    saved = (reference_camera.color_at, reference_world.color_at, reference_world.is_shadowed)
-    reference_camera.color_at = camera_color_at
-    reference_world.color_at = secondary_color_at
-    reference_world.is_shadowed = counted_is_shadowed
-    try:
-        render()
-    finally:
-        reference_camera.color_at, reference_world.color_at, reference_world.is_shadowed = saved
-    return {kind: counts[kind] for kind in ("camera", "shadow", "secondary")}
+def counting_copy(tracer: Tracer) -> Any:
+    """A copy of ``tracer`` whose class counts its rays (in ``type(copy).counts``)."""
+    cls = type(tracer)
+    namespace: dict[str, Any] = {"__slots__": (), "counts": Counter()}
+    counting = type(f"Counting{cls.__name__}", (CountingMixin, cls), namespace)
+    counted = copy.copy(tracer)
+    counted.__class__ = counting
+    return counted
 
 
 def count_rays(variant: Any, camera: Any, world: Any, settings: Any) -> dict[str, Any] | None:
@@ -74,8 +78,15 @@ def count_rays(variant: Any, camera: Any, world: Any, settings: Any) -> dict[str
     if method is None:
         return None
     if method == HOOK:
-        found: Mapping[str, int] = variant.count_rays(camera, world, settings)
+        found: Mapping[str, int] = variant.tracer.count_rays(camera, world, settings)
         counts = {str(kind): int(n) for kind, n in found.items()}
     else:
-        counts = _count_reference(lambda: variant.api["render"](camera, world, settings))
+        tracer = counting_copy(variant.tracer)
+        tracer.render(camera, world, settings)
+        seen = tracer.counts
+        counts = {
+            "camera": seen["camera"],
+            "shadow": seen["shadow"],
+            "secondary": seen["traced"] - seen["camera"],
+        }
     return {**counts, "total": sum(counts.values()), "method": method}

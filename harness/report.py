@@ -580,8 +580,8 @@ def build_blocks(runs: list[Run], plot_files: Mapping[str, Path | None]) -> list
                     "report counts).",
                     "Rays cast: every ray, camera, shadow and secondary (reflected and refracted), "
                     "counted in a separate untimed render where the variant can be counted "
-                    "(its own count_rays hook, or the reference instrumented when the variant "
-                    "renders through it); '-' where it cannot.",
+                    "(its tracer's own count_rays, or a counting subclass of its tracer when "
+                    "its render goes through the pipeline's steps); '-' where it cannot.",
                     "CPU (cores busy): CPU seconds of the process and its workers per wall second "
                     "of the timed renders; below the core count means the run did not get them.",
                     "First-call extra: first tiny render minus the second (JIT compilation and "

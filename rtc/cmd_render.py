@@ -114,8 +114,12 @@ def run(args: argparse.Namespace) -> int:
         flush=True,
     )
     if args.explain:
-        explain = getattr(variant, "explain", None)
-        print(explain(scene.world) if explain else f"{variant.name}: nothing to explain")
+        tracer = variant.tracer
+        print(
+            tracer.explain(scene.world)
+            if tracer is not None
+            else f"{variant.name}: nothing to explain"
+        )
     update, close = _progress_bar(camera.vsize)
     start = time.perf_counter()
     try:

@@ -1,4 +1,5 @@
-"""``rtc variants``: list the registered variants, what each overrides, and availability."""
+"""``rtc variants``: list the registered variants, the Tracer steps and book names each
+overrides, and availability."""
 
 from __future__ import annotations
 
@@ -78,6 +79,8 @@ def describe(entry_name: str, v: Variant) -> list[str]:
     lines = [f"{entry_name:<12} available   {v.summary}"]
     if v.name != entry_name:
         lines += _wrapped(f"default name: {v.name}")
+    if v.tracer is not None:
+        lines += _wrapped(f"tracer steps: {', '.join(v.steps) or 'none, the reference Tracer'}")
     if v.base is None and v.name != "naive":  # builds on nothing: e.g. a learner's own
         lines += _standalone(v)
     elif v.overrides:

@@ -197,15 +197,23 @@ def _result(
     )
 
 
+def _code(value: Any) -> Any:
+    """A bound method's function (a new bound method is made on every lookup); else
+    ``value``."""
+    return getattr(value, "__func__", value)
+
+
 def own_names(variant: Variant) -> list[str]:
     """The book names whose code is the variant's own: those it declares in ``overrides``,
     and any whose callable is not the reference's (so an undeclared override still counts);
-    a stub not written yet (``variants.learner.is_stub``) does not count."""
+    a stub not written yet (``variants.learner.is_stub``) does not count. Bound methods
+    (the pipeline's names) compare by their function, whatever tracer they are bound to."""
     reference = naive_api()
     differing = {
         name
         for name, value in variant.api.items()
-        if name in BOOK_API and (name not in reference or value is not reference[name])
+        if name in BOOK_API
+        and (name not in reference or _code(value) is not _code(reference[name]))
     }
     own = (set(variant.overrides) & set(BOOK_API)) | differing
     return sorted(own - set(stub_names(variant.api)))

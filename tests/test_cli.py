@@ -39,3 +39,12 @@ def test_an_unknown_command_is_a_usage_error(capsys: pytest.CaptureFixture[str])
         main(["frobnicate"])
     assert exit_info.value.code == 2
     assert "invalid choice: 'frobnicate'" in capsys.readouterr().err
+
+
+def test_rtc_variants_lists_the_tracer_steps_each_overrides(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    assert main(["variants"]) == 0
+    out = capsys.readouterr().out
+    assert "tracer steps: none, the reference Tracer" in out  # naive, cached
+    assert "tracer steps: prepare_computations, is_shadowed, refracted_color, schlick" in out

@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
-import sys
 
 import numpy as np
 import pytest
@@ -11,11 +11,12 @@ import pytest
 import raytracer
 from harness import figures
 from harness.imagediff import image_error
-from harness.plan import split_names
+from harness.plan import BENCH_CONFIGS, bench_configs, split_names
 from harness.presets import BUILTIN_DEFAULT_WORLD, SceneRef, build_scene
-from harness.raycount import count_rays
+from harness.raycount import HOOK, INSTRUMENTED, count_rays, counting_method
 from harness.sizes import Estimate, Size, fit_to_budget, parse_size, scaled, smaller_sizes
 from raytracer.camera import RenderSettings
+from raytracer.tracer import TRACER
 from variants.registry import load_variant
 
 
@@ -125,10 +126,55 @@ def test_rays_of_the_reference_are_counted_by_kind():
     assert counted["camera"] == 8 * 6 * 2
     assert counted["shadow"] > 0  # the default world's spheres are lit: every hit asks
     assert counted["total"] == counted["camera"] + counted["shadow"] + counted["secondary"]
-    # the instrumentation is removed afterwards: the reference's functions are back
-    assert sys.modules["raytracer.world"].color_at is raytracer.color_at
-    assert sys.modules["raytracer.world"].is_shadowed is raytracer.is_shadowed
-    assert sys.modules["raytracer.camera"].color_at is raytracer.color_at
+    assert counted["method"] == INSTRUMENTED
+
+
+def test_cached_and_robust_cast_the_rays_naive_casts_and_nothing_global_changes():
+    before = (raytracer.color_at, raytracer.is_shadowed, type(TRACER), TRACER.color_at)
+    counts = {}
+    for name in ("naive", "cached", "robust"):
+        variant = load_variant(name)
+        camera, world = build_scene(
+            SceneRef(BUILTIN_DEFAULT_WORLD, None), variant.api, name, Size(6, 4)
+        )
+        counted = count_rays(variant, camera, world, RenderSettings())
+        assert counted is not None
+        counts[name] = {kind: counted[kind] for kind in ("camera", "shadow", "secondary")}
+        assert not type(variant.tracer).__name__.startswith("Counting")
+    assert counts["cached"] == counts["naive"] == counts["robust"]
+    assert counts["naive"]["camera"] == 6 * 4
+    after = (raytracer.color_at, raytracer.is_shadowed, type(TRACER), TRACER.color_at)
+    assert after == before and after[0] is before[0] and after[1] is before[1]
+    assert raytracer.tracer.color_at is raytracer.color_at
+
+
+def test_a_tracer_with_its_own_pixel_loop_is_not_counted():
+    from raytracer.tracer import Tracer
+
+    class OwnLoop(Tracer):
+        def render_region(self, c, w, settings, region):
+            return super().render_region(c, w, settings, region)
+
+    class Counts(Tracer):
+        def count_rays(self, camera, world, settings):
+            return {"camera": 1, "shadow": 2}
+
+    learner = dataclasses.replace(load_variant("naive"), tracer=None)
+    own_loop = dataclasses.replace(load_variant("naive"), tracer=OwnLoop())
+    hook = dataclasses.replace(load_variant("naive"), tracer=Counts())
+    assert counting_method(learner) is None and count_rays(learner, None, None, None) is None
+    assert counting_method(own_loop) is None
+    assert count_rays(hook, None, None, None) == {
+        "camera": 1, "shadow": 2, "total": 3, "method": HOOK,
+    }  # fmt: skip
+
+
+def test_bench_configs_come_from_one_table():
+    assert bench_configs("numba") == BENCH_CONFIGS["numba"]
+    assert "pooled[workers=2]:numba[threads=1]" in bench_configs("pooled")
+    assert bench_configs("naive") == ()
+    assert bench_configs(load_variant("naive")) == ()
+    assert bench_configs(load_variant("pooled")) == BENCH_CONFIGS["pooled"]
 
 
 def test_a_changed_result_file_does_not_make_the_tree_dirty_but_changed_code_does(tmp_path):

@@ -180,3 +180,24 @@ def test_a_crashed_worker_is_an_error_naming_the_variant_and_scene(
         "died with exit code -9 (killed by SIGKILL)"
     )
     assert not output.exists()
+
+
+def test_explain_asks_the_variants_tracer(
+    tiny: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """``--explain`` prints ``tracer.explain(world)``; a variant without a tracer (a
+    learner's) has nothing to explain."""
+    import dataclasses
+
+    import variants.registry
+
+    output = tmp_path / "out.png"
+    status, out, _ = render(
+        capsys, str(tiny), "--variant", "robust", "--explain", "-o", str(output)
+    )
+    assert status == 0
+    assert "RobustTracer: the book's pipeline in Python, one pixel at a time; 2 objects" in out
+    learner = dataclasses.replace(load_variant("naive"), name="mine", tracer=None)
+    monkeypatch.setattr(variants.registry, "load_variant", lambda _name: learner)
+    status, out, _ = render(capsys, str(tiny), "--variant", "mine", "--explain", "-o", str(output))
+    assert status == 0 and "mine: nothing to explain" in out
