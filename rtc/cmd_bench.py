@@ -1,4 +1,6 @@
-"""``rtc bench``: measure every variant on the reference scene; one new result file per run."""
+"""``rtc bench``: measure every variant on the reference scene; one new result file per run.
+``rtc bench --numba-targets``: the numba variant's figures against its targets
+(``harness.numba_targets``), printed."""
 
 from __future__ import annotations
 
@@ -7,6 +9,7 @@ import sys
 import time
 from typing import TYPE_CHECKING
 
+from harness import numba_targets
 from rtc.cli import UserError, add_results_dir
 
 if TYPE_CHECKING:
@@ -76,6 +79,20 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help=f"which parts to run (default all: {', '.join(SECTIONS)})",
     )
     add_results_dir(parser)
+    targets = parser.add_argument_group(
+        "the numba variant's targets",
+        "rtc bench --numba-targets [--runs N] [--skip SECTION] ...: the numba variant's "
+        "figures against its targets (cold compile, renders at 640x480, the whole rtc render "
+        "command, the speed-up over naive, allocations, MRay/s, options, regions), printed; "
+        "no result file, and the table's options do not apply",
+    )
+    targets.add_argument(
+        "--numba-targets", action="store_true", help="run that benchmark instead of the table"
+    )
+    numba_targets.add_arguments(targets)
+
+
+NUMBA_TARGET_OPTIONS = ("runs", "naive_size", "naive_pixels", "skip")
 
 
 def settings_from(args: argparse.Namespace) -> BenchSettings:
@@ -131,6 +148,20 @@ def settings_from(args: argparse.Namespace) -> BenchSettings:
 
 
 def run(args: argparse.Namespace) -> int:
+    given = [
+        f"--{o.replace('_', '-')}"
+        for o in NUMBA_TARGET_OPTIONS
+        if getattr(args, o, None) not in (None, [])
+    ]
+    if args.numba_targets:
+        try:
+            numba_targets.settings(args)
+        except ValueError as error:
+            raise UserError(str(error)) from None
+        return numba_targets.run(args)
+    if given:
+        raise UserError(f"{', '.join(given)}: only with --numba-targets")
+
     from harness.bench import run_bench
     from harness.report import console_table
     from harness.results import load_run

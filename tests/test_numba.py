@@ -1,5 +1,5 @@
 """The numba variant (issue 5): same pictures as ``naive``, refusals, specialization, no
-allocation per pixel, ray counts, options, and its array-backed canvas.
+allocation per pixel, ray counts, options, regions of a frame, and its array-backed canvas.
 
 Pictures: small scenes rendered by ``naive`` and by ``numba``, compared channel by channel
 after clamping to [0, 1] (as the PNG shows them). Every comparison prints the maximum and
@@ -11,7 +11,7 @@ Stated tolerances:
   kernels round differently from the reference (world-space balls, reciprocals, group
   transforms composed once, reflections summed in another order, the specular term left
   out below 1e-9), so a pixel could change where a ray grazes an edge exactly; on the
-  reference scene at 640x480 ``python -m variants.numba.bench`` reports the count;
+  reference scene at 640x480 ``rtc bench --numba-targets`` reports the count;
 - float32 and fastmath: at most 2% of the pixels differ by more than 1/255, none by more
   than 0.5 (a shadow or acne decision may flip at an edge).
 
@@ -44,6 +44,7 @@ from raytracer.patterns import Pattern
 from raytracer.shapes.sphere import Sphere
 from raytracer.tuples import Tuple
 from variants.numba import layout as L
+from variants.numba.api import EXTRA, NumbaTracer
 from variants.numba.canvas import ArrayCanvas
 from variants.numba.features import analyse
 from variants.numba.pack import PackError, pack_world
@@ -265,8 +266,7 @@ def test_an_opaque_spheres_scene_leaves_out_refraction_schlick_cylinders_pattern
     flags = analyse(pack_world(api["default_world"]())).flags
     assert flags == {"HAS_SPHERE", "HAS_SHADOWS"}
     variant = load_variant("numba")
-    assert variant.explain is not None
-    text = variant.explain(api["default_world"]())
+    text = variant.tracer.explain(api["default_world"]())
     assert "left out:" in text
     for word in ("refraction", "schlick", "cylinder", "checkers"):
         assert word in text.split("left out:")[1]
@@ -404,8 +404,7 @@ def test_without_a_c_compiler_the_render_falls_back_to_numba() -> None:
 def test_specialize_off_uses_the_generic_kernel() -> None:
     variant = load_variant("numba[specialize=off]")
     assert variant.name == "numba[specialize=off]"
-    assert variant.explain is not None
-    assert "generic, every feature" in variant.explain(variant.api["default_world"]())
+    assert "generic, every feature" in variant.tracer.explain(variant.api["default_world"]())
 
 
 # ------------------------------------------------------------------------ allocations
@@ -456,14 +455,13 @@ def test_no_numba_allocation_per_pixel() -> None:
 
 def test_count_rays_counts_camera_shadow_and_secondary_rays() -> None:
     variant = load_variant("numba")
-    assert variant.count_rays is not None
     camera, world = default_world(variant.api)
-    counts = variant.count_rays(camera, world, RenderSettings(samples=2))
+    counts = variant.tracer.count_rays(camera, world, RenderSettings(samples=2))
     assert counts["camera"] == 16 * 16 * 2
     assert counts["secondary"] == 0  # nothing reflects or refracts in the default world
     assert 0 < counts["shadow"] <= counts["camera"]
     camera, world = everything(variant.api)
-    counts = variant.count_rays(camera, world, RenderSettings())
+    counts = variant.tracer.count_rays(camera, world, RenderSettings())
     assert counts["secondary"] > 0
 
 
@@ -488,6 +486,100 @@ def test_the_book_api_is_answered_by_compiled_code() -> None:
     assert (
         "tuple" not in variant.overrides
         and variant.api["point"] is load_variant("naive").api["point"]
+    )
+    assert isinstance(variant.tracer, NumbaTracer)
+    assert variant.overrides == EXTRA | {
+        "lighting", "intersect_world", "prepare_computations", "shade_hit", "color_at",
+        "is_shadowed", "reflected_color", "refracted_color", "schlick", "ray_for_pixel",
+        "render",
+    }  # fmt: skip
+    assert {"prepare", "render_region", "render"} <= set(variant.steps)
+    assert variant.api["color_at"] == variant.tracer.color_at
+    assert variant.api["stripe_at"] == variant.tracer.pattern_at
+
+
+# ------------------------------------------------------------------------ regions
+
+REGIONS = [
+    (0, 0, 20, 1),  # the first row
+    (0, 9, 20, 10),  # a row
+    (3, 2, 11, 7),  # a tile
+    (19, 14, 20, 15),  # the last pixel
+    (7, 5, 8, 6),  # a pixel
+    (0, 0, 20, 15),  # the whole image
+]
+
+
+@pytest.mark.parametrize("name", ["numba", "numba[threads=1]", "numba[float32]"])
+@pytest.mark.parametrize("samples", [1, 4])
+def test_a_region_is_the_same_pixels_as_the_whole_render(name: str, samples: int) -> None:
+    """``render_region`` (absolute pixel coordinates and sample offsets) gives exactly the
+    pixels of those coordinates in ``render``'s image."""
+    variant = load_variant(name)
+    tracer = variant.tracer
+    camera, world = everything(variant.api)
+    settings = RenderSettings(samples=samples, seed=3)
+    whole = variant.api["render"](camera, world, settings).array
+    for region in REGIONS:
+        x0, y0, x1, y1 = region
+        values = tracer.render_region(camera, world, settings, region)
+        assert isinstance(values, list) and all(type(v) is float for v in values[:3])
+        got = np.array(values, dtype=whole.dtype).reshape(y1 - y0, x1 - x0, 3)
+        assert np.array_equal(got, whole[y0:y1, x0:x1]), region
+    assert tracer.render_region(camera, world, settings, (4, 4, 4, 9)) == []
+    tracer.forget()
+
+
+def test_the_regions_of_a_frame_share_one_prepared_frame(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A worker renders many regions of one frame: the world is packed once for all of
+    them; another settings object (another frame) packs it again, and ``render`` always
+    packs afresh."""
+    from variants.numba import render as numba_render
+
+    packed: list[Any] = []
+    original = numba_render.pack_world
+
+    def counting(*args: Any, **kwargs: Any) -> Any:
+        packed.append(args[0])
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(numba_render, "pack_world", counting)
+    variant = load_variant("numba")
+    tracer = variant.tracer
+    camera, world = default_world(variant.api)
+    settings = RenderSettings()
+    rows = [tracer.render_region(camera, world, settings, (0, y, 16, y + 1)) for y in range(16)]
+    tracer.render_region(camera, world, settings, (2, 2, 6, 6))
+    frame = tracer.prepared(camera, world, settings)
+    assert tracer.prepared(camera, world, settings) is frame
+    assert len(packed) == 1
+    tracer.render_region(camera, world, RenderSettings(), (0, 0, 1, 1))
+    assert len(packed) == 2
+    image = tracer.render(camera, world, settings)
+    assert len(packed) == 3
+    assert np.array_equal(np.array(rows).reshape(16, 16, 3), image.array)
+
+
+def test_render_reports_progress_once_with_every_row() -> None:
+    variant = load_variant("numba")
+    camera, world = default_world(variant.api)
+    calls: list[int] = []
+    image = variant.api["render"](camera, world, RenderSettings(), calls.append)
+    assert isinstance(image, ArrayCanvas)
+    assert calls == [16]
+
+
+def test_the_tracer_pickles_as_its_options() -> None:
+    """A pool may send the tracer to a worker: its kernels and prepared frame stay behind."""
+    import pickle
+
+    variant = load_variant("numba[float32,threads=1]")
+    camera, world = default_world(variant.api)
+    variant.tracer.render_region(camera, world, RenderSettings(), (0, 0, 2, 2))
+    copy = pickle.loads(pickle.dumps(variant.tracer))
+    assert isinstance(copy, NumbaTracer) and copy.options == variant.tracer.options
+    assert copy.render_region(camera, world, RenderSettings(), (0, 0, 2, 2)) == (
+        variant.tracer.render_region(camera, world, RenderSettings(), (0, 0, 2, 2))
     )
 
 
@@ -528,5 +620,20 @@ def test_rtc_render_explain_prints_the_feature_set(
     assert "shading: shadows, reflection, refraction, schlick" in printed
     assert "left out: cube, cone" in printed
     assert out.is_file()
-    assert main(["render", scene, "--size", "4x3", "--explain", "-o", str(out)]) == 0
-    assert "naive: nothing to explain" in capsys.readouterr().out
+
+
+def test_rtc_bench_numba_targets(capsys: pytest.CaptureFixture[str]) -> None:
+    """``rtc bench --numba-targets`` runs the numba benchmark (here its regions section
+    alone); its options need the flag."""
+    from harness.numba_targets import SECTIONS
+    from rtc.cli import main
+
+    skip = [arg for section in SECTIONS if section != "regions" for arg in ("--skip", section)]
+    assert main(["bench", "--numba-targets", "--runs", "1", *skip]) == 0
+    printed = capsys.readouterr().out
+    assert "480 render_region rows of a prepared frame" in printed
+    assert "same picture: True" in printed
+    assert main(["bench", "--numba-targets", "--runs", "0"]) == 2
+    assert "--runs must be at least 1" in capsys.readouterr().err
+    assert main(["bench", "--runs", "3"]) == 2
+    assert "only with --numba-targets" in capsys.readouterr().err

@@ -12,8 +12,10 @@ Options (all off by default; the name spells the ones given, sorted):
 The package: ``layout`` (array columns), ``pack`` (world -> arrays), ``features`` (what a
 scene needs), ``specialize`` (one generated kernel module per feature set; its render
 compiled once into a shared library, loaded without numba), ``kernels_*`` (the kernel
-template), ``render`` (threads over interleaved rows), ``api`` (the book API through the
-kernels), ``canvas`` (an array-backed ``Canvas``), ``bench`` (the figures).
+template), ``render`` (frames, and regions on threads over interleaved rows), ``api``
+(``NumbaTracer``: the book's pipeline and API through the kernels), ``canvas`` (an
+array-backed ``Canvas``). Its benchmark is ``rtc bench --numba-targets``
+(``harness.numba_targets``).
 
 Same pictures, not the same bits: at float64 without fastmath the kernels follow the
 reference's arithmetic except where a faster formulation rounds differently, each one
@@ -23,12 +25,11 @@ a cancellation-free quadratic and their normals taken as (point - centre) / radi
 along the unnormalized vector to the light, which they meet at t = 1 (``kernels_trace``);
 the specular term left out where it is below 1e-9 of the light, Schlick's powers as
 products (``kernels_shading``); group transforms composed once (``pack``). Colors move by
-about 1e-9 at most; ``tests/test_numba.py`` and ``bench`` measure it.
+about 1e-9 at most; ``tests/test_numba.py`` and ``rtc bench --numba-targets`` measure it.
 """
 
 from __future__ import annotations
 
-import functools
 import importlib.util
 
 from variants.registry import (
@@ -39,14 +40,13 @@ from variants.registry import (
     parse_bool,
     parse_int,
     reject_inner,
+    tracer_variant,
 )
 
 NAME = "numba"
 OPTIONS = ("fastmath", "float32", "specialize", "threads")
 USAGE = "float32, fastmath, threads=N (default: every CPU this process may use), specialize=off"
 ONE_STEP = 1.0 / 255.0
-# what ``rtc bench --variants all`` measures besides the default (see variants.registry)
-BENCH_CONFIGS = ("numba[threads=1]", "numba[float32]", "numba[fastmath]", "numba[specialize=off]")
 
 
 def variant(inner: Variant | None = None, **options: str) -> Variant:
@@ -56,8 +56,8 @@ def variant(inner: Variant | None = None, **options: str) -> Variant:
     check_options(NAME, options, OPTIONS)
     if importlib.util.find_spec("numba") is None:
         raise Unavailable("numba is not installed (pip install numba)")
-    from variants.numba.api import COMPILED, NumbaBook
-    from variants.numba.render import Options, count_rays, max_threads
+    from variants.numba.api import EXTRA, NumbaTracer
+    from variants.numba.render import Options, max_threads
 
     float32 = parse_bool(NAME, "float32", options.get("float32", "off"))
     fastmath = parse_bool(NAME, "fastmath", options.get("fastmath", "off"))
@@ -67,8 +67,9 @@ def variant(inner: Variant | None = None, **options: str) -> Variant:
         if "threads" in options
         else None
     )
-    chosen = Options(float32=float32, fastmath=fastmath, threads=threads, specialize=specialize)
-    book = NumbaBook(chosen)
+    tracer = NumbaTracer(
+        Options(float32=float32, fastmath=fastmath, threads=threads, specialize=specialize)
+    )
     name = canonical_name(
         NAME,
         {
@@ -79,17 +80,15 @@ def variant(inner: Variant | None = None, **options: str) -> Variant:
         },
     )
     exact = not (float32 or fastmath)
-    return Variant(
-        name=name,
-        summary="compiled with numba: packed arrays, threads over rows, a kernel per feature set",
-        api=book.mapping(),
-        overrides=COMPILED,
+    return tracer_variant(
+        name,
+        "compiled with numba: packed arrays, threads over rows, a kernel per feature set",
+        tracer,
+        api=tracer.book_api(),
+        overrides=EXTRA,
         base="naive",
         usage=USAGE,
         # float64 rounds differently from the reference in a few places (see above): colors
         # move by about 1e-9; float32 and fastmath can flip a shadow or acne decision
         tolerance=ONE_STEP if exact else 0.25,
-        bench_configs=BENCH_CONFIGS,
-        count_rays=functools.partial(count_rays, chosen),
-        explain=book.explain,
     )

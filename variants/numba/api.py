@@ -1,6 +1,8 @@
-"""The book's API answered by the kernels (chapters 5-16).
+"""``NumbaTracer``: the book's pipeline and API answered by the kernels (chapters 5-16).
 
-Each function packs the objects it is given (a shape, a world, a camera; nothing is cached,
+The render (``prepare``, ``render_region``, ``render``) packs the world once per frame and
+runs the compiled render entry over regions of the image (``render``). Every other method
+packs the objects it is given (a shape, a world, a camera; nothing is cached,
 since shapes and worlds are mutable), calls one compiled entry point of the generic kernel
 module (every feature on, the variant's precision) and converts the result back to the
 reference's values: ``Intersection``, ``Computations``, ``Color``, points and vectors. The
@@ -12,7 +14,7 @@ Everything else (constructors, tuples, matrices, ``hit``, canvases) is the refer
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Sequence
 from types import ModuleType
 from typing import Any
 
@@ -32,6 +34,7 @@ from raytracer.shapes.shape import Shape
 from raytracer.shapes.smooth_triangle import SmoothTriangle
 from raytracer.shapes.test_shape import TestShape
 from raytracer.tolerance import epsilon
+from raytracer.tracer import Progress, Region, Tracer
 from raytracer.tuples import Tuple
 from raytracer.world import World
 from variants.numba import layout as L
@@ -43,19 +46,19 @@ from variants.numba.pack import (
     pack_surface,
     pack_world,
 )
-from variants.numba.render import Options, explain, render
+from variants.numba.render import Frame, Options, explain, prepare_frame, run_region, traversals
 from variants.numba.specialize import load_kernels
 
-# the book names this module answers with compiled code (Variant.overrides)
-COMPILED = frozenset(
+# the book names answered with compiled code that are not ``Tracer`` steps (extra ``api``
+# entries; the steps' names come from the tracer)
+EXTRA = frozenset(
     {
         "intersect", "local_intersect", "normal_at", "local_normal_at", "world_to_object",
-        "normal_to_world", "lighting", "pattern_at", "pattern_at_shape", "stripe_at",
-        "stripe_at_object", "intersect_world", "prepare_computations", "shade_hit",
-        "color_at", "is_shadowed", "reflected_color", "refracted_color", "schlick",
-        "ray_for_pixel", "render", "filter_intersections", "intersection_allowed",
+        "normal_to_world", "pattern_at", "pattern_at_shape", "stripe_at", "stripe_at_object",
+        "filter_intersections", "intersection_allowed",
     }
 )  # fmt: skip
+ALIASES = {"stripe_at": "pattern_at", "stripe_at_object": "pattern_at_shape"}
 OPERATION_CODES = {
     "union": L.OP_UNION,
     "intersection": L.OP_INTERSECTION,
@@ -113,10 +116,13 @@ def _uv(shape: Shape, hit: Intersection | None, caller: str) -> tuple[float, flo
     return float(hit.u), float(hit.v)
 
 
-class NumbaBook:
-    """The compiled book API for one set of options (``mapping()`` is the variant's API)."""
+class NumbaTracer(Tracer):
+    """The book's tracer through the kernels, for one set of options (chapters 5-16)."""
+
+    __slots__ = ("_kernels", "dtype", "options")
 
     def __init__(self, options: Options) -> None:
+        super().__init__()
         self.options = options
         self.dtype = options.dtype
         self._kernels: ModuleType | None = None
@@ -214,18 +220,18 @@ class NumbaBook:
 
     def lighting(
         self,
-        m: Material,
-        obj: Shape | None,
+        material: Material,
+        object: Shape | None,
         light: PointLight,
-        p: Tuple,
+        point: Tuple,
         eyev: Tuple,
         normalv: Tuple,
         in_shadow: bool = False,
     ) -> Color:
         """Chapters 6, 8, 10: the Phong color at one point."""
-        pf, pi = pack_surface(obj, self.dtype, material=m)
+        pf, pi = pack_surface(object, self.dtype, material=material)
         rgb = self.k.api_lighting(
-            pf, pi, 0, _light(light, self.dtype), _xyz(p), _xyz(eyev), _xyz(normalv),
+            pf, pi, 0, _light(light, self.dtype), _xyz(point), _xyz(eyev), _xyz(normalv),
             bool(in_shadow),
         )  # fmt: skip
         return _color(rgb)
@@ -353,27 +359,66 @@ class NumbaBook:
         ox, oy, oz, dx, dy, dz = self.k.api_camera_ray(camera.array, float(px), float(py))
         return Ray(_point(ox, oy, oz), _vector(dx, dy, dz))
 
+    def prepare(self, c: Camera, w: World, settings: RenderSettings) -> Frame:
+        """Chapter 7: a frame's state: camera and world packed, the render entry of ``w``'s
+        feature set loaded, the threads' scratch (``prepared`` keeps it for the regions)."""
+        return prepare_frame(self.options, c, w, settings)
+
+    def render_region(
+        self, c: Camera, w: World, settings: RenderSettings, region: Region
+    ) -> list[float]:
+        """Chapter 7: the pixels of ``region`` as row-major ``[r, g, b, ...]``, from the
+        frame prepared once for ``c``, ``w`` and ``settings``."""
+        values: list[float] = run_region(self.prepared(c, w, settings), region).ravel().tolist()
+        return values
+
     def render(
         self,
         c: Camera,
         w: World,
         settings: RenderSettings | None = None,
-        progress: Callable[[int], object] | None = None,
+        progress: Progress | None = None,
     ) -> ArrayCanvas:
-        """Chapter 7: the whole image, through a kernel specialized to ``w``."""
-        return render(self.options, c, w, settings, progress)
+        """Chapter 7: the whole image as one region, through a kernel specialized to ``w``.
+
+        progress: called once, with the number of rows, when the whole image is done.
+        """
+        settings = settings if settings is not None else RenderSettings()
+        self.forget()
+        try:
+            image = ArrayCanvas(run_region(self.prepared(c, w, settings), (0, 0, c.hsize, c.vsize)))
+        finally:
+            self.forget()
+        if progress is not None:
+            progress(c.vsize)
+        return image
+
+    # -- what the harness asks of a tracer
+
+    def count_rays(
+        self, c: Camera, w: World, settings: RenderSettings | None = None
+    ) -> dict[str, int]:
+        """Every ray one render casts, by kind: camera rays, shadow rays (none is cast where
+        the light is behind the surface: it could not change the color) and reflected or
+        refracted ones. Runs a counting kernel, never a timed one."""
+        counted = traversals(self.options, c, w, settings)
+        return {kind: n for kind, n in counted.items() if kind != "n1n2"}
 
     def explain(self, w: World) -> str:
         """What a render of ``w`` would run (for ``rtc render --explain``)."""
         return explain(self.options, w)
 
-    def mapping(self) -> Mapping[str, Any]:
-        """The reference's API with the compiled names replaced."""
+    def book_api(self) -> dict[str, Any]:
+        """The reference's API with the names in ``EXTRA`` answered by this tracer
+        (``tracer_variant`` binds the pipeline's names)."""
         api = dict(naive_api())
-        aliases = {"stripe_at": "pattern_at", "stripe_at_object": "pattern_at_shape"}
-        for name in COMPILED:
-            api[name] = getattr(self, aliases.get(name, name))
+        for name in EXTRA:
+            api[name] = getattr(self, ALIASES.get(name, name))
         return api
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        """Pickled as its options (the kernels and a prepared frame stay behind)."""
+        return (NumbaTracer, (self.options,))
 
 
 def _composite(shape: Shape) -> bool:

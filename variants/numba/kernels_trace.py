@@ -16,12 +16,13 @@ explicit stack that replaces the book's recursion, camera rays and samples, and 
   the hit's is skipped when the hit point is well outside it (it cannot be a container).
 - ``drain`` is ``color_at`` without recursion: a stack of (ray, weight, remaining), where the
   weight is the product of the reflective / transparency / Schlick factors on the way.
-- ``render_rows`` renders rows k, k + T, k + 2T ... for thread k of T (the top and bottom of
-  an image cost very different amounts, so contiguous blocks would leave one thread idle),
-  making each sample's camera ray before tracing the previous one (the processor overlaps
-  them); ``make_render_entry`` compiles it as a C function over raw pointers, which
-  ``variants.numba.specialize`` links into a shared library and ``render`` calls from T
-  Python threads through ctypes (which lets go of the GIL).
+- ``render_rows`` renders rows k, k + T, k + 2T ... of a region (x0, y0, x1, y1) of the
+  image for thread k of T (the top and bottom of an image cost very different amounts, so
+  contiguous blocks would leave one thread idle), making each sample's camera ray before
+  tracing the previous one (the processor overlaps them); ``make_render_entry`` compiles it
+  as a C function over raw pointers, which ``variants.numba.specialize`` links into a
+  shared library and ``render`` calls from T Python threads through ctypes (which lets go
+  of the GIL).
 
 A world travels as one tuple ``w`` = (pf, pi, items, n_items, boxes, csg, balls, n_balls,
 light) and a thread's scratch as ``s`` = (sf, si, tb) (see ``layout``): one CSG tree's
@@ -690,18 +691,20 @@ def sample_ray(cam, seed_key, samples, x, y, i):
 
 
 @njit(**INLINE)
-def render_rows(out, height, width, k, step, cam, w, depth, samples, seed_key, eps, stack, s):
-    """Chapter 7: render rows k, k + step, k + 2 step ... of ``out`` (height x width x 3,
-    flat), with one thread's scratch: ``stack`` (depth + 2 entries) and ``s`` = (sf, si,
-    tb) (``layout``; si's MEMO entry set to -1 before the first call). Returns the rows
-    done. The next sample's camera ray is made before the current one is traced, so that
-    the processor can work on both at once."""
+def render_rows(out, x0, y0, x1, y1, k, step, cam, w, depth, samples, seed_key, eps, stack, s):
+    """Chapter 7: render rows y0 + k, y0 + k + step ... (below y1) of the region x0 <= x <
+    x1, y0 <= y < y1 into ``out`` ((y1 - y0) x (x1 - x0) x 3, flat; pixels and sample
+    offsets use the absolute (x, y)), with one thread's scratch: ``stack`` (depth + 2
+    entries) and ``s`` = (sf, si, tb) (``layout``; si's MEMO entry set to -1 before the
+    first call). Returns the rows done. The next sample's camera ray is made before the
+    current one is traced, so that the processor can work on both at once."""
     eps = F(eps)
     scale = ONE / F(samples)
-    if k >= height or width <= 0:
+    width = x1 - x0
+    if y0 + k >= y1 or width <= 0:
         return 0
-    x = 0
-    y = k
+    x = x0
+    y = y0 + k
     i = 0
     ox, oy, oz, dx, dy, dz = sample_ray(cam, seed_key, samples, x, y, i)
     r = ZERO
@@ -716,10 +719,10 @@ def render_rows(out, height, width, k, step, cam, w, depth, samples, seed_key, e
         if next_i == samples:
             next_i = 0
             next_x = x + 1
-            if next_x == width:
-                next_x = 0
+            if next_x == x1:
+                next_x = x0
                 next_y = y + step
-        more = next_y < height
+        more = next_y < y1
         nox, noy, noz, ndx, ndy, ndz = ox, oy, oz, dx, dy, dz
         if more:
             nox, noy, noz, ndx, ndy, ndz = sample_ray(
@@ -728,7 +731,7 @@ def render_rows(out, height, width, k, step, cam, w, depth, samples, seed_key, e
         top = push(stack, 0, ox, oy, oz, dx, dy, dz, ONE, depth)
         r, g, b = drain(w, s, eps, stack, top, r, g, b)
         if next_i == 0:  # the pixel is done
-            m = (y * width + x) * 3
+            m = ((y - y0) * width + (x - x0)) * 3
             if samples == 1:
                 out[m] = r
                 out[m + 1] = g
@@ -740,7 +743,7 @@ def render_rows(out, height, width, k, step, cam, w, depth, samples, seed_key, e
             r = ZERO
             g = ZERO
             b = ZERO
-            if next_x == 0:
+            if next_x == x0:
                 rows += 1
         if not more:
             break
@@ -750,23 +753,24 @@ def render_rows(out, height, width, k, step, cam, w, depth, samples, seed_key, e
 
 
 def render_entry(
-    out, height, width, k, step, cam, pf, pi, items, n_items, boxes, csg, balls, n_balls,
+    out, x0, y0, x1, y1, k, step, cam, pf, pi, items, n_items, boxes, csg, balls, n_balls,
     light, depth, samples, seed_key, eps, stack, sf, si, tb,
 ):  # fmt: skip
     """The render's entry point, compiled as a C function (``make_render_entry``)."""
     w = (pf, pi, items, n_items, boxes, csg, balls, n_balls, light)
     return render_rows(
-        out, height, width, k, step, cam, w, depth, samples, seed_key, eps, stack, (sf, si, tb)
+        out, x0, y0, x1, y1, k, step, cam, w, depth, samples, seed_key, eps, stack, (sf, si, tb)
     )
 
 
 def make_render_entry(cache):
     """Compile ``render_entry`` as a C-callable function (numba's ``cfunc``) over raw
-    pointers: ``int64 f(F* out, int64 height, int64 width, int64 k, int64 step, F* cam,
-    F* pf, int64* pi, int64* items, int64 n_items, F* boxes, int64* csg, F* balls, int64
-    n_balls, F* light, int64 depth, int64 samples, uint64 seed_key, float64 eps, F* stack,
-    F* sf, int64* si, F* tb)``. Without the numba runtime: it cannot allocate. ``cache``:
-    numba's disk cache (used only when the render cannot be linked as a shared library)."""
+    pointers: ``int64 f(F* out, int64 x0, int64 y0, int64 x1, int64 y1, int64 k, int64
+    step, F* cam, F* pf, int64* pi, int64* items, int64 n_items, F* boxes, int64* csg, F*
+    balls, int64 n_balls, F* light, int64 depth, int64 samples, uint64 seed_key, float64
+    eps, F* stack, F* sf, int64* si, F* tb)``. Without the numba runtime: it cannot
+    allocate. ``cache``: numba's disk cache (used only when the render cannot be linked as
+    a shared library)."""
     from numba import cfunc, types
 
     real = types.float32 if F is np.float32 else types.float64
@@ -774,7 +778,7 @@ def make_render_entry(cache):
     ip = types.CPointer(types.int64)
     i64 = types.int64
     signature = types.int64(
-        fp, i64, i64, i64, i64, fp, fp, ip, ip, i64, fp, ip, fp, i64, fp, i64, i64,
+        fp, i64, i64, i64, i64, i64, i64, fp, fp, ip, ip, i64, fp, ip, fp, i64, fp, i64, i64,
         types.uint64, types.float64, fp, fp, ip, fp,
     )  # fmt: skip
     flags: dict[str, Any] = {"_nrt": False, "fastmath": FASTMATH, "error_model": "numpy"}

@@ -1,33 +1,33 @@
 """Rendering through the kernels (chapter 7), the variant's options, and ``explain``.
 
-A render packs the world once, finds its feature set, loads the compiled render entry for
-that set (``specialize.load_renderer``: a shared library, built on first use) and runs it
-on T threads: T - 1 Python threads and the calling one, each calling the entry through
-ctypes (which releases the GIL) for rows k, k + T, k + 2T ... Nothing is allocated per
-pixel, nor in compiled code at all: each thread's scratch (the ray stack and the CSG
-lists) is allocated here, once per render, each thread's on pages of its own.
+A frame (``prepare_frame``, once per camera, world and settings) packs the world, finds
+its feature set, loads the compiled render entry for that set (``specialize.
+load_renderer``: a shared library, built on first use) and allocates each thread's scratch
+(the ray stack and the CSG lists, on pages of its own). A region of the image (a row, a
+tile, the whole image) is then rendered by ``run_region`` on T threads: T - 1 Python
+threads and the calling one, each calling the entry through ctypes (which releases the
+GIL) for the region's rows k, k + T, k + 2T ... Nothing is allocated per pixel, nor in
+compiled code at all.
 
 Why Python threads rather than numba's ``prange``: a ``parallel=True`` kernel needs numba
 imported and its threading layer started in the process, which costs more than the render
 of the reference scene (``specialize``); with interleaved rows and per-thread scratch,
-Python threads split the work as evenly as ``prange`` did.
-"""
+Python threads split the work as evenly as ``prange`` did."""
 
 from __future__ import annotations
 
 import os
 import threading
-from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from raytracer.camera import Camera, RenderSettings
 from raytracer.sampling import GAMMA, MASK64
+from raytracer.tracer import Region
 from raytracer.world import World
 from variants.numba import layout as L
-from variants.numba.canvas import ArrayCanvas
 from variants.numba.features import FeatureSet, analyse
 from variants.numba.pack import Packed, PackedCamera, PackError, pack_camera, pack_world
 from variants.numba.specialize import KernelConfig, Renderer, library_path, load_renderer
@@ -89,7 +89,7 @@ def packed_for_render(w: World, options: Options, caller: str = "render") -> Pac
 
 
 class Scratch:
-    """Every thread's scratch for one render: the ray stack, CSG lists and one t per ball
+    """Every thread's scratch for one frame: the ray stack, CSG lists and one t per ball
     (floats), and the CSG lists, shadow memo and ray counters (ints), each thread's on
     pages of its own."""
 
@@ -128,32 +128,61 @@ def _page_offset(array: np.ndarray) -> int:
     return (-array.ctypes.data % PAGE) // array.itemsize
 
 
-def run_rows(
-    renderer: Renderer,
-    threads: int,
-    out: np.ndarray,
-    camera: PackedCamera,
-    packed: Packed,
-    settings: RenderSettings,
-    scratch: Scratch,
-) -> None:
-    """Render every row of ``out`` (height, width, 3) on ``threads`` threads, thread k
-    taking rows k, k + threads, ... (the calling thread is thread 0)."""
+@dataclass
+class Frame:
+    """What every region of one frame needs (``NumbaTracer.prepare``): the packed camera
+    and world, the loaded render entry, the threads' scratch and the entry's arguments
+    that do not change from region to region. The scratch is the frame's: one region at
+    a time (``lock``)."""
+
+    camera: PackedCamera
+    packed: Packed
+    renderer: Renderer
+    threads: int
+    scratch: Scratch
+    common: tuple[Any, ...]
+    dtype: Any
+    addresses: list[tuple[int, int, int, int]] = field(default_factory=list)
+    lock: threading.Lock = field(default_factory=threading.Lock)
+
+
+def prepare_frame(
+    options: Options, c: Camera, w: World, settings: RenderSettings, count_rays: bool = False
+) -> Frame:
+    """Pack ``c`` and ``w``, load the render entry for ``w``'s feature set (``count_rays``:
+    the counting kernel) and allocate every thread's scratch."""
+    camera = pack_camera(c, options.dtype)
+    packed = packed_for_render(w, options)
+    renderer = load_renderer(options.config(analyse(packed), count_rays))
+    threads = min(render_threads(options), max(camera.vsize, 1))
+    scratch = Scratch(threads, settings.depth, packed, options.dtype)
     pf, pi, items, n_items, boxes, csg, balls, n_balls = packed.flat()
-    seed_key = (settings.seed * GAMMA) & MASK64
-    height, width = out.shape[0], out.shape[1]
     common = (
         camera.array.ctypes.data, pf.ctypes.data, pi.ctypes.data, items.ctypes.data, n_items,
         boxes.ctypes.data, csg.ctypes.data, balls.ctypes.data, n_balls,
-        packed.light.ctypes.data, settings.depth, settings.samples, seed_key,
-        float(settings.epsilon),
+        packed.light.ctypes.data, settings.depth, settings.samples,
+        (settings.seed * GAMMA) & MASK64, float(settings.epsilon),
     )  # fmt: skip
+    addresses = [scratch.addresses(k) for k in range(threads)]
+    return Frame(camera, packed, renderer, threads, scratch, common, options.dtype, addresses)
+
+
+def run_region(frame: Frame, region: Region) -> np.ndarray:
+    """Chapter 7: the pixels of ``region`` (x0, y0, x1, y1) as a (y1 - y0, x1 - x0, 3)
+    array, on up to ``frame.threads`` threads, thread k taking the region's rows k,
+    k + threads, ... (the calling thread is thread 0)."""
+    x0, y0, x1, y1 = (int(v) for v in region)
+    height, width = max(y1 - y0, 0), max(x1 - x0, 0)
+    out = np.zeros((height, width, 3), dtype=frame.dtype)
+    if height == 0 or width == 0:
+        return out
+    threads = min(frame.threads, height)
     errors: list[BaseException] = []
 
     def rows(k: int) -> None:
         try:
-            done = renderer.function(
-                out.ctypes.data, height, width, k, threads, *common, *scratch.addresses(k)
+            done = frame.renderer.function(
+                out.ctypes.data, x0, y0, x1, y1, k, threads, *frame.common, *frame.addresses[k]
             )
             expected = len(range(k, height, threads))
             if done != expected:
@@ -161,69 +190,29 @@ def run_rows(
         except BaseException as error:  # reported on the calling thread
             errors.append(error)
 
-    helpers = [threading.Thread(target=rows, args=(k,), daemon=True) for k in range(1, threads)]
-    for helper in helpers:
-        helper.start()
-    rows(0)
-    for helper in helpers:
-        helper.join()
+    with frame.lock:
+        helpers = [threading.Thread(target=rows, args=(k,), daemon=True) for k in range(1, threads)]
+        for helper in helpers:
+            helper.start()
+        rows(0)
+        for helper in helpers:
+            helper.join()
     if errors:
         raise errors[0]
-
-
-def _render(
-    options: Options,
-    c: Camera,
-    w: World,
-    settings: RenderSettings | None,
-    count_rays: bool,
-) -> tuple[ArrayCanvas, Scratch, int]:
-    settings = settings if settings is not None else RenderSettings()
-    camera = pack_camera(c, options.dtype)
-    packed = packed_for_render(w, options)
-    renderer = load_renderer(options.config(analyse(packed), count_rays))
-    threads = min(render_threads(options), max(camera.vsize, 1))
-    out = np.zeros((camera.vsize, camera.hsize, 3), dtype=options.dtype)
-    scratch = Scratch(threads, settings.depth, packed, options.dtype)
-    run_rows(renderer, threads, out, camera, packed, settings, scratch)
-    return ArrayCanvas(out), scratch, threads
-
-
-def render(
-    options: Options,
-    c: Camera,
-    w: World,
-    settings: RenderSettings | None = None,
-    progress: Callable[[int], object] | None = None,
-) -> ArrayCanvas:
-    """Chapter 7: ``render(c, w, settings, progress)`` through a kernel specialized to ``w``.
-
-    progress: called once, with the number of rows, when the whole image is done.
-    """
-    image, _, _ = _render(options, c, w, settings, False)
-    if progress is not None:
-        progress(c.vsize)
-    return image
-
-
-def count_rays(
-    options: Options, c: Camera, w: World, settings: RenderSettings | None = None
-) -> dict[str, int]:
-    """Every ray one render casts, by kind (``Variant.count_rays``): camera rays, shadow
-    rays (none is cast where the light is behind the surface: it could not change the
-    color) and reflected or refracted ones. Runs a counting kernel, never a timed one."""
-    settings = settings if settings is not None else RenderSettings()
-    return {kind: n for kind, n in traversals(options, c, w, settings).items() if kind != "n1n2"}
+    return out
 
 
 def traversals(
     options: Options, c: Camera, w: World, settings: RenderSettings | None = None
 ) -> dict[str, int]:
-    """``count_rays``, plus ``n1n2``: the extra passes over the world that find n1 and n2
-    at transparent hits (the reference reads them off the hit's intersection list)."""
+    """Every ray one render casts, by kind (``NumbaTracer.count_rays``), plus ``n1n2``: the
+    extra passes over the world that find n1 and n2 at transparent hits (the reference
+    reads them off the hit's intersection list). Runs a counting kernel, never a timed
+    one."""
     settings = settings if settings is not None else RenderSettings()
-    _, scratch, threads = _render(options, c, w, settings, True)
-    counted = [scratch.rays(k) for k in range(threads)]
+    frame = prepare_frame(options, c, w, settings, count_rays=True)
+    run_region(frame, (0, 0, c.hsize, c.vsize))
+    counted = [frame.scratch.rays(k) for k in range(frame.threads)]
     traced, shadow, n1n2 = (sum(column) for column in zip(*counted, strict=True))
     camera = c.hsize * c.vsize * settings.samples
     return {"camera": camera, "shadow": shadow, "secondary": traced - camera, "n1n2": n1n2}

@@ -1,5 +1,5 @@
-"""The numba variant's figures, against the targets of its issue (``python -m
-variants.numba.bench``).
+"""The numba variant's figures, against the targets of its issue (``rtc bench
+--numba-targets``, or ``python -m harness.numba_targets``).
 
 Prints, each as the median of ``--runs`` runs with the CPU share each run got (CPU seconds
 of the process over wall seconds: up to 1.0 per thread that really ran):
@@ -21,7 +21,9 @@ of the process over wall seconds: up to 1.0 per thread that really ran):
    (width x height x samples per second), target 20 with 2 threads;
 7. the options: time against pixels that differ from float64 by more than 1/255;
 8. what specialization buys: the specialized and the generic kernel, alternating, on the
-   reference scene and on cpp-spheres.
+   reference scene and on cpp-spheres;
+9. regions: the reference scene rendered whole and as one ``render_region`` call per row
+   (what a pooled worker makes), 1 thread, after the frame is prepared.
 
 Timings on a shared machine are rough: the CPU share column says how much of a core each
 run really had. Pin the process with ``taskset -c 0,1`` for steadier figures.
@@ -43,11 +45,12 @@ import tempfile
 import time
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import numpy as np
+if TYPE_CHECKING:  # numpy is imported where it is used: ``rtc bench``'s parser needs none
+    import numpy as np
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[1]
 REFERENCE = ROOT / "harness" / "scenes" / "reference.yml"
 CPP = ROOT / "harness" / "scenes" / "cpp-spheres.yml"
 ONE_STEP = 1.0 / 255.0
@@ -102,6 +105,8 @@ def _settings(**changes: Any) -> Any:
 
 def _difference(got: np.ndarray, expected: np.ndarray) -> str:
     """Max and mean difference per channel, and pixels beyond 1/255, of clamped colors."""
+    import numpy as np
+
     a = np.clip(got, 0.0, 1.0)
     b = np.clip(expected, 0.0, 1.0)
     difference = np.abs(a - b)
@@ -121,7 +126,7 @@ def cold_start() -> None:
     with tempfile.TemporaryDirectory(prefix="rtc-numba-cold-") as folder:
         code = (
             "import time\n"
-            "from variants.numba.bench import _load, _settings\n"
+            "from harness.numba_targets import _load, _settings\n"
             f"v, c, w = _load('numba', {str(REFERENCE)!r}, (8, 6))\n"
             "t = time.perf_counter(); c0 = time.process_time()\n"
             "v.api['render'](c, w, _settings())\n"
@@ -167,30 +172,23 @@ def balance(runs: int) -> None:
     """How evenly interleaved rows split the reference scene between 2 threads: each
     thread's rows rendered alone, on this thread (CPU seconds, so the machine's load does
     not matter much). 2 threads cannot beat the slower half."""
-    from variants.numba.features import analyse
-    from variants.numba.pack import pack_camera
-    from variants.numba.render import Options, Scratch, packed_for_render
-    from variants.numba.specialize import load_renderer
+    import numpy as np
+
+    from variants.numba.render import Options, Scratch, prepare_frame
 
     _, c, w = _load("numba[threads=1]", REFERENCE)
-    options = Options(threads=1)
-    packed = packed_for_render(w, options)
-    renderer = load_renderer(options.config(analyse(packed)))
-    camera = pack_camera(c)
     settings = _settings()
-    out = np.zeros((camera.vsize, camera.hsize, 3))
-    pf, pi, items, n_items, boxes, csg, balls, n_balls = packed.flat()
+    frame = prepare_frame(Options(threads=1), c, w, settings)
+    out = np.zeros((c.vsize, c.hsize, 3))
 
     def rows(k: int, step: int) -> float:
         best = math.inf
         for _ in range(runs):
-            scratch = Scratch(1, settings.depth, packed, np.float64)
+            scratch = Scratch(1, settings.depth, frame.packed, np.float64)
             cpu = time.process_time()
-            renderer.function(
-                out.ctypes.data, camera.vsize, camera.hsize, k, step, camera.array.ctypes.data,
-                pf.ctypes.data, pi.ctypes.data, items.ctypes.data, n_items, boxes.ctypes.data,
-                csg.ctypes.data, balls.ctypes.data, n_balls, packed.light.ctypes.data,
-                settings.depth, settings.samples, 0, settings.epsilon, *scratch.addresses(0),
+            frame.renderer.function(
+                out.ctypes.data, 0, 0, c.hsize, c.vsize, k, step, *frame.common,
+                *scratch.addresses(0),
             )  # fmt: skip
             best = min(best, time.process_time() - cpu)
         return best
@@ -271,8 +269,10 @@ def against_naive(
 ) -> None:
     """naive and numba at ``size`` in this run: time per pixel and the picture's
     difference; then naive's colors of ``samples`` random pixels of the 640x480 picture."""
-    from raytracer.camera import pixel_color
+    import numpy as np
+
     from raytracer.tolerance import using_epsilon
+    from raytracer.tracer import pixel_color
 
     settings = _settings()
     naive, c, w = _load("naive", REFERENCE, size)
@@ -315,6 +315,8 @@ def against_naive(
 
 
 def _array(variant: Any, image: Any) -> np.ndarray:
+    import numpy as np
+
     pixel_at = variant.api["pixel_at"]
     rows = [
         [(p.red, p.green, p.blue) for p in (pixel_at(image, x, y) for x in range(image.width))]
@@ -331,7 +333,7 @@ def allocations() -> None:
         "import numpy as np\n"
         "from numba import njit\n"
         "from numba.core.runtime import rtsys\n"
-        "from variants.numba.bench import _load, _settings\n"
+        "from harness.numba_targets import _load, _settings\n"
         "allocating = njit(lambda n: np.zeros(n).sum())\n"
         "allocating(3)\n"
         "before = rtsys.get_allocation_stats().alloc\n"
@@ -435,63 +437,130 @@ def specialization(runs: int) -> None:
         )
 
 
+def regions(runs: int) -> None:
+    """The reference scene at 640x480, 1 thread: one ``render`` against one
+    ``render_region`` call per row of the same frame (a pooled worker's jobs), the frame
+    prepared by a first call; the pictures must be equal."""
+    import numpy as np
+
+    variant, c, w = _load("numba[threads=1]", REFERENCE)
+    tracer = variant.tracer
+    settings = _settings()
+    whole = tracer.render(c, w, settings)  # warm: load the render entry
+
+    def by_rows() -> Any:
+        tracer.forget()
+        values: list[float] = []
+        for y in range(c.vsize):
+            values.extend(tracer.render_region(c, w, settings, (0, y, c.hsize, y + 1)))
+        return np.array(values).reshape(c.vsize, c.hsize, 3)
+
+    tracer.render_region(c, w, settings, (0, 0, 1, 1))  # prepare the frame
+    row_median, row_samples = _median_runs(
+        lambda: [
+            tracer.render_region(c, w, settings, (0, y, c.hsize, y + 1)) for y in range(c.vsize)
+        ],
+        runs,
+    )
+    render_median, render_samples = _median_runs(
+        functools.partial(_render_once, variant, c, w, settings), runs
+    )
+    same = np.array_equal(by_rows(), whole.to_array())
+    tracer.forget()
+    print(
+        f"regions (reference 640x480, 1 thread): render median {render_median:.3f} s; "
+        f"480 render_region rows of a prepared frame: median {row_median:.3f} s "
+        f"({row_median / render_median:.2f}x; runs {_shares(row_samples)}; render runs "
+        f"{_shares(render_samples)}); same picture: {same}"
+    )
+
+
 SECTIONS = (
     "cold", "render", "balance", "command", "naive", "allocations", "cpp", "options",
-    "specialize",
+    "specialize", "regions",
 )  # fmt: skip
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(
-        prog="python -m variants.numba.bench", description=__doc__.split("\n\n")[0]
-    )
-    parser.add_argument("--runs", type=int, default=5, help="runs per figure (median; default 5)")
+def add_arguments(parser: Any) -> None:
+    """The options (``parser``: an ``ArgumentParser`` or an argument group); None is the
+    default (``settings``)."""
     parser.add_argument(
-        "--naive-size", default="160x120", help="naive's render size (default 160x120)"
+        "--runs", type=int, default=None, metavar="N", help="runs per figure (median; default 5)"
     )
     parser.add_argument(
-        "--naive-pixels", type=int, default=200, metavar="N",
+        "--naive-size", default=None, metavar="WxH", help="naive's render size (default 160x120)"
+    )
+    parser.add_argument(
+        "--naive-pixels", type=int, default=None, metavar="N",
         help="random pixels of the 640x480 picture naive computes too (default 200; 0: none)",
     )  # fmt: skip
     parser.add_argument(
-        "--skip", action="append", default=[], choices=SECTIONS,
-        help="leave a section out (repeatable)",
+        "--skip", action="append", default=[], choices=SECTIONS, metavar="SECTION",
+        help=f"leave a section out (repeatable): {', '.join(SECTIONS)}",
     )  # fmt: skip
-    args = parser.parse_args(argv)
-    if args.runs < 1:
-        parser.error("--runs must be at least 1")
+
+
+def settings(args: argparse.Namespace) -> tuple[int, tuple[int, int], int, set[str]]:
+    """(runs, naive's size, naive's pixels, sections skipped) from ``add_arguments``'
+    options; ``ValueError`` for a bad one."""
+    runs = 5 if args.runs is None else args.runs
+    if runs < 1:
+        raise ValueError("--runs must be at least 1")
+    size = args.naive_size or "160x120"
     try:
-        width, height = (int(v) for v in args.naive_size.lower().split("x"))
+        width, height = (int(v) for v in size.lower().split("x"))
     except ValueError:
-        parser.error(f"--naive-size: expected WIDTHxHEIGHT, got {args.naive_size!r}")
+        raise ValueError(f"--naive-size: expected WIDTHxHEIGHT, got {size!r}") from None
+    pixels = 200 if args.naive_pixels is None else args.naive_pixels
+    return runs, (width, height), pixels, set(args.skip)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Print every section not skipped (``settings(args)`` must have been checked)."""
+    runs, size, pixels, skip = settings(args)
     from importlib.metadata import version
 
     print(
         f"machine: {os.cpu_count()} CPUs, affinity {sorted(os.sched_getaffinity(0))}, load "
         f"{os.getloadavg()[0]:.2f}; numba {version('numba')}; render threads: Python threads "
-        "calling the compiled render through ctypes"
+        "calling the compiled render through ctypes",
+        flush=True,
     )
-    skip = set(args.skip)
     if "cold" not in skip:
         cold_start()
     medians: dict[tuple[int, float], float] = {}
     if "render" not in skip:
-        medians = reference_render(args.runs)
+        medians = reference_render(runs)
     if "balance" not in skip:
-        balance(args.runs)
+        balance(runs)
     if "command" not in skip:
-        whole_command(args.runs)
+        whole_command(runs)
     if "naive" not in skip:
-        against_naive(args.runs, medians, (width, height), args.naive_pixels)
+        against_naive(runs, medians, size, pixels)
     if "allocations" not in skip:
         allocations()
     if "cpp" not in skip:
-        cpp_workload(args.runs)
+        cpp_workload(runs)
     if "options" not in skip:
-        options(args.runs)
+        options(runs)
     if "specialize" not in skip:
-        specialization(args.runs)
+        specialization(runs)
+    if "regions" not in skip:
+        regions(runs)
     return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(
+        prog="python -m harness.numba_targets", description=(__doc__ or "").split("\n\n")[0]
+    )
+    add_arguments(parser)
+    args = parser.parse_args(argv)
+    try:
+        settings(args)
+    except ValueError as error:
+        parser.error(str(error))
+    return run(args)
 
 
 if __name__ == "__main__":
