@@ -52,7 +52,7 @@ BOOK_STEPS = (
 )  # fmt: skip
 """The methods that are book names (``raytracer.api.BOOK_API``)."""
 
-STEPS = (*BOOK_STEPS, "pixel_color", "prepare", "render_region")
+STEPS = (*BOOK_STEPS, "pixel_color", "prepare", "render_region", "new_canvas", "write_region")
 """Every overridable step of the interface, book names first."""
 
 
@@ -251,17 +251,25 @@ class Tracer:
         progress: called with 1 after each row.
         """
         settings = settings if settings is not None else RenderSettings()
-        image = canvas(c.hsize, c.vsize)
+        image = self.new_canvas(c)
         self.forget()
         try:
             for y in range(c.vsize):
-                values = self.render_region(c, w, settings, (0, y, c.hsize, y + 1))
-                write_row(image, y, values)
+                row = (0, y, c.hsize, y + 1)
+                self.write_region(image, row, self.render_region(c, w, settings, row))
                 if progress is not None:
                     progress(1)
         finally:
             self.forget()
         return image
+
+    def new_canvas(self, c: Camera) -> Canvas:
+        """Chapter 2: the canvas a render of ``c`` fills, every pixel black."""
+        return canvas(c.hsize, c.vsize)
+
+    def write_region(self, image: Canvas, region: Region, values: Sequence[float]) -> None:
+        """Write a region's pixels, as ``render_region`` returns them, into ``image``."""
+        write_region(image, region, values)
 
     # -- what the harness asks of a tracer
 

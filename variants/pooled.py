@@ -49,8 +49,8 @@ from multiprocessing.connection import Connection, wait
 from typing import Any
 
 from raytracer.camera import Camera, RenderSettings
-from raytracer.canvas import Canvas, canvas
-from raytracer.tracer import Progress, Region, Tracer, write_region
+from raytracer.canvas import Canvas
+from raytracer.tracer import Progress, Region, Tracer
 from raytracer.world import World
 from variants.registry import (
     RenderError,
@@ -330,13 +330,13 @@ class PooledTracer(Wrapper):
     ) -> Canvas:
         """Chapter 7: render ``w`` as seen by ``c``; ``progress(rows)`` as rows complete."""
         settings = settings if settings is not None else RenderSettings()
-        image = canvas(c.hsize, c.vsize)
+        image = self.new_canvas(c)  # the inner tracer's kind of canvas
         jobs = make_jobs(c.hsize, c.vsize, self.granularity, self.tile)
         left_in_row = [c.hsize] * c.vsize
         pool = _Pool(min(self.workers, len(jobs)), self.inner_name, c, w, settings)
         try:
             for index, values in pool.results(jobs):
-                write_region(image, jobs[index], values)
+                self.write_region(image, jobs[index], values)
                 x0, y0, x1, y1 = jobs[index]
                 finished = 0
                 for y in range(y0, y1):

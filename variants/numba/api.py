@@ -22,6 +22,7 @@ import numpy as np
 
 from raytracer.api import naive_api
 from raytracer.camera import Camera, RenderSettings
+from raytracer.canvas import Canvas
 from raytracer.colors import Color
 from raytracer.intersections import Computations, Intersection
 from raytracer.lights import PointLight
@@ -392,6 +393,19 @@ class NumbaTracer(Tracer):
         if progress is not None:
             progress(c.vsize)
         return image
+
+    def new_canvas(self, c: Camera) -> ArrayCanvas:
+        """Chapter 2: an array-backed canvas in this variant's precision, all black."""
+        return ArrayCanvas(np.zeros((c.vsize, c.hsize, 3), dtype=self.dtype))
+
+    def write_region(self, image: Canvas, region: Region, values: Sequence[float]) -> None:
+        """A region's pixels into ``image``: one array assignment on an ``ArrayCanvas``."""
+        if not isinstance(image, ArrayCanvas):
+            super().write_region(image, region, values)
+            return
+        x0, y0, x1, y1 = region
+        block = np.asarray(values, dtype=image.array.dtype).reshape(y1 - y0, x1 - x0, 3)
+        image.array[y0:y1, x0:x1] = block
 
     # -- what the harness asks of a tracer
 
