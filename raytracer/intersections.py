@@ -117,13 +117,27 @@ def prepare_computations(
     xs: all intersections along the ray, for n1/n2 (default: just ``hit``).
     """
     point = position(ray, hit.t)
-    eyev = -ray.direction
     normalv = normal_at(hit.object, point, hit)
+    n1, n2 = _refractive_indices(hit, [hit] if xs is None else xs)
+    return computations_at(hit, ray, point, normalv, epsilon(), n1, n2)
+
+
+def computations_at(
+    hit: Intersection,
+    ray: Ray,
+    point: Tuple,
+    normalv: Tuple,
+    offset: float,
+    n1: float,
+    n2: float,
+) -> Computations:
+    """Chapters 7, 8, 11: the computations at ``point`` on ``hit``, its surface normal
+    ``normalv`` flipped to face the eye, over/under points ``offset`` along it."""
+    eyev = -ray.direction
     inside = dot(normalv, eyev) < 0
     if inside:
         normalv = -normalv
-    offset = normalv * epsilon()
-    n1, n2 = _refractive_indices(hit, [hit] if xs is None else xs)
+    nudge = normalv * offset
     return Computations(
         t=hit.t,
         object=hit.object,
@@ -131,8 +145,8 @@ def prepare_computations(
         eyev=eyev,
         normalv=normalv,
         inside=inside,
-        over_point=point + offset,
-        under_point=point - offset,
+        over_point=point + nudge,
+        under_point=point - nudge,
         reflectv=reflect(ray.direction, normalv),
         n1=n1,
         n2=n2,

@@ -4,17 +4,17 @@ overrides only the step it changes and every other step calls the override.
 
 ::
 
-    render ─> render_region ─> prepare (once a frame) ─> pixel_color ─> ray_for_pixel
-                                                                    └─> color_at
+    render ─> render_into ─> render_region ─> prepare (once a frame) ─> pixel_color
+    pixel_color ─> ray_for_pixel, color_at
     color_at ─> intersect_world, prepare_computations, shade_hit
     shade_hit ─> is_shadowed, lighting, reflected_color, refracted_color, schlick
     reflected_color, refracted_color ─> color_at (one level deeper)
 
 The book's module-level names (``raytracer.color_at`` ...) are the bound methods of
 ``TRACER``, the default instance, so ``color_at(w, r)`` means what it always meant. The
-leaf steps keep their code beside the values they work on (``lighting`` in
-``materials``, ``prepare_computations`` and ``schlick`` in ``intersections``,
-``ray_for_pixel`` in ``camera``); their methods here are what a variant overrides.
+leaf steps are their chapter's functions, kept beside the values they work on
+(``lighting`` in ``materials``, ``prepare_computations`` and ``schlick`` in
+``intersections``, ``ray_for_pixel`` in ``camera``); a variant overrides them as methods.
 """
 
 from __future__ import annotations
@@ -31,11 +31,10 @@ from raytracer.intersections import Computations, Intersection, hit, intersectio
 from raytracer.intersections import prepare_computations as computations_for
 from raytracer.intersections import schlick as schlick_reflectance
 from raytracer.lights import PointLight
-from raytracer.materials import Material
 from raytracer.materials import lighting as phong
 from raytracer.rays import Ray, ray
 from raytracer.sampling import sample_offset
-from raytracer.shapes.shape import Shape, intersect
+from raytracer.shapes.shape import intersect
 from raytracer.tolerance import using_epsilon
 from raytracer.tuples import Tuple, dot, magnitude, normalize
 from raytracer.world import World
@@ -52,8 +51,15 @@ BOOK_STEPS = (
 )  # fmt: skip
 """The methods that are book names (``raytracer.api.BOOK_API``)."""
 
-STEPS = (*BOOK_STEPS, "pixel_color", "prepare", "render_region", "new_canvas", "write_region")
+STEPS = (
+    *BOOK_STEPS, "pixel_color", "prepare", "render_region", "render_into", "new_canvas",
+    "write_region",
+)  # fmt: skip
 """Every overridable step of the interface, book names first."""
+
+RENDER_LOOP = ("pixel_color", "prepare", "render_region", "render_into")
+"""The steps of chapter 7's ``render`` below it: a variant that overrides one renders with
+code of its own."""
 
 
 def region_rows(region: Region) -> range:
@@ -82,18 +88,9 @@ class Tracer:
 
     # -- chapter 6
 
-    def lighting(
-        self,
-        material: Material,
-        object: Shape | None,
-        light: PointLight,
-        point: Tuple,
-        eyev: Tuple,
-        normalv: Tuple,
-        in_shadow: bool = False,
-    ) -> Color:
-        """Chapters 6, 8, 10: the Phong color of one point lit by one light."""
-        return phong(material, object, light, point, eyev, normalv, in_shadow)
+    lighting = staticmethod(phong)
+    """Chapters 6, 8, 10: the Phong color of one point lit by one light
+    (``raytracer.materials.lighting``)."""
 
     # -- chapters 7 and 8
 
@@ -105,12 +102,9 @@ class Tracer:
             xs.extend(intersect(obj, r))
         return intersections(*xs)
 
-    def prepare_computations(
-        self, hit: Intersection, r: Ray, xs: Sequence[Intersection] | None = None
-    ) -> Computations:
-        """Chapters 7, 8, 11: the state shading needs for ``hit`` (xs: every intersection
-        along ``r``, for n1 and n2)."""
-        return computations_for(hit, r, xs)
+    prepare_computations = staticmethod(computations_for)
+    """Chapters 7, 8, 11: the state shading needs for a hit
+    (``raytracer.intersections.prepare_computations``)."""
 
     def shade_hit(self, w: World, comps: Computations, remaining: int = 5) -> Color:
         """Chapters 7, 8, 11: the color at a hit: surface (shadowed or not), plus reflection
@@ -175,15 +169,13 @@ class Tracer:
         refract_ray = ray(comps.under_point, direction)
         return self.color_at(w, refract_ray, remaining - 1) * transparency
 
-    def schlick(self, comps: Computations) -> float:
-        """Chapter 11: Schlick's approximation of the reflectance (0 to 1) at the hit."""
-        return schlick_reflectance(comps)
+    schlick = staticmethod(schlick_reflectance)
+    """Chapter 11: Schlick's reflectance at a hit (``raytracer.intersections.schlick``)."""
 
     # -- chapter 7: the camera and the render loop
 
-    def ray_for_pixel(self, c: Camera, px: float, py: float) -> Ray:
-        """Chapter 7: the ray from the camera through (px, py) (floats aim inside a pixel)."""
-        return camera_ray(c, px, py)
+    ray_for_pixel = staticmethod(camera_ray)
+    """Chapter 7: the ray through pixel (px, py) (``raytracer.camera.ray_for_pixel``)."""
 
     def pixel_color(self, c: Camera, w: World, x: int, y: int, settings: RenderSettings) -> Color:
         """The color of pixel (x, y): one ray through its centre (the book), or the mean of
@@ -245,23 +237,35 @@ class Tracer:
         settings: RenderSettings | None = None,
         progress: Progress | None = None,
     ) -> Canvas:
-        """Chapter 7: render ``w`` as seen by ``c`` into a new canvas, one row per region.
+        """Chapter 7: render ``w`` as seen by ``c`` into a new canvas.
 
         settings: depth, samples per pixel, seed and epsilon (default ``RenderSettings()``);
-        progress: called with 1 after each row.
+        progress: called with the number of rows just finished.
         """
         settings = settings if settings is not None else RenderSettings()
         image = self.new_canvas(c)
         self.forget()
         try:
-            for y in range(c.vsize):
-                row = (0, y, c.hsize, y + 1)
-                self.write_region(image, row, self.render_region(c, w, settings, row))
-                if progress is not None:
-                    progress(1)
+            self.render_into(image, c, w, settings, progress)
         finally:
             self.forget()
         return image
+
+    def render_into(
+        self,
+        image: Canvas,
+        c: Camera,
+        w: World,
+        settings: RenderSettings,
+        progress: Progress | None = None,
+    ) -> None:
+        """Fill ``image`` region by region: here one row at a time, in this process (where
+        the regions are traced is what a pool or a cluster changes)."""
+        for y in range(c.vsize):
+            row = (0, y, c.hsize, y + 1)
+            self.write_region(image, row, self.render_region(c, w, settings, row))
+            if progress is not None:
+                progress(1)
 
     def new_canvas(self, c: Camera) -> Canvas:
         """Chapter 2: the canvas a render of ``c`` fills, every pixel black."""
@@ -304,7 +308,7 @@ def overridden_steps(tracer: Tracer) -> tuple[str, ...]:
 TRACER = Tracer()
 """The default instance: the book's module-level names are its bound methods."""
 
-lighting = TRACER.lighting
+lighting = TRACER.lighting  # the leaf steps are their chapter's functions themselves
 intersect_world = TRACER.intersect_world
 prepare_computations = TRACER.prepare_computations
 shade_hit = TRACER.shade_hit

@@ -493,7 +493,7 @@ def test_the_book_api_is_answered_by_compiled_code() -> None:
         "is_shadowed", "reflected_color", "refracted_color", "schlick", "ray_for_pixel",
         "render",
     }  # fmt: skip
-    assert {"prepare", "render_region", "render"} <= set(variant.steps)
+    assert {"prepare", "render_region", "render_into"} <= set(variant.steps)
     assert variant.api["color_at"] == variant.tracer.color_at
     assert variant.api["stripe_at"] == variant.tracer.pattern_at
 

@@ -140,7 +140,7 @@ def test_pooled_alone_wraps_naive_and_overrides_only_render() -> None:
     pooled = load_variant("pooled[workers=2]")
     naive = load_variant("naive")
     assert pooled.name == "pooled[workers=2]:naive" and pooled.base == "naive"
-    assert pooled.overrides == {"render"} and pooled.steps == ("render",)
+    assert pooled.overrides == {"render"} and pooled.steps == ("render_into",)
     assert isinstance(pooled.tracer, PooledTracer) and pooled.tracer.inner is naive.tracer
     differing = {name for name in naive.api if pooled.api[name] is not naive.api[name]}
     assert differing == set(BOOK_STEPS)  # bound to the wrapper, which forwards all but render

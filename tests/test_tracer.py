@@ -38,11 +38,14 @@ def _pixels(image: Any) -> list[Color]:
     ]
 
 
-def test_the_book_names_are_the_default_tracers_bound_methods() -> None:
-    for name in ("color_at", "shade_hit", "is_shadowed", "render", "ray_for_pixel", "lighting"):
+def test_the_book_names_are_the_default_tracers_steps() -> None:
+    for name in ("color_at", "shade_hit", "is_shadowed", "render", "intersect_world"):
         method = getattr(raytracer, name)
         assert method.__self__ is TRACER, name
         assert method.__func__ is getattr(Tracer, name), name
+    # the leaf steps are their chapter's functions themselves
+    for name in ("lighting", "prepare_computations", "schlick", "ray_for_pixel"):
+        assert getattr(raytracer, name) is getattr(Tracer, name) is getattr(TRACER, name)
 
 
 class NoShadows(Tracer):
@@ -155,3 +158,18 @@ def test_variants_declare_the_steps_they_override(name: str, steps: tuple[str, .
     assert set(steps) <= v.overrides
     # the API's pipeline names are the variant's tracer's
     assert v.api["color_at"].__self__ is v.tracer
+
+
+def test_the_readmes_own_variant_example_works() -> None:
+    """README.md's "One tracer" example: a subclass overriding one step, as a variant."""
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parent.parent / "README.md").read_text(encoding="utf-8")
+    code = text.split("```python\n# noshadows.py\n", 1)[1].split("```", 1)[0]
+    namespace: dict[str, Any] = {}
+    exec(compile(code, "README.md (noshadows.py)", "exec"), namespace)
+    v = namespace["variant"]()
+    assert v.name == "noshadows" and v.steps == ("is_shadowed",)
+    c, w = _shadow_scene()
+    assert v.api["render"](c, w) == NoShadows().render(c, w)
+    assert v.api["render"](c, w) != TRACER.render(c, w)

@@ -321,16 +321,16 @@ class PooledTracer(Wrapper):
         self.granularity = granularity
         self.tile = tile
 
-    def render(
+    def render_into(
         self,
+        image: Canvas,
         c: Camera,
         w: World,
-        settings: RenderSettings | None = None,
+        settings: RenderSettings,
         progress: Progress | None = None,
-    ) -> Canvas:
-        """Chapter 7: render ``w`` as seen by ``c``; ``progress(rows)`` as rows complete."""
-        settings = settings if settings is not None else RenderSettings()
-        image = self.new_canvas(c)  # the inner tracer's kind of canvas
+    ) -> None:
+        """Chapter 7: fill ``image`` with the regions the workers trace; ``progress(rows)``
+        as rows complete."""
         jobs = make_jobs(c.hsize, c.vsize, self.granularity, self.tile)
         left_in_row = [c.hsize] * c.vsize
         pool = _Pool(min(self.workers, len(jobs)), self.inner_name, c, w, settings)
@@ -346,7 +346,6 @@ class PooledTracer(Wrapper):
                     progress(finished)
         finally:
             pool.close()
-        return image
 
     def explain(self, w: World) -> str:
         unit = _unit(self.granularity, self.tile)

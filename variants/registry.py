@@ -98,19 +98,22 @@ def tracer_variant(
     with every pipeline name bound to ``tracer``; ``overrides`` adds the book names the
     variant changes outside the tracer (constructors of its own shapes ...)."""
     from raytracer.api import naive_api
-    from raytracer.tracer import BOOK_STEPS
+    from raytracer.tracer import BOOK_STEPS, RENDER_LOOP
     from variants.wrapper import steps_overridden
 
     mapping = dict(api if api is not None else naive_api())
     for step in BOOK_STEPS:
         mapping[step] = getattr(tracer, step)
     steps = steps_overridden(tracer)
+    book = {step for step in steps if step in BOOK_STEPS}
+    if set(steps) & set(RENDER_LOOP):  # chapter 7's render runs this variant's own loop
+        book.add("render")
     return Variant(
         name=name,
         summary=summary,
         api=mapping,
         tracer=tracer,
-        overrides=frozenset(overrides) | frozenset(s for s in steps if s in BOOK_STEPS),
+        overrides=frozenset(overrides) | frozenset(book),
         steps=steps,
         base=base,
         usage=usage,

@@ -1,5 +1,6 @@
 """Tracers that wrap another tracer: every step is the inner tracer's, except the ones the
-wrapper's class defines itself (``pooled`` defines ``render``: where regions are traced).
+wrapper's class defines itself (``pooled`` defines ``render_into``: where the regions are
+traced) and ``render``, which calls them.
 """
 
 from __future__ import annotations
@@ -9,7 +10,9 @@ from typing import Any
 
 from raytracer.tracer import STEPS, Tracer, overridden_steps
 
-FORWARDED = (*STEPS, "prepared", "forget", "explain")
+# ``render`` stays the reference's: it calls ``render_into`` through ``self``, which a
+# wrapper overrides to change where the regions are traced
+FORWARDED = (*(step for step in STEPS if step != "render"), "prepared", "forget", "explain")
 
 
 def _forward(name: str) -> Callable[..., Any]:
@@ -40,6 +43,11 @@ def steps_overridden(tracer: Tracer) -> tuple[str, ...]:
     if not isinstance(tracer, Wrapper):
         return overridden_steps(tracer)
     cls = type(tracer)
-    own = [name for name in STEPS if not getattr(getattr(cls, name), "forwards", False)]
+    own = [
+        name
+        for name in STEPS
+        if getattr(cls, name) is not getattr(Tracer, name)
+        and not getattr(getattr(cls, name), "forwards", False)
+    ]
     inner = steps_overridden(tracer.inner)
     return tuple(name for name in STEPS if name in own or name in inner)

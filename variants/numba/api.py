@@ -373,26 +373,23 @@ class NumbaTracer(Tracer):
         values: list[float] = run_region(self.prepared(c, w, settings), region).ravel().tolist()
         return values
 
-    def render(
+    def render_into(
         self,
+        image: Canvas,
         c: Camera,
         w: World,
-        settings: RenderSettings | None = None,
+        settings: RenderSettings,
         progress: Progress | None = None,
-    ) -> ArrayCanvas:
-        """Chapter 7: the whole image as one region, through a kernel specialized to ``w``.
-
-        progress: called once, with the number of rows, when the whole image is done.
-        """
-        settings = settings if settings is not None else RenderSettings()
-        self.forget()
-        try:
-            image = ArrayCanvas(run_region(self.prepared(c, w, settings), (0, 0, c.hsize, c.vsize)))
-        finally:
-            self.forget()
+    ) -> None:
+        """Chapter 7: the whole image as one region, through a kernel specialized to ``w``
+        (on this variant's threads); ``progress`` once, with every row, at the end."""
+        frame, whole = self.prepared(c, w, settings), (0, 0, c.hsize, c.vsize)
+        if isinstance(image, ArrayCanvas) and image.array.dtype == frame.dtype:
+            run_region(frame, whole, out=image.array)  # straight into the canvas
+        else:
+            self.write_region(image, whole, run_region(frame, whole).ravel().tolist())
         if progress is not None:
             progress(c.vsize)
-        return image
 
     def new_canvas(self, c: Camera) -> ArrayCanvas:
         """Chapter 2: an array-backed canvas in this variant's precision, all black."""

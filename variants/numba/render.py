@@ -167,13 +167,17 @@ def prepare_frame(
     return Frame(camera, packed, renderer, threads, scratch, common, options.dtype, addresses)
 
 
-def run_region(frame: Frame, region: Region) -> np.ndarray:
+def run_region(frame: Frame, region: Region, out: np.ndarray | None = None) -> np.ndarray:
     """Chapter 7: the pixels of ``region`` (x0, y0, x1, y1) as a (y1 - y0, x1 - x0, 3)
-    array, on up to ``frame.threads`` threads, thread k taking the region's rows k,
-    k + threads, ... (the calling thread is thread 0)."""
+    array (``out`` if given: C-contiguous, the frame's dtype), on up to ``frame.threads``
+    threads, thread k taking the region's rows k, k + threads, ... (the calling thread is
+    thread 0)."""
     x0, y0, x1, y1 = (int(v) for v in region)
     height, width = max(y1 - y0, 0), max(x1 - x0, 0)
-    out = np.zeros((height, width, 3), dtype=frame.dtype)
+    if out is None:
+        out = np.zeros((height, width, 3), dtype=frame.dtype)
+    elif out.shape != (height, width, 3) or out.dtype != frame.dtype or not out.flags.c_contiguous:
+        raise ValueError(f"numba render: out must be a C-contiguous {height}x{width}x3 array")
     if height == 0 or width == 0:
         return out
     threads = min(frame.threads, height)

@@ -35,13 +35,13 @@ import math
 from collections.abc import Sequence
 
 from raytracer.colors import BLACK, Color
-from raytracer.intersections import Computations, Intersection
+from raytracer.intersections import Computations, Intersection, computations_at
 from raytracer.rays import Ray, position
 from raytracer.shapes.shape import Shape
 from raytracer.shapes.space import world_to_object
 from raytracer.tolerance import epsilon
 from raytracer.tracer import Tracer
-from raytracer.tuples import Tuple, dot, reflect
+from raytracer.tuples import Tuple, dot
 from raytracer.world import World
 
 UNIT_ROUNDOFF = 2.0**-53
@@ -126,26 +126,10 @@ class RobustTracer(Tracer):
         """Chapters 7, 8, 11: the reference's computations with the scaled offset and
         coincident surfaces crossed together."""
         point = position(r, hit.t)
-        eyev = -r.direction
         normalv, stretch = normal_and_stretch(hit.object, point, hit)
-        inside = dot(normalv, eyev) < 0
-        if inside:
-            normalv = -normalv
-        offset = normalv * surface_offset(r, hit.t, stretch)
         n1, n2 = refractive_indices(hit, [hit] if xs is None else xs)
-        return Computations(
-            t=hit.t,
-            object=hit.object,
-            point=point,
-            eyev=eyev,
-            normalv=normalv,
-            inside=inside,
-            over_point=point + offset,
-            under_point=point - offset,
-            reflectv=reflect(r.direction, normalv),
-            n1=n1,
-            n2=n2,
-        )
+        offset = surface_offset(r, hit.t, stretch)
+        return computations_at(hit, r, point, normalv, offset, n1, n2)
 
     def is_shadowed(self, w: World, point: Tuple) -> bool:
         """Chapter 8: something that casts shadows lies between ``point`` and the light
