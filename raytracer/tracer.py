@@ -25,7 +25,7 @@ from typing import Any
 
 from raytracer.camera import Camera, RenderSettings
 from raytracer.camera import ray_for_pixel as camera_ray
-from raytracer.canvas import Canvas, canvas, write_pixel
+from raytracer.canvas import Canvas, canvas
 from raytracer.colors import BLACK, Color
 from raytracer.intersections import Computations, Intersection, hit, intersections
 from raytracer.intersections import prepare_computations as computations_for
@@ -60,15 +60,6 @@ STEPS = (
 RENDER_LOOP = ("pixel_color", "prepare", "render_region", "render_into")
 """The steps of chapter 7's ``render`` below it: a variant that overrides one renders with
 code of its own."""
-
-
-def region_rows(region: Region) -> range:
-    return range(region[1], region[3])
-
-
-def region_pixels(region: Region) -> int:
-    x0, y0, x1, y1 = region
-    return max(x1 - x0, 0) * max(y1 - y0, 0)
 
 
 def _light(w: World, caller: str) -> PointLight:
@@ -285,18 +276,23 @@ class Tracer:
         )
 
 
-def write_row(image: Canvas, y: int, values: Sequence[float], x0: int = 0) -> None:
-    """Write row-major ``[r, g, b, ...]`` values into ``image`` from pixel (x0, y) on."""
-    for k in range(len(values) // 3):
-        write_pixel(image, x0 + k, y, Color(values[3 * k], values[3 * k + 1], values[3 * k + 2]))
-
-
 def write_region(image: Canvas, region: Region, values: Sequence[float]) -> None:
-    """Write a region's row-major ``[r, g, b, ...]`` values into ``image``."""
-    x0, _, x1, _ = region
-    width = 3 * (x1 - x0)
-    for row, y in enumerate(region_rows(region)):
-        write_row(image, y, values[row * width : (row + 1) * width], x0)
+    """Write a region's row-major ``[r, g, b, ...]`` values into ``image`` (a reference
+    canvas: one slice of its pixel list per row)."""
+    x0, y0, x1, y1 = region
+    width = x1 - x0
+    if not (0 <= x0 <= x1 <= image.width and 0 <= y0 <= y1 <= image.height):
+        raise ValueError(
+            f"write_region: region {region} is outside the {image.width}x{image.height} canvas"
+        )
+    if len(values) != 3 * width * (y1 - y0):
+        raise ValueError(f"write_region: {len(values)} values for the {region} region")
+    for row, y in enumerate(range(y0, y1)):
+        start = 3 * width * row
+        image.pixels[y * image.width + x0 : y * image.width + x1] = [
+            Color(values[k], values[k + 1], values[k + 2])
+            for k in range(start, start + 3 * width, 3)
+        ]
 
 
 def overridden_steps(tracer: Tracer) -> tuple[str, ...]:
