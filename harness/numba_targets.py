@@ -23,7 +23,10 @@ of the process over wall seconds: up to 1.0 per thread that really ran):
 8. what specialization buys: the specialized and the generic kernel, alternating, on the
    reference scene and on cpp-spheres;
 9. regions: the reference scene rendered whole and as one ``render_region`` call per row
-   (what a pooled worker makes), 1 thread, after the frame is prepared.
+   (what a pooled worker makes), 1 thread, after the frame is prepared;
+10. pooled: ``pooled[workers=1]:numba`` against ``numba[threads=1]`` and
+   ``pooled[workers=2]:numba[threads=1]`` against ``numba``, renders alternating, per pixel
+   with the start-up apart (target: one worker within 2x per pixel).
 
 Timings on a shared machine are rough: the CPU share column says how much of a core each
 run really had. Pin the process with ``taskset -c 0,1`` for steadier figures.
@@ -475,9 +478,76 @@ def regions(runs: int) -> None:
     )
 
 
+POOL_PAIRS = (
+    ("numba[threads=1]", "pooled[workers=1]:numba"),
+    ("numba", "pooled[workers=2]:numba[threads=1]"),
+)
+START_UP_SIZE = (8, 6)  # a render this small costs what a render costs besides its pixels
+
+
+def _timed_with_children(action: Callable[[], Any]) -> tuple[float, float]:
+    """(wall seconds, CPU share) of one call, the CPU of its finished child processes
+    (a pool's workers) included."""
+    import resource
+
+    def cpu() -> float:
+        own = resource.getrusage(resource.RUSAGE_SELF)
+        children = resource.getrusage(resource.RUSAGE_CHILDREN)
+        return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
+
+    start_cpu, start = cpu(), time.perf_counter()
+    action()
+    wall = time.perf_counter() - start
+    return wall, (cpu() - start_cpu) / wall if wall > 0 else 0.0
+
+
+def pooled(runs: int) -> None:
+    """``pooled`` over ``numba`` against ``numba`` itself, their renders alternating: the
+    reference scene at 640x480, at 8x6 (its start-up apart: the pool's processes starting,
+    each loading the variant and preparing the frame), and per pixel (the difference). A
+    worker calls its numba tracer's ``render_region`` per line; the target is pooled with
+    one worker within 2x of ``numba[threads=1]`` per pixel."""
+    settings = _settings()
+    big = (640, 480)
+    for plain_name, pooled_name in POOL_PAIRS:
+        loaded = {
+            (name, size): _load(name, REFERENCE, size)
+            for name in (plain_name, pooled_name)
+            for size in (big, START_UP_SIZE)
+        }
+        samples: dict[tuple[str, tuple[int, int]], list[tuple[float, float]]] = {}
+        for variant, c, w in loaded.values():  # warm: kernels loaded, caches built
+            _render_once(variant, c, w, settings)
+        for _ in range(runs):
+            for key, (variant, c, w) in loaded.items():
+                render = functools.partial(_render_once, variant, c, w, settings)
+                samples.setdefault(key, []).append(_timed_with_children(render))
+        median = {key: statistics.median(t for t, _ in found) for key, found in samples.items()}
+        pixels = big[0] * big[1] - START_UP_SIZE[0] * START_UP_SIZE[1]
+        per_pixel = {
+            name: (median[(name, big)] - median[(name, START_UP_SIZE)]) / pixels
+            for name in (plain_name, pooled_name)
+        }
+        ratio = per_pixel[pooled_name] / per_pixel[plain_name]
+        goal = (
+            f" (target 2x: {_verdict(ratio <= 2.0)})"
+            if pooled_name.startswith("pooled[workers=1]")
+            else ""
+        )
+        print(f"pooled against {plain_name} (reference scene, {runs} alternating renders each):")
+        for name in (plain_name, pooled_name):
+            print(
+                f"  {name}: 640x480 median {median[(name, big)]:.3f} s "
+                f"({_shares(samples[(name, big)])}); start-up (8x6) "
+                f"{median[(name, START_UP_SIZE)]:.3f} s; per pixel "
+                f"{per_pixel[name] * 1e6:.3f} µs"
+            )
+        print(f"  per pixel, pooled / plain: {ratio:.2f}x{goal}", flush=True)
+
+
 SECTIONS = (
     "cold", "render", "balance", "command", "naive", "allocations", "cpp", "options",
-    "specialize", "regions",
+    "specialize", "regions", "pooled",
 )  # fmt: skip
 
 
@@ -547,6 +617,8 @@ def run(args: argparse.Namespace) -> int:
         specialization(runs)
     if "regions" not in skip:
         regions(runs)
+    if "pooled" not in skip:
+        pooled(runs)
     return 0
 
 

@@ -83,8 +83,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "the numba variant's targets",
         "rtc bench --numba-targets [--runs N] [--skip SECTION] ...: the numba variant's "
         "figures against its targets (cold compile, renders at 640x480, the whole rtc render "
-        "command, the speed-up over naive, allocations, MRay/s, options, regions), printed; "
-        "no result file, and the table's options do not apply",
+        "command, the speed-up over naive, allocations, MRay/s, options, regions, pooled), "
+        "printed; no result file, and the table's options do not apply",
     )
     targets.add_argument(
         "--numba-targets", action="store_true", help="run that benchmark instead of the table"
