@@ -576,13 +576,16 @@ def settings(args: argparse.Namespace) -> tuple[int, tuple[int, int], int, set[s
     runs = 5 if args.runs is None else args.runs
     if runs < 1:
         raise ValueError("--runs must be at least 1")
-    size = args.naive_size or "160x120"
+    from harness.sizes import parse_size
+
     try:
-        width, height = (int(v) for v in size.lower().split("x"))
-    except ValueError:
-        raise ValueError(f"--naive-size: expected WIDTHxHEIGHT, got {size!r}") from None
+        size = parse_size(args.naive_size or "160x120")
+    except ValueError as error:
+        raise ValueError(f"--naive-size: {error}") from None
     pixels = 200 if args.naive_pixels is None else args.naive_pixels
-    return runs, (width, height), pixels, set(args.skip)
+    if pixels < 0:
+        raise ValueError("--naive-pixels must be 0 or more")
+    return runs, (size.width, size.height), pixels, set(args.skip)
 
 
 def run(args: argparse.Namespace) -> int:

@@ -635,5 +635,9 @@ def test_rtc_bench_numba_targets(capsys: pytest.CaptureFixture[str]) -> None:
     assert "same picture: True" in printed
     assert main(["bench", "--numba-targets", "--runs", "0"]) == 2
     assert "--runs must be at least 1" in capsys.readouterr().err
+    assert main(["bench", "--numba-targets", "--naive-size", "0x0"]) == 2
+    assert "--naive-size: bad size '0x0'" in capsys.readouterr().err
+    assert main(["bench", "--numba-targets", "--naive-pixels", "-1"]) == 2
+    assert "--naive-pixels must be 0 or more" in capsys.readouterr().err
     assert main(["bench", "--runs", "3"]) == 2
     assert "only with --numba-targets" in capsys.readouterr().err
