@@ -293,14 +293,16 @@ def _wait_for(lines: queue.Queue[str], pattern: str, seen: list[str], timeout: f
 def watcher(
     learner: Learner,
 ) -> Iterator[tuple[subprocess.Popen[str], queue.Queue[str], queue.Queue[str]]]:
-    """``rtc kata --watch`` on the learner's package, its stdout and stderr read as they come
-    (a pipe nobody reads would stop the watcher once full)."""
+    """``rtc kata --watch`` on the learner's package as a terminal starts it (Ctrl-C not
+    ignored, even when this test runs in a background job, which ignores SIGINT and passes
+    that on), its stdout and stderr read as they come."""
     process = subprocess.Popen(
         learner.command("kata", "--variant", NAME, "--chapter", "1", "--watch"),
         env=learner.env,
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
     lines: queue.Queue[str] = queue.Queue()
     errors: queue.Queue[str] = queue.Queue()
