@@ -486,19 +486,16 @@ START_UP_SIZE = (8, 6)  # a render this small costs what a render costs besides 
 
 
 def _timed_with_children(action: Callable[[], Any]) -> tuple[float, float]:
-    """(wall seconds, CPU share) of one call, the CPU of its finished child processes
-    (a pool's workers) included."""
-    import resource
+    """(wall seconds, CPU share) of one call, the CPU of its worker processes included
+    (``harness.usage.TreeCpuClock``)."""
+    from harness.usage import TreeCpuClock
 
-    def cpu() -> float:
-        own = resource.getrusage(resource.RUSAGE_SELF)
-        children = resource.getrusage(resource.RUSAGE_CHILDREN)
-        return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
-
-    start_cpu, start = cpu(), time.perf_counter()
+    clock = TreeCpuClock()
+    clock.start()
+    start = time.perf_counter()
     action()
     wall = time.perf_counter() - start
-    return wall, (cpu() - start_cpu) / wall if wall > 0 else 0.0
+    return wall, clock.stop() / wall if wall > 0 else 0.0
 
 
 def pooled(runs: int) -> None:
