@@ -62,12 +62,15 @@ def lighting(
     eyev: Tuple,
     normalv: Tuple,
     in_shadow: bool = False,
+    ambient: bool = True,
 ) -> Color:
     """Chapters 6, 8 and 10: the Phong color of one point lit by one light.
 
     material: the surface's material; object: the shape (for its pattern's object space);
     light: the light; point: the world-space point being lit; eyev: towards the eye;
-    normalv: the surface normal; in_shadow: True when the light is blocked (ambient only).
+    normalv: the surface normal; in_shadow: True when the light is blocked (ambient only);
+    ambient: False leaves the ambient term out (a world's second and later lights: the
+    ambient light is counted once, with the first).
     """
     if material.pattern is not None:
         if object is None:  # the chapter 6 form had no object: treat world space as object space
@@ -77,13 +80,13 @@ def lighting(
     else:
         surface = material.color
     effective_color = surface * light.intensity
-    ambient = effective_color * material.ambient
+    ambient_part = effective_color * material.ambient if ambient else BLACK
     if in_shadow:
-        return ambient
+        return ambient_part
     lightv = normalize(light.position - point)
     light_dot_normal = dot(lightv, normalv)
     if light_dot_normal < 0:
-        return ambient  # the light is on the other side of the surface
+        return ambient_part  # the light is on the other side of the surface
     diffuse = effective_color * material.diffuse * light_dot_normal
     reflectv = reflect(-lightv, normalv)
     reflect_dot_eye = dot(reflectv, eyev)
@@ -92,4 +95,4 @@ def lighting(
     else:
         factor = reflect_dot_eye**material.shininess
         specular = light.intensity * material.specular * factor
-    return ambient + diffuse + specular
+    return ambient_part + diffuse + specular

@@ -30,7 +30,6 @@ from raytracer.colors import BLACK, Color
 from raytracer.intersections import Computations, Intersection, hit, intersections
 from raytracer.intersections import prepare_computations as computations_for
 from raytracer.intersections import schlick as schlick_reflectance
-from raytracer.lights import PointLight
 from raytracer.materials import lighting as phong
 from raytracer.rays import Ray, ray
 from raytracer.sampling import sample_offset
@@ -62,10 +61,17 @@ RENDER_LOOP = ("pixel_color", "prepare", "render_region", "render_into")
 code of its own."""
 
 
-def _light(w: World, caller: str) -> PointLight:
+def light_and_point(
+    w: World, first: Tuple, second: Tuple | None, caller: str
+) -> tuple[Tuple, Tuple]:
+    """(light position, point) from ``is_shadowed``'s two forms: ``(w, point)``, the
+    book's, towards the world's first light; ``(w, light_position, point)``, the soft
+    shadows bonus chapter's."""
+    if second is not None:
+        return first, second
     if w.light is None:
         raise ValueError(f"{caller}: the world has no light source")
-    return w.light
+    return w.light.position, first
 
 
 class Tracer:
@@ -100,13 +106,20 @@ class Tracer:
     def shade_hit(self, w: World, comps: Computations, remaining: int = 5) -> Color:
         """Chapters 7, 8, 11: the color at a hit: surface (shadowed or not), plus reflection
         and refraction, blended with Schlick's reflectance for reflective, transparent
-        surfaces. remaining: how many more reflected or refracted rays may be spawned."""
-        light = _light(w, "shade_hit")
-        shadowed = self.is_shadowed(w, comps.over_point)
+        surfaces. remaining: how many more reflected or refracted rays may be spawned.
+
+        Several lights (the book's published scenes): each light adds its own diffuse and
+        specular with its own shadow test; the ambient term is counted once, with the first
+        light (so a one-light world shades as in the book). No light: black surfaces."""
         m = comps.object.material
-        surface = self.lighting(
-            m, comps.object, light, comps.over_point, comps.eyev, comps.normalv, shadowed
-        )
+        surface = BLACK
+        for k, light in enumerate(w.lights):
+            shadowed = self.is_shadowed(w, light.position, comps.over_point)
+            lit = self.lighting(
+                m, comps.object, light, comps.over_point, comps.eyev, comps.normalv, shadowed,
+                ambient=k == 0,
+            )  # fmt: skip
+            surface = lit if k == 0 else surface + lit
         reflected = self.reflected_color(w, comps, remaining)
         refracted = self.refracted_color(w, comps, remaining)
         if m.reflective > 0 and m.transparency > 0:
@@ -122,11 +135,12 @@ class Tracer:
             return BLACK
         return self.shade_hit(w, self.prepare_computations(h, r, xs), remaining)
 
-    def is_shadowed(self, w: World, point: Tuple) -> bool:
-        """Chapter 8: True when an object that casts shadows lies between ``point`` and the
-        light."""
-        light = _light(w, "is_shadowed")
-        v = light.position - point
+    def is_shadowed(self, w: World, first: Tuple, second: Tuple | None = None) -> bool:
+        """Chapter 8: True when an object that casts shadows lies between a point and a
+        light: ``is_shadowed(w, point)`` (the book's, the world's first light) or
+        ``is_shadowed(w, light_position, point)`` (any light)."""
+        light_position, point = light_and_point(w, first, second, "is_shadowed")
+        v = light_position - point
         distance = magnitude(v)
         r = ray(point, normalize(v))
         xs = [i for i in self.intersect_world(w, r) if i.object.casts_shadow]

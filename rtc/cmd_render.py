@@ -106,6 +106,8 @@ def run(args: argparse.Namespace) -> int:
         raise UserError(str(error)) from None
     if size is not None:
         scene = scene.resized(*size)
+    for warning in scene.warnings:
+        print(f"rtc render: warning: {warning}", file=sys.stderr, flush=True)
     camera = scene.camera
     print(
         f"rendering {args.scene} at {camera.hsize}x{camera.vsize} with {variant.name} "

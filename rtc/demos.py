@@ -296,7 +296,7 @@ def _room(shadows: bool) -> World:
     )
     return World(
         [floor, left_wall, right_wall, big, medium, small],
-        point_light(point(-8, 10, -10), color(1, 1, 1)),
+        [point_light(point(-8, 10, -10), color(1, 1, 1))],
     )
 
 
@@ -341,7 +341,7 @@ def chapter9(width: int, height: int) -> Canvas:
     )
     w = World(
         [floor, backdrop, sunk, resting, floating],
-        point_light(point(-6, 8, -8), color(1, 1, 1)),
+        [point_light(point(-6, 8, -8), color(1, 1, 1))],
     )
     cam = Camera(
         width, height, math.pi / 3,
@@ -400,7 +400,7 @@ def chapter10(width: int, height: int) -> Canvas:
     )
     w = World(
         [floor, wall, gradient_ball, ring_ball, checkered_ball],
-        point_light(point(-5, 9, -8), color(1, 1, 1)),
+        [point_light(point(-5, 9, -8), color(1, 1, 1))],
     )
     cam = Camera(
         width, height, math.pi / 3,
@@ -449,7 +449,7 @@ def chapter11(width: int, height: int) -> Canvas:
     )
     w = World(
         [floor, wall, glass, mirror, behind],
-        point_light(point(-4, 9, -8), color(1, 1, 1)),
+        [point_light(point(-4, 9, -8), color(1, 1, 1))],
     )
     cam = Camera(
         width, height, math.pi / 3,
@@ -488,7 +488,7 @@ def chapter12(width: int, height: int) -> Canvas:
     )
     w = World(
         [room, top, *legs, red_box, blue_box],
-        point_light(point(-2.5, 5, -3.5), color(1, 1, 1)),
+        [point_light(point(-2.5, 5, -3.5), color(1, 1, 1))],
     )
     print(f"  {len(w.objects)} cubes")
     cam = Camera(
@@ -531,7 +531,7 @@ def chapter13(width: int, height: int) -> Canvas:
     )  # fmt: skip
     w = World(
         [floor, can, pipe, coin, traffic_cone, hourglass],
-        point_light(point(-5, 8, -6), color(1, 1, 1)),
+        [point_light(point(-5, 8, -6), color(1, 1, 1))],
     )
     cam = Camera(
         width, height, math.pi / 3,
@@ -573,7 +573,7 @@ def chapter14(width: int, height: int) -> Canvas:
     leaves = sum(len(side.children) for side in hexagon.children if isinstance(side, Group))
     print(f"  1 group of {len(hexagon.children)} groups, {leaves} shapes in all")
     floor = Plane(material=material(color=color(0.3, 0.35, 0.45), specular=0))
-    w = World([floor, hexagon], point_light(point(-4, 8, -6), color(1, 1, 1)))
+    w = World([floor, hexagon], [point_light(point(-4, 8, -6), color(1, 1, 1))])
     cam = Camera(
         width, height, math.pi / 3,
         view_transform(point(0, 2.4, -3.8), point(0, 0.75, 0), vector(0, 1, 0)),
@@ -623,7 +623,7 @@ def chapter15(width: int, height: int) -> Canvas:
         mesh.transform = translation(x, 0, 0) * rotation_y(0.3)
         for face in mesh.children:
             face.material = paint
-    w = World([flat, smooth], point_light(point(-6, 6, -8), color(1, 1, 1)))
+    w = World([flat, smooth], [point_light(point(-6, 6, -8), color(1, 1, 1))])
     cam = Camera(
         width, height, math.pi / 3,
         view_transform(point(0, 0.9, -4.4), point(0, 0, 0), vector(0, 1, 0)),
@@ -666,7 +666,7 @@ def chapter16(width: int, height: int) -> Canvas:
             specular=0,
         )
     )
-    w = World([floor, shape], point_light(point(5, 7, -5), color(1, 1, 1)))
+    w = World([floor, shape], [point_light(point(5, 7, -5), color(1, 1, 1))])
     cam = Camera(
         width, height, math.pi / 4,
         view_transform(point(1.9, 2.3, -2.7), point(0, 0.62, 0), vector(0, 1, 0)),

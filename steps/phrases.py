@@ -147,6 +147,10 @@ def _has(book: Book, m: re.Match[str], table: Table | None, _: str | None) -> No
 @phrase(r"(?P<shape>[^←]+?) is added to (?P<world>[^←]+)")
 def _added_to(book: Book, m: re.Match[str], _: Table | None, __: str | None) -> None:
     shape, world = book.evaluate(m["shape"]), book.evaluate(m["world"])
+    lights = getattr(world, "lights", None)
+    if hasattr(shape, "intensity") and hasattr(lights, "append"):  # a light
+        lights.append(shape)
+        return
     objects = getattr(world, "objects", None)
     if objects is None:
         raise EvaluationError(f"{book.step}: {describe(world)} has no 'objects'")

@@ -51,7 +51,7 @@ def test_the_book_names_are_the_default_tracers_steps() -> None:
 class NoShadows(Tracer):
     """Overrides one step, chapter 8's shadow test."""
 
-    def is_shadowed(self, w: World, point: Tuple) -> bool:
+    def is_shadowed(self, w: World, first: Tuple, second: Tuple | None = None) -> bool:
         return False
 
 
@@ -61,7 +61,7 @@ def _shadow_scene() -> tuple[Camera, World]:
     s1 = raytracer.sphere()
     s2 = raytracer.sphere()
     raytracer.set_transform(s2, raytracer.translation(0, 0, 10))
-    w = World([s1, s2], point_light(point(0, 0, -10), color(1, 1, 1)))
+    w = World([s1, s2], [point_light(point(0, 0, -10), color(1, 1, 1))])
     view = view_transform(point(0, 0, 5), point(0, 0, 10), vector(0, 1, 0))
     return Camera(1, 1, math.pi / 2, view), w
 

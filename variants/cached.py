@@ -228,7 +228,7 @@ class _Converter:
                 value if pattern is value.pattern else dataclasses.replace(value, pattern=pattern)
             )
         if isinstance(value, World):
-            return World(self(value.objects), value.light)
+            return World(self(value.objects), list(value.lights))
         return value
 
     def _rebuild(self, value: Any, twin: type) -> Any:

@@ -3,8 +3,9 @@ variant's API: ``load_scene(path, variant.api, variant=variant.name)``.
 
 The format, as this loader reads it (top level: a list of items, read in order):
 
-- ``- add: camera`` (width, height, field-of-view, from, to, up) and ``- add: light`` (at,
-  intensity): exactly one of each. A second light is an error: the book's world has one.
+- ``- add: camera`` (width, height, field-of-view, from, to, up): exactly one;
+  ``- add: light`` (at, intensity): any number, each one shading on its own (ambient once);
+  none renders black with a warning.
 - ``- add: sphere | plane | cube | cylinder | cone | group | obj | csg`` with ``transform``,
   ``material``, ``shadow`` (false: casts no shadow); ``min``, ``max``, ``closed``
   (cylinders, cones); ``children`` (groups); ``file`` (obj: relative to the scene file);

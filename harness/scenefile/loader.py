@@ -1,6 +1,6 @@
 """The top level of a scene file: a list of ``- add:`` and ``- define:`` items, read in order.
 
-``- add: camera`` and ``- add: light`` (one of each: the book's world has one light), shapes
+``- add: camera`` (one), ``- add: light`` (any number: published scenes use several), shapes
 added to the world as they come, and ``- define: NAME`` for materials, transforms and shapes
 used further down (``extend: OTHER`` builds on an earlier definition).
 """
@@ -33,8 +33,9 @@ class Scene:
     """A loaded scene file.
 
     path: the scene file; camera and world: built with the variant's API; variant: its name;
-    api: the variant's API (to resize the camera); camera_line, light_line: where they are;
-    obj_files: the OBJ models the scene reads.
+    api: the variant's API (to resize the camera); camera_line, light_line: where the camera
+    and the first light are; obj_files: the OBJ models the scene reads; warnings: what the
+    file asks that is allowed but probably not meant (``rtc render`` prints them).
     """
 
     path: Path
@@ -45,6 +46,7 @@ class Scene:
     camera_line: int = 0
     light_line: int = 0
     obj_files: tuple[Path, ...] = ()
+    warnings: tuple[str, ...] = ()
 
     def resized(self, width: int, height: int) -> Scene:
         """The same scene seen by a camera of another size, with the same field of view."""
@@ -52,7 +54,7 @@ class Scene:
         camera = updated(self.api["camera"](width, height, c.field_of_view), transform=c.transform)
         return Scene(
             self.path, camera, self.world, self.variant, self.api,
-            self.camera_line, self.light_line, self.obj_files,
+            self.camera_line, self.light_line, self.obj_files, self.warnings,
         )  # fmt: skip
 
 
@@ -66,6 +68,7 @@ class _Loading:
     camera_line: int = 0
     light_line: int = 0
     obj_files: list[Path] = field(default_factory=list)
+    warnings: list[str] = field(default_factory=list)
 
 
 def load_scene(path: str | Path, api: Mapping[str, Any], *, variant: str = "this variant") -> Scene:
@@ -104,11 +107,14 @@ def load_scene_text(
             None, "the scene has no camera; expected '- add: camera' with width, height, "
             "field-of-view, from, to and up"
         )  # fmt: skip
-    if state.world.light is None:
-        reader.fail(None, "the scene has no light; expected '- add: light' with at and intensity")
+    if state.light_line == 0:
+        state.warnings.append(
+            f"{path}: the scene has no light, so every surface renders black; add one with "
+            "'- add: light' (at, intensity)"
+        )
     return Scene(
         path, state.camera, state.world, variant, api,
-        state.camera_line, state.light_line, tuple(state.obj_files),
+        state.camera_line, state.light_line, tuple(state.obj_files), tuple(state.warnings),
     )  # fmt: skip
 
 
@@ -187,13 +193,15 @@ def _camera(state: _Loading, node: Node, entries: dict[str, Entry]) -> None:
 
 
 def _light(state: _Loading, node: Node, entries: dict[str, Entry]) -> None:
-    """``- add: light``: chapter 6's point light. The book's world has exactly one."""
+    """``- add: light``: chapter 6's point light, added to the world's lights (a variant
+    whose world has a single ``light`` takes one)."""
     ctx, reader = state.ctx, state.ctx.reader
-    if state.world.light is not None:
+    lights = getattr(state.world, "lights", None)
+    if lights is None and state.light_line:
         reader.fail(
             node,
-            f"a second light (the first is at line {state.light_line}): the book's world has "
-            "one light; expected a single '- add: light'",
+            f"a second light (the first is at line {state.light_line}): {ctx.variant}'s world "
+            "has one light (no 'lights' list); expected a single '- add: light'",
         )
     reader.check_keys(entries, LIGHT_KEYS, "the light")
     at = reader.numbers(reader.require(entries, "at", node, "the light"), "the light's at", 3)
@@ -201,8 +209,12 @@ def _light(state: _Loading, node: Node, entries: dict[str, Entry]) -> None:
         ctx, reader.require(entries, "intensity", node, "the light"), "the light's intensity"
     )
     position = ctx.need("point", node, "the light")(*at)
-    state.world.light = ctx.need("point_light", node, "the light")(position, intensity)
-    state.light_line = line_of(node)
+    light = ctx.need("point_light", node, "the light")(position, intensity)
+    if lights is None:
+        state.world.light = light
+    else:
+        lights.append(light)
+    state.light_line = state.light_line or line_of(node)
 
 
 RESERVED = ("camera", "light", *SHAPES)

@@ -125,7 +125,7 @@ def comps_out(comps: ComputationsBuffer) -> Computations:
 def call_context(w: World | None = None, depth: int = 0) -> TraceContext:
     """A context for one API call, with the offset epsilon in effect."""
     if w is None:
-        return TraceContext(epsilon(), None, depth)
+        return TraceContext(epsilon(), (), depth)
     return TraceContext.for_world(w, epsilon(), depth)
 
 

@@ -146,9 +146,10 @@ class ComputationsBuffer:
 
 class DepthScratch:
     """The scratch of one recursion level (one value of ``remaining``, chapter 11): its
-    intersections, its hit's computations, the ray it spawns, and its three colours."""
+    intersections, its hit's computations, the ray it spawns, its three colours, and one
+    light's share of the surface colour (a world's second and later lights)."""
 
-    __slots__ = ("comps", "ray", "reflected", "refracted", "surface", "xs")
+    __slots__ = ("comps", "lit", "ray", "reflected", "refracted", "surface", "xs")
 
     def __init__(self) -> None:
         self.xs = IntersectionBuffer()
@@ -157,6 +158,7 @@ class DepthScratch:
         self.surface = new_color()
         self.reflected = new_color()
         self.refracted = new_color()
+        self.lit = new_color()
 
 
 class ShapeStack:

@@ -2,7 +2,7 @@
 builds once and then reuses for every ray.
 
 - a record per shape (flat inverse and inverse transpose, material, parent), made once,
-- the light as buffers, the offset epsilon,
+- the lights as buffers, the offset epsilon,
 - per-depth scratch for the recursion of chapter 11 (``levels[remaining]``),
 - the shadow ray and its intersection buffer (chapter 8), and small point buffers.
 
@@ -11,6 +11,8 @@ render does not change it; each API call builds its own context).
 """
 
 from __future__ import annotations
+
+from collections.abc import Sequence
 
 from raytracer.lights import PointLight
 from raytracer.materials import Material
@@ -39,7 +41,7 @@ def material_record(m: Material) -> MaterialRecord:
 class TraceContext:
     """Buffers and records reused by every ray of one render.
 
-    eps: the offset epsilon (``RenderSettings.epsilon``); light: a ``LightRecord`` or None;
+    eps: the offset epsilon (``RenderSettings.epsilon``); lights: ``LightRecord``s, in order;
     objects: the records of the world's objects, in order.
     """
 
@@ -48,7 +50,7 @@ class TraceContext:
         "containers",
         "eps",
         "levels",
-        "light",
+        "lights",
         "local_point",
         "objects",
         "shadow_ray",
@@ -56,9 +58,9 @@ class TraceContext:
         "surface",
     )
 
-    def __init__(self, eps: float, light: PointLight | None = None, depth: int = 0) -> None:
+    def __init__(self, eps: float, lights: Sequence[PointLight] = (), depth: int = 0) -> None:
         self.eps = float(eps)
-        self.light = None if light is None else LightRecord(light)
+        self.lights = [LightRecord(light) for light in lights]
         self._records: dict[int, ShapeRecord] = {}
         self.objects: list[ShapeRecord] = []
         self.levels: list[DepthScratch] = []
@@ -71,8 +73,8 @@ class TraceContext:
 
     @classmethod
     def for_world(cls, w: World, eps: float, depth: int = 0) -> TraceContext:
-        """A context with records for every object of ``w`` and its light."""
-        ctx = cls(eps, w.light, depth)
+        """A context with records for every object of ``w`` and its lights."""
+        ctx = cls(eps, w.lights, depth)
         ctx.objects = [ctx.record(shape) for shape in w.objects]
         return ctx
 

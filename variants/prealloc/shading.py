@@ -30,10 +30,6 @@ from variants.prealloc.records import LightRecord, MaterialRecord
 from variants.prealloc.shapes import ShapeRecord, intersect_into, normal_at_into
 
 
-def _no_light(caller: str) -> ValueError:
-    return ValueError(f"{caller}: the world has no light source")
-
-
 def _black(out: Vec) -> None:
     out[0] = 0.0
     out[1] = 0.0
@@ -74,9 +70,10 @@ def lighting_into(
     normalv: Vec,
     in_shadow: bool,
     out: Vec,
+    ambient: bool = True,
 ) -> None:
     """Chapters 6, 8, 10: the Phong colour of one point, written into ``out`` (naive twin:
-    ``raytracer.materials.lighting``)."""
+    ``raytracer.materials.lighting``; ambient: False for a world's later lights)."""
     if m.pattern is not None:
         surface = ctx.surface
         pattern_at_shape_into(ctx, m.pattern, obj, point, surface)
@@ -84,8 +81,8 @@ def lighting_into(
         surface = m.color
     ir, ig, ib = light.intensity
     er, eg, eb = surface[0] * ir, surface[1] * ig, surface[2] * ib  # effective_color
-    ambient = m.ambient
-    ar, ag, ab = er * ambient, eg * ambient, eb * ambient
+    k = m.ambient
+    ar, ag, ab = (er * k, eg * k, eb * k) if ambient else (0.0, 0.0, 0.0)
     if in_shadow:
         out[0], out[1], out[2] = ar, ag, ab
         return
@@ -120,15 +117,12 @@ def lighting_into(
     out[2] = ab + db + sb
 
 
-def is_shadowed(ctx: TraceContext, point: Vec) -> bool:
+def is_shadowed(ctx: TraceContext, light_position: Vec, point: Vec) -> bool:
     """Chapter 8: True when a shadow-casting object lies between ``point`` and the light
-    (naive twin: ``raytracer.world.is_shadowed``; here the shadow ray and its intersection
-    list are the context's, reused)."""
-    light = ctx.light
-    if light is None:
-        raise _no_light("is_shadowed")
+    at ``light_position`` (naive twin: ``Tracer.is_shadowed``; here the shadow ray and its
+    intersection list are the context's, reused)."""
     px, py, pz, pw = point
-    lx, ly, lz, lw = light.position
+    lx, ly, lz, lw = light_position
     vx, vy, vz, vw = lx - px, ly - py, lz - pz, lw - pw
     distance = math.sqrt(vx * vx + vy * vy + vz * vz + vw * vw)
     ray = ctx.shadow_ray
@@ -239,17 +233,24 @@ def schlick(comps: ComputationsBuffer) -> float:
 def shade_hit_into(ctx: TraceContext, comps: ComputationsBuffer, remaining: int, out: Vec) -> None:
     """Chapters 7, 8, 11: the colour at a hit, written into ``out`` (naive twin:
     ``raytracer.world.shade_hit``)."""
-    light = ctx.light
-    if light is None:
-        raise _no_light("shade_hit")
-    shadowed = is_shadowed(ctx, comps.over_point)
     rec = comps.object
     m = rec.material
     level = ctx.level(remaining)
     surface, reflected, refracted = level.surface, level.reflected, level.refracted
-    lighting_into(
-        ctx, m, rec, light, comps.over_point, comps.eyev, comps.normalv, shadowed, surface
-    )
+    point, eyev, normalv = comps.over_point, comps.eyev, comps.normalv
+    lights = ctx.lights
+    if not lights:
+        _black(surface)
+    for k, light in enumerate(lights):  # the ambient term once, with the first light
+        shadowed = is_shadowed(ctx, light.position, point)
+        if k == 0:
+            lighting_into(ctx, m, rec, light, point, eyev, normalv, shadowed, surface)
+            continue
+        lit = level.lit
+        lighting_into(ctx, m, rec, light, point, eyev, normalv, shadowed, lit, False)
+        surface[0], surface[1], surface[2] = (
+            surface[0] + lit[0], surface[1] + lit[1], surface[2] + lit[2]
+        )  # fmt: skip
     reflected_color_into(ctx, comps, remaining, reflected)
     refracted_color_into(ctx, comps, remaining, refracted)
     if m.reflective > 0 and m.transparency > 0:

@@ -18,7 +18,7 @@ from raytracer.lights import PointLight
 from raytracer.materials import Material
 from raytracer.rays import Ray
 from raytracer.shapes.shape import Shape
-from raytracer.tracer import Tracer
+from raytracer.tracer import Tracer, light_and_point
 from raytracer.tuples import Tuple
 from raytracer.world import World
 from variants.prealloc import shading
@@ -71,6 +71,7 @@ class PreallocTracer(Tracer):
         eyev: Tuple,
         normalv: Tuple,
         in_shadow: bool = False,
+        ambient: bool = True,
     ) -> Color:
         """Chapters 6, 8, 10: ``lighting_into`` on a new buffer."""
         ctx = call_context()
@@ -86,6 +87,7 @@ class PreallocTracer(Tracer):
             tuple_in(normalv),
             bool(in_shadow),
             out,
+            bool(ambient),
         )
         return color_out(out)
 
@@ -122,9 +124,11 @@ class PreallocTracer(Tracer):
         shading.color_at_into(call_context(w, remaining), ray_in(r), remaining, out)
         return color_out(out)
 
-    def is_shadowed(self, w: World, point: Tuple) -> bool:
-        """Chapter 8: ``is_shadowed`` with the context's shadow buffers."""
-        return shading.is_shadowed(call_context(w), tuple_in(point))
+    def is_shadowed(self, w: World, first: Tuple, second: Tuple | None = None) -> bool:
+        """Chapter 8: ``is_shadowed`` with the context's shadow buffers (both of the
+        reference's forms)."""
+        light_position, point = light_and_point(w, first, second, "is_shadowed")
+        return shading.is_shadowed(call_context(w), tuple_in(light_position), tuple_in(point))
 
     def reflected_color(self, w: World, comps: Computations, remaining: int = 5) -> Color:
         """Chapter 11: ``reflected_color_into`` on a new buffer."""

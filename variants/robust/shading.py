@@ -40,7 +40,7 @@ from raytracer.rays import Ray, position
 from raytracer.shapes.shape import Shape
 from raytracer.shapes.space import world_to_object
 from raytracer.tolerance import epsilon
-from raytracer.tracer import Tracer
+from raytracer.tracer import Tracer, light_and_point
 from raytracer.tuples import Tuple, dot
 from raytracer.world import World
 
@@ -131,12 +131,12 @@ class RobustTracer(Tracer):
         offset = surface_offset(r, hit.t, stretch)
         return computations_at(hit, r, point, normalv, offset, n1, n2)
 
-    def is_shadowed(self, w: World, point: Tuple) -> bool:
-        """Chapter 8: something that casts shadows lies between ``point`` and the light
-        (not counting what touches the light itself, within 2**-30 of the distance)."""
-        if w.light is None:
-            raise ValueError("is_shadowed: the world has no light source")
-        v = w.light.position - point
+    def is_shadowed(self, w: World, first: Tuple, second: Tuple | None = None) -> bool:
+        """Chapter 8: something that casts shadows lies between a point and a light (not
+        counting what touches the light itself, within 2**-30 of the distance); the
+        reference's two forms, ``(w, point)`` and ``(w, light_position, point)``."""
+        light_position, point = light_and_point(w, first, second, "is_shadowed")
+        v = light_position - point
         distance = math.sqrt(v.x * v.x + v.y * v.y + v.z * v.z)
         if distance == 0.0:
             return False
