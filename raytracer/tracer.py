@@ -286,7 +286,8 @@ class Tracer:
         """What a render of ``w`` would run (``rtc render --explain``)."""
         return (
             f"{type(self).__name__}: the book's pipeline in Python, one pixel at a time; "
-            f"{len(w.objects)} objects at the top of the world"
+            f"{len(w.objects)} objects at the top of the world, {len(w.lights)} "
+            f"light{'' if len(w.lights) == 1 else 's'}"
         )
 
 

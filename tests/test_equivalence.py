@@ -19,7 +19,9 @@ from harness.scenefile import load_scene
 from raytracer.camera import RenderSettings
 from variants.registry import Variant, available_variants, load_variant
 
-REFERENCE_SCENE = Path(__file__).resolve().parent.parent / "harness" / "scenes" / "reference.yml"
+SCENES_FOLDER = Path(__file__).resolve().parent.parent / "harness" / "scenes"
+REFERENCE_SCENE = SCENES_FOLDER / "reference.yml"
+COVER_SCENE = SCENES_FOLDER / "cover.yml"
 # Compositions beyond the defaults that ``all`` gives: the pool over another variant, and
 # each job granularity.
 COMPOSED = (
@@ -84,6 +86,21 @@ def patterns_mirrors_glass(api: Any) -> tuple[Any, Any]:
     return c, w
 
 
+def three_lights(api: Any) -> tuple[Any, Any]:
+    """Several lights: the patterns-mirrors-glass world lit also by a dim blue light from
+    the right and a warm one above the glass (each with its own shadows)."""
+    c, w = patterns_mirrors_glass(api)
+    for at, rgb in (((5, 3, -4), (0.2, 0.3, 0.6)), ((-0.5, 4, -1), (0.5, 0.4, 0.2))):
+        w.lights.append(api["point_light"](api["point"](*at), api["color"](*rgb)))
+    return c, w
+
+
+def cover_scene(api: Any) -> tuple[Any, Any]:
+    """The cubes of ``harness/scenes/cover.yml`` (two lights, glass, mirror) at 16x16."""
+    scene = load_scene(COVER_SCENE, api).resized(16, 16)
+    return scene.camera, scene.world
+
+
 def reference_scene(api: Any) -> tuple[Any, Any]:
     """The reference scene file (cylinders, groups, glass) at 16x12."""
     scene = load_scene(REFERENCE_SCENE, api).resized(16, 12)
@@ -95,6 +112,8 @@ SCENES = [
     Scene("default-world-12x12-3spp", small_default_world, RenderSettings(samples=3, seed=11)),
     Scene("patterns-mirrors-glass", patterns_mirrors_glass),
     Scene("reference-16x12", reference_scene, RenderSettings(epsilon=0.001)),
+    Scene("three-lights", three_lights),
+    Scene("cover-16x16", cover_scene),
 ]
 
 
