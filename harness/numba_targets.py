@@ -63,11 +63,11 @@ EPSILONS = (0.0001, 0.001)  # the project's (the book's) and the Go renderer's
 def _load(
     variant_name: str, path: Path, size: tuple[int, int] | None = None
 ) -> tuple[Any, Any, Any]:
-    from harness.scenefile import load_scene
+    from harness.scenefile import divides, load_scene
     from variants.registry import load_variant
 
     variant = load_variant(variant_name)
-    scene = load_scene(path, variant.api, variant=variant.name)
+    scene = load_scene(path, variant.api, variant=variant.name, divide=divides(variant))
     if size is not None:
         scene = scene.resized(*size)
     return variant, scene.camera, scene.world
@@ -210,13 +210,13 @@ STARTUP = """
 import time
 t0 = time.perf_counter()
 from harness.images import write_image
-from harness.scenefile import load_scene
+from harness.scenefile import divides, load_scene
 from raytracer.camera import RenderSettings
 from variants.registry import load_variant
 t1 = time.perf_counter()
 variant = load_variant("numba")
 t2 = time.perf_counter()
-scene = load_scene({scene!r}, variant.api, variant=variant.name)
+scene = load_scene({scene!r}, variant.api, variant=variant.name, divide=divides(variant))
 t3 = time.perf_counter()
 image = variant.api["render"](scene.camera, scene.world, RenderSettings())
 t4 = time.perf_counter()

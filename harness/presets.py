@@ -101,15 +101,19 @@ def resolve_scene(text: str) -> SceneRef:
     return SceneRef(path.stem, path.resolve())
 
 
-def build_scene(ref: SceneRef, api: Mapping[str, Any], variant: str, size: Size) -> Any:
-    """(camera, world) for ``ref`` built through ``api``, the camera ``size`` pixels."""
+def build_scene(
+    ref: SceneRef, api: Mapping[str, Any], variant: str, size: Size, divide: bool = True
+) -> Any:
+    """(camera, world) for ``ref`` built through ``api``, the camera ``size`` pixels;
+    divide: the loader divides the scene's groups (``harness.scenefile.divides``)."""
     if ref.path is None:
         if ref.name != BUILTIN_DEFAULT_WORLD:
             raise ValueError(f"scene {ref.name!r} has no file and is not built in")
         return _default_world_scene(api, size)
     from harness.scenefile import load_scene
 
-    scene = load_scene(ref.path, api, variant=variant).resized(size.width, size.height)
+    scene = load_scene(ref.path, api, variant=variant, divide=divide)
+    scene = scene.resized(size.width, size.height)
     return scene.camera, scene.world
 
 

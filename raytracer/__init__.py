@@ -5,6 +5,17 @@ names to them (the book's ``tuple`` is ``tuple_`` here). Pure Python: importing 
 imports neither numpy nor numba.
 """
 
+from raytracer.bounds import (
+    BoundingBox,
+    add_box,
+    add_point,
+    bounding_box,
+    box_contains_box,
+    box_contains_point,
+    intersects,
+    split_bounds,
+    transform,
+)
 from raytracer.camera import Camera, RenderSettings, camera
 from raytracer.canvas import (
     Canvas,
@@ -57,7 +68,7 @@ from raytracer.patterns import (
     stripe_pattern,
     test_pattern,
 )
-from raytracer.rays import Ray, position, ray, transform
+from raytracer.rays import Ray, position, ray
 from raytracer.sampling import sample_offset
 from raytracer.shapes.cone import Cone, cone
 from raytracer.shapes.csg import (
@@ -70,14 +81,17 @@ from raytracer.shapes.csg import (
 from raytracer.shapes.cube import Cube, cube
 from raytracer.shapes.cylinder import Cylinder, cylinder
 from raytracer.shapes.group import Group, add_child, group
+from raytracer.shapes.hierarchy import divide, make_subgroup, partition_children
 from raytracer.shapes.plane import Plane, plane
 from raytracer.shapes.shape import (
     Shape,
+    bounds_of,
     intersect,
     local_intersect,
     local_normal_at,
     normal_at,
     normal_to_world,
+    parent_space_bounds_of,
     set_transform,
     world_to_object,
 )
@@ -129,6 +143,7 @@ __all__ = [
     "CSG",
     "EPSILON",
     "TRACER",
+    "BoundingBox",
     "Camera",
     "Canvas",
     "CheckersPattern",
@@ -161,7 +176,13 @@ __all__ = [
     "Triangle",
     "Tuple",
     "World",
+    "add_box",
     "add_child",
+    "add_point",
+    "bounding_box",
+    "bounds_of",
+    "box_contains_box",
+    "box_contains_point",
     "camera",
     "canvas",
     "canvas_to_ppm",
@@ -177,6 +198,7 @@ __all__ = [
     "cylinder",
     "default_world",
     "determinant",
+    "divide",
     "dot",
     "epsilon",
     "equal",
@@ -193,6 +215,7 @@ __all__ = [
     "intersection_allowed",
     "intersection_with_uv",
     "intersections",
+    "intersects",
     "inverse",
     "is_invertible",
     "is_shadowed",
@@ -200,6 +223,7 @@ __all__ = [
     "local_intersect",
     "local_normal_at",
     "magnitude",
+    "make_subgroup",
     "material",
     "matrix",
     "minor",
@@ -207,7 +231,9 @@ __all__ = [
     "normal_to_world",
     "normalize",
     "obj_to_group",
+    "parent_space_bounds_of",
     "parse_obj_file",
+    "partition_children",
     "pattern_at",
     "pattern_at_shape",
     "pixel_at",
@@ -236,6 +262,7 @@ __all__ = [
     "shearing",
     "smooth_triangle",
     "sphere",
+    "split_bounds",
     "stripe_at",
     "stripe_at_object",
     "stripe_pattern",

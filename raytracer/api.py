@@ -27,6 +27,7 @@ CHAPTER_TITLES: dict[int, str] = {
     14: "Groups",
     15: "Triangles",
     16: "Constructive Solid Geometry",
+    17: "Bounding Boxes and Hierarchies (bonus chapter)",
 }
 
 # name -> chapter that introduces it. Constants are listed too (EPSILON, identity_matrix).
@@ -72,6 +73,10 @@ BOOK_API: dict[str, int] = {
     "intersection_with_uv": 15,
     # chapter 16
     "csg": 16, "intersection_allowed": 16, "filter_intersections": 16,
+    # chapter 17: the bonus chapter "Bounding boxes and hierarchies" (transform: chapter 5)
+    "bounding_box": 17, "add_point": 17, "add_box": 17, "box_contains_point": 17,
+    "box_contains_box": 17, "bounds_of": 17, "parent_space_bounds_of": 17, "intersects": 17,
+    "split_bounds": 17, "partition_children": 17, "make_subgroup": 17, "divide": 17,
 }  # fmt: skip
 
 

@@ -80,6 +80,10 @@ class Tracer:
 
     __slots__ = ("_frame",)
 
+    builds_hierarchy = False
+    """True for a tracer that builds its own bounding volume hierarchy over every
+    primitive of a world (the scene loader then leaves the scene's groups undivided)."""
+
     def __init__(self) -> None:
         self._frame: tuple[Camera, World, RenderSettings, Any] | None = None
 

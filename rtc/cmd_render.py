@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import Any
 
 from harness.images import FORMATS, write_image
-from harness.scenefile import SceneError, load_scene
+from harness.scenefile import SceneError, divides, load_scene
 from raytracer.camera import RenderSettings
 from rtc.cli import UserError
 from rtc.cmd_demo import parse_size
@@ -101,7 +101,7 @@ def run(args: argparse.Namespace) -> int:
     except LookupError as error:
         raise UserError(f"--variant: {error.args[0] if error.args else error}") from None
     try:
-        scene = load_scene(args.scene, variant.api, variant=variant.name)
+        scene = load_scene(args.scene, variant.api, variant=variant.name, divide=divides(variant))
     except SceneError as error:
         raise UserError(str(error)) from None
     if size is not None:
@@ -122,6 +122,8 @@ def run(args: argparse.Namespace) -> int:
             if tracer is not None
             else f"{variant.name}: nothing to explain"
         )
+        for note in scene.notes:
+            print(f"scene: {note}")
     update, close = _progress_bar(camera.vsize)
     start = time.perf_counter()
     try:

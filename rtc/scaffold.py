@@ -56,6 +56,11 @@ CHAPTER_NOTES: dict[int, str] = {
     "(1-based: item 0 unused), parser.default_group, parser.groups (name -> group), "
     "parser.ignored_lines.",
     16: "CSG shapes: c.operation c.left c.right.",
+    17: "The bonus chapter 'Bounding boxes and hierarchies'. Boxes: box.min box.max (points; "
+    "coordinates may be infinity or -infinity). bounding_box(empty) is called with no "
+    "arguments, bounding_box(min=p max=q) with the keywords min and max. add_point and "
+    "add_box may change the box or return a new one. '(left, right) ← f(...)' unpacks a "
+    "tuple or list; [s1, s2] is a list.",
 }
 
 

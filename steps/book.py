@@ -13,7 +13,7 @@ from typing import Any
 from steps.compare import is_color_like, is_number, is_tuple_like
 from steps.errors import EvaluationError, NotImplementedByVariant, UndefinedStep
 from steps.evaluator import Evaluator, close_matches, parse_expression
-from steps.notation import NotationError, target_path, to_python
+from steps.notation import NotationError, target_list, target_path, to_python
 
 
 class Book:
@@ -66,7 +66,15 @@ class Book:
 
         A mutable owner is changed in place; a frozen dataclass is replaced by an updated
         copy, which is stored back into its owner (or rebinds the scenario's name).
+        A tuple target, ``(left, right) ← ...``, takes the value's items one by one.
         """
+        try:
+            targets = target_list(target)
+        except NotationError as error:
+            raise UndefinedStep(f"{self.step}: {error}") from None
+        if targets is not None:
+            self._assign_each(targets, value)
+            return
         try:
             root, *attributes = target_path(target)
         except NotationError as error:
@@ -87,6 +95,21 @@ class Book:
             updated = _with_attribute(owner, name, updated, self.step)
         if updated is not owners[0]:
             self.variables[root] = updated
+
+    def _assign_each(self, targets: list[str], value: Any) -> None:
+        try:
+            items = list(value)
+        except TypeError:
+            raise EvaluationError(
+                f"{self.step}: {len(targets)} names to assign, but the value is "
+                f"{type(value).__name__}, not a tuple or a list"
+            ) from None
+        if len(items) != len(targets):
+            raise EvaluationError(
+                f"{self.step}: {len(targets)} names to assign, but the value has {len(items)} items"
+            )
+        for target, item in zip(targets, items, strict=True):
+            self.assign(target, item)
 
     def resolve(self, name: str) -> Any:
         """A scenario variable (the root of an assignment target)."""

@@ -18,6 +18,7 @@ CHAPTER_BY_FILE_NAME: dict[str, int] = {
     "intersections": 5, "lights": 6, "materials": 6, "world": 7, "camera": 7, "shapes": 9,
     "planes": 9, "patterns": 10, "cubes": 12, "cylinders": 13, "cones": 13, "groups": 14,
     "triangles": 15, "obj_file": 15, "smooth-triangles": 15, "csg": 16,
+    "bounding-boxes": 17,  # the bonus chapter "Bounding boxes and hierarchies"
 }  # fmt: skip
 
 

@@ -1,8 +1,9 @@
 """A small, safe evaluator for the Python source that ``notation`` produces.
 
 It walks Python's ``ast`` with an allow-list: numbers, strings, names, calls of plain names
-with positional arguments, ``+ - * /``, unary ``-`` and ``+``, attribute access (never a name
-starting with ``_``), subscripts (``M[0,0]``), tuples and comparisons. Everything else is
+with positional and keyword arguments (``bounding_box(min=p, max=q)``), ``+ - * /``, unary
+``-`` and ``+``, attribute access (never a name starting with ``_``), subscripts
+(``M[0,0]``), tuples, lists (``[s1, s2]``) and comparisons. Everything else is
 refused with ``NotAllowed``; nothing is ever handed to ``eval``.
 
 Names: in call position the variant's API wins, then the notation's own helpers (``sqrt``,
@@ -162,6 +163,8 @@ class Evaluator:
             return _UNARY[type(node.op)](self.node(node.operand))
         if isinstance(node, ast.Tuple) and isinstance(node.ctx, ast.Load):
             return tuple(self.node(element) for element in node.elts)
+        if isinstance(node, ast.List) and isinstance(node.ctx, ast.Load):
+            return [self.node(element) for element in node.elts]
         if isinstance(node, ast.Compare):
             return self.compare(node)
         raise NotAllowed(
@@ -207,16 +210,21 @@ class Evaluator:
     def call(self, node: ast.Call) -> Any:
         if not isinstance(node.func, ast.Name):
             raise NotAllowed(self._message("only named functions can be called (no methods)"))
-        if node.keywords:
-            raise NotAllowed(self._message("keyword arguments are not part of the notation"))
+        if any(keyword.arg is None for keyword in node.keywords):
+            raise NotAllowed(self._message("**arguments are not part of the notation"))
         if any(isinstance(argument, ast.Starred) for argument in node.args):
             raise NotAllowed(self._message("*arguments are not part of the notation"))
         name = node.func.id
         function = self.function(name)
         arguments = [self.node(argument) for argument in node.args]
+        keywords: dict[str, Any] = {}
+        for keyword in node.keywords:
+            assert keyword.arg is not None  # checked above
+            _check_public(keyword.arg, self._message)
+            keywords[keyword.arg] = self.node(keyword.value)
         if name == "lighting":
             arguments = self.adapt_lighting(arguments)
-        return function(*arguments)
+        return function(*arguments, **keywords)
 
     def adapt_lighting(self, arguments: list[Any]) -> list[Any]:
         """``lighting(m, light, point, eyev, normalv[, in_shadow])`` (before chapter 10)
@@ -287,7 +295,6 @@ _SYNTAX_NAMES = {
     "Yield": "yield",
     "YieldFrom": "yield",
     "JoinedStr": "an f-string",
-    "List": "a list",
     "Dict": "a dict",
     "Set": "a set",
     "Starred": "*",

@@ -413,16 +413,17 @@ def progress_table(run: KataRun) -> str:
     """The progress table: chapter by chapter in book order, variant by variant, with whose
     code ran; under a row its first failure (expected and actual) and what is to write."""
     width = max([len("variant"), *(len(name) for name in run.variants)])
-    header = f"{'chapter':<40} {'variant':<{width}} {'code':<10}"
+    rows = summary(run)
+    chapters = [f"{row['chapter'] or '?':>2} {row['title']}" for row in rows]
+    first = max([40, *(len(label) for label in chapters)])  # the bonus chapter's long title
+    header = f"{'chapter':<{first}} {'variant':<{width}} {'code':<10}"
     lines = [f"{header} {'passed':>6} {'failed':>6} {'to do':>6} {'undefined':>9}"]
     shown_chapter: object = object()
-    for row in summary(run):
-        label = (
-            f"{row['chapter'] or '?':>2} {row['title']}" if row["chapter"] != shown_chapter else ""
-        )
+    for row, chapter in zip(rows, chapters, strict=True):
+        label = chapter if row["chapter"] != shown_chapter else ""
         shown_chapter = row["chapter"]
         lines.append(
-            f"{label:<40} {row['variant']:<{width}} {row['code']:<10} {row['passed']:>6}"
+            f"{label:<{first}} {row['variant']:<{width}} {row['code']:<10} {row['passed']:>6}"
             f" {row['failed']:>6} {row[TODO]:>6} {row[UNDEFINED]:>9}"
         )
         failure = row["first_failure"]
@@ -441,7 +442,7 @@ def progress_table(run: KataRun) -> str:
         totals = Counter(result.status for result in run.results if result.variant == variant)
         label = "total" if number == 0 else ""
         lines.append(
-            f"{label:<40} {variant:<{width}} {'':<10} {totals['passed']:>6}"
+            f"{label:<{first}} {variant:<{width}} {'':<10} {totals['passed']:>6}"
             f" {totals['failed']:>6} {totals[TODO]:>6} {totals[UNDEFINED]:>9}"
         )
     for error in run.errors:

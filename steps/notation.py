@@ -9,6 +9,10 @@ the book's forms into calls the evaluator understands:
 - ``the first object in w``             -> ``nth_object(w, 1)``
 - ``second child of g``                 -> ``nth_child(g, 2)``
 - ``"FirstGroup" from parser``          -> ``group_named(parser, "FirstGroup")``
+- ``bounding_box(min=p max=q)``          -> ``bounding_box(min=p, max=q)`` (the bonus chapter
+  writes keyword arguments without commas; the evaluator accepts keyword arguments)
+- ``bounding_box(empty)``                -> ``bounding_box()`` (``empty`` as the only argument:
+  the book's word for "no arguments")
 - in conditions, ``=`` -> ``==`` and ``= approximately`` -> ``==`` (equality is approximate)
 
 Nothing here evaluates anything: the output is plain Python source text.
@@ -367,6 +371,28 @@ def _rewrite_condition(items: list[Item]) -> list[Item]:
     return result
 
 
+def _rewrite_empty(items: list[Item]) -> list[Item]:
+    """``(empty)`` as a whole argument list is ``()``: ``bounding_box(empty)``."""
+    solid = _solid(items)
+    return [] if len(solid) == 1 and _is(solid[0], "name", "empty") else items
+
+
+def _rewrite_keywords(items: list[Item]) -> list[Item]:
+    """``min=p max=q`` in an argument list gets the commas the book leaves out: a
+    ``name =`` that follows an argument (not a comma) starts a new one."""
+    result: list[Item] = []
+    for index, item in enumerate(items):
+        ahead = _next_solid(items, index + 1, 1)
+        is_keyword = _is(item, "name") and bool(ahead) and _is(ahead[0][1], "op", "=")
+        before = _solid(result)
+        if is_keyword and before and not _is(before[-1], "op", ","):
+            trailing = _trailing(result)
+            result = result[: len(result) - len(trailing)]
+            result += [Token("op", ","), Token("space", " ")]
+        result.append(item)
+    return result
+
+
 def _rewrite(items: list[Item], condition: bool) -> list[Item]:
     items = _rewrite_phrases(items)
     items = _rewrite_names(items)
@@ -376,7 +402,9 @@ def _rewrite(items: list[Item], condition: bool) -> list[Item]:
     for item in items:
         if isinstance(item, Group):
             inner = _rewrite(item.items, condition=False)
-            item.items = _rewrite_pairs(inner) if item.opening == "(" else inner
+            if item.opening == "(":
+                inner = _rewrite_keywords(_rewrite_empty(_rewrite_pairs(inner)))
+            item.items = inner
     return _implicit_products(items)
 
 
@@ -408,6 +436,20 @@ def target_path(text: str) -> list[str]:
     if not parts or not all(part.isidentifier() for part in parts):
         raise NotationError(f"not a name or a dotted name: {text!r}")
     return [_rename(parts[0]), *parts[1:]]
+
+
+def target_list(text: str) -> list[str] | None:
+    """The targets of a tuple assignment, ``(left, right) ← ...`` (parentheses optional),
+    each checked as by ``target_path``; None for a single target."""
+    inner = text.strip()
+    if inner.startswith("(") and inner.endswith(")"):
+        inner = inner[1:-1]
+    if "," not in inner:
+        return None
+    targets = [part.strip() for part in inner.split(",")]
+    for target in targets:
+        target_path(target)
+    return targets
 
 
 def split_assignment(text: str) -> tuple[str, str] | None:

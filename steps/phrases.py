@@ -148,16 +148,32 @@ def _has(book: Book, m: re.Match[str], table: Table | None, _: str | None) -> No
 def _added_to(book: Book, m: re.Match[str], _: Table | None, __: str | None) -> None:
     shape, world = book.evaluate(m["shape"]), book.evaluate(m["world"])
     lights = getattr(world, "lights", None)
-    if hasattr(shape, "intensity") and hasattr(lights, "append"):  # a light
-        lights.append(shape)
+    if hasattr(shape, "intensity") and lights is not None and hasattr(lights, "append"):
+        lights.append(shape)  # a light
         return
     objects = getattr(world, "objects", None)
+    if objects is None and _is_box_like(world):
+        _added_to_box(book, m["world"], world, shape)
+        return
     if objects is None:
         raise EvaluationError(f"{book.step}: {describe(world)} has no 'objects'")
     if hasattr(objects, "append"):
         objects.append(shape)
     else:
         book.assign(f"{m['world'].strip()}.objects", type(objects)([*objects, shape]))
+
+
+def _is_box_like(value: Any) -> bool:
+    return hasattr(value, "min") and hasattr(value, "max")
+
+
+def _added_to_box(book: Book, target: str, box: Any, value: Any) -> None:
+    """The bonus chapter's ``p is added to box`` (``add_point``) and ``box2 is added to
+    box1`` (``add_box``); a returned box (an immutable one) rebinds the target."""
+    function = "add_box" if _is_box_like(value) else "add_point"
+    result = book.call(function, box, value)
+    if result is not None and type(result) is type(box):
+        book.assign(target, result)
 
 
 @phrase(r"every pixel of (?P<canvas>[^←]+?) is set to (?P<expr>.+)")

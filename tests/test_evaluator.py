@@ -134,6 +134,21 @@ def _recurse(n: float) -> float:
     return _recurse(n + 1)
 
 
+@dataclass(frozen=True)
+class Box:
+    """A stand-in for the bonus chapter's bounding box: an immutable value."""
+
+    min: Vec
+    max: Vec
+
+
+def _grow(box: Box, lo: Vec, hi: Vec) -> Box:
+    return Box(
+        Vec(min(box.min.x, lo.x), min(box.min.y, lo.y), min(box.min.z, lo.z), 1),
+        Vec(max(box.max.x, hi.x), max(box.max.y, hi.y), max(box.max.z, hi.z), 1),
+    )
+
+
 API: dict[str, Any] = {
     "tuple": Vec,
     "point": lambda x, y, z: Vec(x, y, z, 1),
@@ -157,6 +172,9 @@ API: dict[str, Any] = {
     "pixel_at": lambda c, x, y: c.pixels.get((x, y), Col(0, 0, 0)),
     "canvas_to_ppm": lambda c: f"P3\n{c.width} {c.height}\n255\n",
     "recurse": _recurse,
+    "bounding_box": lambda min, max: Box(min, max),
+    "add_point": lambda box, p: _grow(box, p, p),
+    "add_box": lambda box, other: _grow(box, other.min, other.max),
 }
 
 
@@ -193,14 +211,14 @@ def test_arithmetic_constants_and_calls() -> None:
         "{i for i in xs}",
         "(i for i in xs)",
         "xs.append(1)",
-        "point(x=1, y=2, z=3)",
         "point(*xs)",
+        "point(**xs)",
+        "point(_x=1, y=2, z=3)",
         "2 ** 3",
         "7 // 2",
         "xs[0:1]",
         "f'{x}'",
         "1 if x else 2",
-        "[1, 2]",
         "{'a': 1}",
         "x and xs",
         "not x",
@@ -213,6 +231,13 @@ def test_arithmetic_constants_and_calls() -> None:
 def test_the_evaluator_refuses_what_the_notation_does_not_allow(source: str) -> None:
     with pytest.raises(NotAllowed):
         evaluate(source, x=1, xs=[1, 2])
+
+
+def test_keyword_arguments_and_lists_are_part_of_the_notation() -> None:
+    # the bonus chapter: bounding_box(min=p max=q), make_subgroup(g, [s1, s2])
+    assert evaluate("point(z=3, x=1, y=2)") == Vec(1, 2, 3, 1)
+    assert evaluate("[x, point(0, 0, 0)]", x=1) == [1, Vec(0, 0, 0, 1)]
+    assert evaluate("[]") == []
 
 
 def test_refusals_name_the_step() -> None:
@@ -359,6 +384,29 @@ def test_keyword_names_are_assigned_and_read_consistently(book: Book) -> None:
     given_or_when(book, "from ← point(0, 0, 8)")
     then(book, "from = point(0, 0, 8)")
     assert "from_" in book.variables
+
+
+def test_a_tuple_target_takes_the_items_one_by_one(book: Book) -> None:
+    given_or_when(book, "(a, b) ← (point(1, 2, 3), 4)")
+    given_or_when(book, "c, d ← [5, 6]")
+    assert book.variables["a"] == Vec(1, 2, 3, 1)
+    assert [book.variables[name] for name in "bcd"] == [4, 5, 6]
+    with pytest.raises(EvaluationError, match="2 names to assign, but the value has 3 items"):
+        given_or_when(book, "(a, b) ← (1, 2, 3)")
+    with pytest.raises(EvaluationError, match="the value is int, not a tuple or a list"):
+        given_or_when(book, "(a, b) ← 1")
+
+
+def test_a_point_or_a_box_is_added_to_a_box(book: Book) -> None:
+    # the bonus chapter's "p is added to box": an immutable box is rebound to the new one
+    given_or_when(book, "box ← bounding_box(min=point(0, 0, 0) max=point(1, 1, 1))")
+    given_or_when(book, "p ← point(-1, 3, 0.5)")
+    given_or_when(book, "p is added to box")
+    then(book, "box.min = point(-1, 0, 0)")
+    then(book, "box.max = point(1, 3, 1)")
+    given_or_when(book, "box2 ← bounding_box(min=point(0, 0, -4) max=point(2, 0, 0))")
+    given_or_when(book, "box2 is added to box")
+    assert book.variables["box"] == Box(Vec(-1, 0, -4, 1), Vec(2, 3, 1, 1))
 
 
 def test_assigning_to_an_unknown_root_is_explained(book: Book) -> None:

@@ -8,6 +8,7 @@ from steps.notation import (
     NotationError,
     split_assignment,
     split_comparison,
+    target_list,
     target_path,
     to_python,
     tokenize,
@@ -118,6 +119,31 @@ def test_tokens_keep_whitespace_strings_and_numbers() -> None:
 def test_malformed_notation_is_a_notation_error(text: str) -> None:
     with pytest.raises(NotationError):
         to_python(text)
+
+
+def test_the_bonus_chapters_keyword_arguments_get_their_commas() -> None:
+    assert (
+        to_python("bounding_box(min=point(-1, -2, -3) max=point(3, 2, 1))")
+        == "bounding_box(min=point(-1, -2, -3), max=point(3, 2, 1))"
+    )
+    assert to_python("f(a, min=1, max=2)") == "f(a, min=1, max=2)"  # commas already there
+    assert to_python("f(g(x=1 y=2) z=3)") == "f(g(x=1, y=2), z=3)"
+    # in a condition, = between arguments stays a keyword; at the top it compares
+    assert to_python("f(min=1 max=2) = b", condition=True) == "f(min=1, max=2) == b"
+
+
+def test_empty_as_the_only_argument_means_no_arguments() -> None:
+    assert to_python("bounding_box(empty)") == "bounding_box()"
+    assert to_python("f(empty, 1)") == "f(empty, 1)"
+    assert to_python("empty") == "empty"
+
+
+def test_tuple_targets() -> None:
+    assert target_list("(left, right)") == ["left", "right"]
+    assert target_list("a, b.c") == ["a", "b.c"]
+    assert target_list("left") is None
+    with pytest.raises(NotationError):
+        target_list("(left, xs[0])")
 
 
 def test_targets_must_be_dotted_names() -> None:

@@ -3,7 +3,10 @@
 The reference inverts a transform every time it reads ``inverse_transform`` (chapters 5, 6,
 10 and 14) and every pixel's ``ray_for_pixel`` inverts the camera's (chapter 7). Here the
 inverse, and for shapes the inverse transpose used for normals, is computed when the
-transform is set, and read back from a slot. Everything else is the reference's.
+transform is set, and read back from a slot. The reference also recomputes a group's and a
+CSG shape's bounding box (the bonus chapter 'Bounding boxes and hierarchies') from its whole
+subtree every time a ray meets it; here the box is kept once computed, and forgotten when
+anything below it changes. Everything else is the reference's.
 
 Module API (``prealloc`` builds on it):
 
@@ -12,6 +15,13 @@ Module API (``prealloc`` builds on it):
   ``set_pattern_transform`` or unpickling) and whose ``inverse_transform`` (and
   ``inverse_transpose``) read it back. A singular transform is accepted as in the reference
   and raises the reference's ``NotInvertibleError`` when its inverse is used.
+- ``CachedComposite``: the mixin of groups and CSG shapes: ``CachedShape`` plus
+  ``local_bounds`` kept in a slot. It is computed on first use, not when set (a group being
+  filled would recompute it for every ``add_child``), and forgotten when any public
+  attribute of the shape or of a shape below it is set: a transform, a cylinder's
+  ``minimum``, a child's ``parent`` (``add_child``), a group's ``children`` (``divide``
+  assigns the list). Changing a list in place (``g.children.append``) or a shape that is in
+  two groups at once (only its ``parent`` is told) goes unnoticed, as the book never does.
 - ``CachedCamera``: the camera; frozen, so its cache is built in ``__post_init__`` (which
   ``dataclasses.replace`` runs too, for ``c.transform ← m``).
 - ``CACHED_CLASSES``: every concrete reference shape and pattern class (and ``Camera``) ->
@@ -39,10 +49,13 @@ from typing import Any
 
 import raytracer
 from raytracer.api import naive_api
+from raytracer.bounds import BoundingBox
 from raytracer.camera import Camera
 from raytracer.materials import Material
 from raytracer.matrices import Matrix, inverse, transpose
 from raytracer.patterns import Pattern
+from raytracer.shapes.csg import CSG
+from raytracer.shapes.group import Group
 from raytracer.shapes.shape import Shape
 from raytracer.tracer import Tracer
 from raytracer.world import World
@@ -96,6 +109,34 @@ class CachedShape:
     def inverse_transpose(self) -> Matrix:
         inv_t = self._inverse_transpose
         return inv_t if inv_t is not None else _REFERENCE_SHAPE_INVERSE_T(self)
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        super().__setattr__(name, value)
+        if not name.startswith("_"):  # a public field: boxes above it may have changed
+            _forget_bounds(self)
+
+
+class CachedComposite(CachedShape):
+    """Mixin for a reference group or CSG class: ``CachedShape`` plus ``local_bounds`` (the
+    bonus chapter) kept once computed. The twin supplies the ``_bounds`` slot."""
+
+    __slots__ = ()
+    _bounds: BoundingBox | None
+
+    def local_bounds(self) -> BoundingBox:
+        box: BoundingBox | None = getattr(self, "_bounds", None)
+        if box is None:
+            box = super().local_bounds()  # type: ignore[misc]  # the reference's, once
+            object.__setattr__(self, "_bounds", box)
+        return box
+
+
+def _forget_bounds(shape: Any) -> None:
+    """Forget the kept box of ``shape`` and of every group or CSG shape above it."""
+    while shape is not None:
+        if isinstance(shape, CachedComposite):
+            object.__setattr__(shape, "_bounds", None)
+        shape = getattr(shape, "parent", None)  # unset while a twin is being built
 
 
 class CachedPattern:
@@ -188,7 +229,10 @@ def _derive_twins() -> dict[type, type]:
             name = f"Cached{reference.__name__}"
             if name in globals():
                 raise RuntimeError(f"variants.cached: two reference classes named {name}")
-            twin = derive_class(mixin, reference, name, __name__, slots)
+            if issubclass(reference, Group | CSG):  # shapes whose box is their subtree's
+                twin = derive_class(CachedComposite, reference, name, __name__, (*slots, "_bounds"))
+            else:
+                twin = derive_class(mixin, reference, name, __name__, slots)
             globals()[name] = twin
             twins[reference] = twin
     return twins

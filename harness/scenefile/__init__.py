@@ -25,6 +25,6 @@ expected``. Modules: ``reader`` (YAML with lines), ``transforms``, ``materials``
 """
 
 from harness.scenefile.errors import SceneError
-from harness.scenefile.loader import Scene, load_scene, load_scene_text
+from harness.scenefile.loader import Scene, divides, load_scene, load_scene_text
 
-__all__ = ["Scene", "SceneError", "load_scene", "load_scene_text"]
+__all__ = ["Scene", "SceneError", "divides", "load_scene", "load_scene_text"]

@@ -120,7 +120,9 @@ def _child(ctx: Context, node: Node, what: str) -> ShapeSpec:
 def _obj_path(ctx: Context, entry: Entry) -> Path:
     name = ctx.reader.string(entry.value, "file")
     path = (ctx.reader.path.parent / name).resolve()
-    if not path.is_file():
+    from harness.make_meshes import provide  # a generated mesh is written when first needed
+
+    if not path.is_file() and not provide(path):
         ctx.reader.fail(
             entry.value,
             f"OBJ file not found: {path} ('{name}' is read relative to the scene file's folder)",
@@ -257,6 +259,7 @@ def _build_obj(ctx: Context, spec: ShapeSpec) -> Any:
         "make_smooth_triangle": api.get("smooth_triangle"),
         "make_group": api.get("group"),
         "source": str(spec.obj_file),
+        "require_faces": True,  # a model without a face would draw nothing
     }
     try:
         parser = parse(text, **_accepted(parse, factories))

@@ -5,12 +5,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from raytracer.bounds import BoundingBox
 from raytracer.intersections import Intersection
 from raytracer.rays import Ray
 from raytracer.shapes.cylinder import intersect_caps, side_hits
 from raytracer.shapes.shape import Shape
 from raytracer.tolerance import epsilon
-from raytracer.tuples import Tuple, vector
+from raytracer.tuples import Tuple, point, vector
 
 
 @dataclass(slots=True, eq=True)
@@ -67,6 +68,12 @@ class Cone(Shape):
         if y > 0:
             side_y = -side_y
         return vector(x, side_y, z)
+
+    def local_bounds(self) -> BoundingBox:
+        """The bonus chapter 'Bounding boxes and hierarchies': the radius at height y is |y|,
+        so the widest end decides x and z; infinite when untruncated."""
+        r = max(abs(self.minimum), abs(self.maximum))
+        return BoundingBox(point(-r, self.minimum, -r), point(r, self.maximum, r))
 
 
 def cone() -> Cone:

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from raytracer.bounds import BoundingBox, enclose, ray_meets_box, transform_box
 from raytracer.intersections import Intersection, intersections
 from raytracer.rays import Ray
 from raytracer.shapes.group import Group
@@ -37,9 +38,22 @@ class CSG(Shape):
         self.right.parent = self
 
     def local_intersect(self, local_ray: Ray) -> list[Intersection]:
-        """Chapter 16: both operands' intersections, sorted by t, then filtered."""
+        """Chapter 16: both operands' intersections, sorted by t, then filtered.
+
+        The bonus chapter 'Bounding boxes and hierarchies': a ray that misses the box around
+        both operands (``local_bounds``) misses them, which are then not asked at all.
+        """
+        if not ray_meets_box(self.local_bounds(), local_ray):
+            return []
         xs = intersections(*intersect(self.left, local_ray), *intersect(self.right, local_ray))
         return filter_intersections(self, xs)
+
+    def local_bounds(self) -> BoundingBox:
+        """The bonus chapter 'Bounding boxes and hierarchies': the box around both operands'
+        boxes in the CSG shape's space, whatever the operation. Computed afresh on every
+        call (the naive baseline; the ``cached`` variant keeps it)."""
+        operands = (self.left, self.right)
+        return enclose(transform_box(s.local_bounds(), s.transform) for s in operands)
 
     def local_normal_at(self, local_point: Tuple, hit: Intersection | None = None) -> Tuple:
         """Chapter 16: a CSG shape has no surface of its own; a hit is always on an operand."""

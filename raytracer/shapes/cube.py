@@ -5,11 +5,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from raytracer.bounds import BoundingBox
 from raytracer.intersections import Intersection
 from raytracer.rays import Ray
 from raytracer.shapes.shape import Shape
 from raytracer.tolerance import epsilon
-from raytracer.tuples import Tuple, vector
+from raytracer.tuples import Tuple, point, vector
 
 
 def _check_axis(origin: float, direction: float) -> tuple[float, float]:
@@ -59,6 +60,11 @@ class Cube(Shape):
         if largest == ay:
             return vector(0, local_point.y, 0)
         return vector(0, 0, local_point.z)
+
+    def local_bounds(self) -> BoundingBox:
+        """The bonus chapter 'Bounding boxes and hierarchies': from (-1, -1, -1) to
+        (1, 1, 1)."""
+        return BoundingBox(point(-1, -1, -1), point(1, 1, 1))
 
 
 def cube() -> Cube:

@@ -6,11 +6,12 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from raytracer.bounds import BoundingBox
 from raytracer.intersections import Intersection
 from raytracer.rays import Ray
 from raytracer.shapes.shape import Shape
 from raytracer.tolerance import epsilon
-from raytracer.tuples import Tuple, vector
+from raytracer.tuples import Tuple, point, vector
 
 
 def within_radius(ray: Ray, t: float, radius: float) -> bool:
@@ -96,6 +97,11 @@ class Cylinder(Shape):
         if distance < 1 and local_point.y <= self.minimum + epsilon():
             return vector(0, -1, 0)
         return vector(local_point.x, 0, local_point.z)
+
+    def local_bounds(self) -> BoundingBox:
+        """The bonus chapter 'Bounding boxes and hierarchies': radius 1 around the y axis,
+        from minimum to maximum along y (infinite when untruncated)."""
+        return BoundingBox(point(-1, self.minimum, -1), point(1, self.maximum, 1))
 
 
 def cylinder() -> Cylinder:

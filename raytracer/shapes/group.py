@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from raytracer.bounds import BoundingBox, enclose, ray_meets_box, transform_box
 from raytracer.intersections import Intersection, intersections
 from raytracer.rays import Ray
 from raytracer.shapes.shape import Shape, intersect
@@ -22,11 +23,24 @@ class Group(Shape):
     children: list[Shape] = field(default_factory=list)
 
     def local_intersect(self, local_ray: Ray) -> list[Intersection]:
-        """Chapter 14: every child's intersections with the ray, in one list sorted by t."""
+        """Chapter 14: every child's intersections with the ray, in one list sorted by t.
+
+        The bonus chapter 'Bounding boxes and hierarchies': a ray that misses the group's
+        box (``local_bounds``) misses every child, which are then not asked at all.
+        """
+        if not ray_meets_box(self.local_bounds(), local_ray):
+            return []
         xs: list[Intersection] = []
         for child in self.children:
             xs.extend(intersect(child, local_ray))
         return intersections(*xs)
+
+    def local_bounds(self) -> BoundingBox:
+        """The bonus chapter 'Bounding boxes and hierarchies': the box around every child's
+        box in the group's space (each child's ``parent_space_bounds_of``); empty for an
+        empty group. Computed afresh on every call, so it never goes stale when a child
+        changes (the naive baseline; the ``cached`` variant keeps it)."""
+        return enclose(transform_box(c.local_bounds(), c.transform) for c in self.children)
 
     def local_normal_at(self, local_point: Tuple, hit: Intersection | None = None) -> Tuple:
         """Chapter 14: a group has no surface of its own; a hit is always on a child."""

@@ -2,13 +2,15 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
+from raytracer.bounds import BoundingBox
 from raytracer.intersections import Intersection
 from raytracer.rays import Ray
 from raytracer.shapes.shape import Shape
 from raytracer.tolerance import epsilon
-from raytracer.tuples import Tuple, vector
+from raytracer.tuples import Tuple, point, vector
 
 
 @dataclass(slots=True, eq=True)
@@ -25,6 +27,11 @@ class Plane(Shape):
     def local_normal_at(self, local_point: Tuple, hit: Intersection | None = None) -> Tuple:
         """Chapter 9: straight up, everywhere."""
         return vector(0, 1, 0)
+
+    def local_bounds(self) -> BoundingBox:
+        """The bonus chapter 'Bounding boxes and hierarchies': infinite in x and z, flat at
+        y = 0."""
+        return BoundingBox(point(-math.inf, 0, -math.inf), point(math.inf, 0, math.inf))
 
 
 def plane() -> Plane:

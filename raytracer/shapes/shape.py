@@ -15,6 +15,7 @@ from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
+from raytracer.bounds import UNBOUNDED, BoundingBox, transform_box
 from raytracer.materials import Material, material
 from raytracer.matrices import (
     Matrix,
@@ -35,15 +36,18 @@ if TYPE_CHECKING:
 
 __all__ = [
     "Shape",
+    "bounds_of",
     "intersect",
     "local_intersect",
     "local_normal_at",
     "normal_at",
     "normal_to_world",
+    "parent_space_bounds_of",
     "set_transform",
     "world_to_object",
 ]
 
+DEFAULT_MATERIAL = material()  # every new shape's (a Material never changes)
 SHAPE_HINT = ", so it cannot be intersected or shaded (set_transform refuses such a transform)"
 
 
@@ -59,7 +63,7 @@ class Shape(ABC):
     """
 
     transform: Matrix = identity_matrix
-    material: Material = field(default_factory=material)
+    material: Material = DEFAULT_MATERIAL  # immutable: one shared until a shape gets its own
     casts_shadow: bool = True
     parent: Shape | None = field(default=None, compare=False, repr=False)
 
@@ -80,6 +84,12 @@ class Shape(ABC):
     @abstractmethod
     def local_normal_at(self, local_point: Tuple, hit: Intersection | None = None) -> Tuple:
         """The object-space normal at an object-space point (``hit``: for smooth triangles)."""
+
+    def local_bounds(self) -> BoundingBox:
+        """The bonus chapter 'Bounding boxes and hierarchies': the box around the shape in
+        its object space. Each shape kind defines its own; a kind that does not is taken
+        to be everywhere (infinite), so a group holding it always tests it."""
+        return UNBOUNDED
 
 
 def intersect(shape: Shape, ray: Ray) -> list[Intersection]:
@@ -105,6 +115,25 @@ def local_intersect(shape: Shape, local_ray: Ray) -> list[Intersection]:
 def local_normal_at(shape: Shape, local_point: Tuple, hit: Intersection | None = None) -> Tuple:
     """Chapter 9: the shape-specific normal at an object-space point."""
     return shape.local_normal_at(local_point, hit)
+
+
+def _check_shape(shape: object, caller: str) -> Shape:
+    if not isinstance(shape, Shape):
+        raise TypeError(f"{caller}: expected a shape, got {type(shape).__name__}")
+    return shape
+
+
+def bounds_of(shape: Shape) -> BoundingBox:
+    """The bonus chapter 'Bounding boxes and hierarchies': ``shape``'s box in its own object
+    space (``local_bounds``, the shape's own method)."""
+    return _check_shape(shape, "bounds_of").local_bounds()
+
+
+def parent_space_bounds_of(shape: Shape) -> BoundingBox:
+    """The bonus chapter 'Bounding boxes and hierarchies': ``shape``'s box transformed by
+    its transform, i.e. in the space of its parent group (or of the world)."""
+    shape = _check_shape(shape, "parent_space_bounds_of")
+    return transform_box(shape.local_bounds(), shape.transform)
 
 
 def set_transform(shape: Shape, m: Matrix) -> None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from raytracer.bounds import BoundingBox
 from raytracer.intersections import Intersection
 from raytracer.materials import material
 from raytracer.rays import Ray
@@ -33,6 +34,11 @@ class Sphere(Shape):
     def local_normal_at(self, local_point: Tuple, hit: Intersection | None = None) -> Tuple:
         """Chapter 6: from the centre through the point."""
         return local_point - point(0, 0, 0)
+
+    def local_bounds(self) -> BoundingBox:
+        """The bonus chapter 'Bounding boxes and hierarchies': from (-1, -1, -1) to
+        (1, 1, 1)."""
+        return BoundingBox(point(-1, -1, -1), point(1, 1, 1))
 
 
 def sphere() -> Sphere:

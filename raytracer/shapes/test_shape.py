@@ -4,10 +4,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from raytracer.bounds import BoundingBox
 from raytracer.intersections import Intersection
 from raytracer.rays import Ray
 from raytracer.shapes.shape import Shape
-from raytracer.tuples import Tuple, vector
+from raytracer.tuples import Tuple, point, vector
 
 
 @dataclass(slots=True, eq=True)
@@ -29,6 +30,11 @@ class TestShape(Shape):
     def local_normal_at(self, local_point: Tuple, hit: Intersection | None = None) -> Tuple:
         """Chapter 9: the object-space point as a vector."""
         return vector(local_point.x, local_point.y, local_point.z)
+
+    def local_bounds(self) -> BoundingBox:
+        """The bonus chapter 'Bounding boxes and hierarchies': the unit cube's box, from
+        (-1, -1, -1) to (1, 1, 1)."""
+        return BoundingBox(point(-1, -1, -1), point(1, 1, 1))
 
 
 def test_shape() -> TestShape:

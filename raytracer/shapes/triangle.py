@@ -5,11 +5,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from raytracer.bounds import BoundingBox
 from raytracer.intersections import Intersection
 from raytracer.rays import Ray
 from raytracer.shapes.shape import Shape
 from raytracer.tolerance import epsilon
-from raytracer.tuples import Tuple, cross, dot, magnitude, normalize, vector
+from raytracer.tuples import Tuple, cross, dot, magnitude, normalize, point, vector
 
 
 def face_normal(e1: Tuple, e2: Tuple) -> Tuple:
@@ -75,6 +76,15 @@ class Triangle(Shape):
     def local_normal_at(self, local_point: Tuple, hit: Intersection | None = None) -> Tuple:
         """Chapter 15: the same normal everywhere on the face."""
         return self.normal
+
+    def local_bounds(self) -> BoundingBox:
+        """The bonus chapter 'Bounding boxes and hierarchies': the box around the three
+        corners (a smooth triangle's too)."""
+        p1, p2, p3 = self.p1, self.p2, self.p3
+        return BoundingBox(
+            point(min(p1.x, p2.x, p3.x), min(p1.y, p2.y, p3.y), min(p1.z, p2.z, p3.z)),
+            point(max(p1.x, p2.x, p3.x), max(p1.y, p2.y, p3.y), max(p1.z, p2.z, p3.z)),
+        )
 
 
 def triangle(p1: Tuple, p2: Tuple, p3: Tuple) -> Triangle:

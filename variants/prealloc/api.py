@@ -14,6 +14,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
+from raytracer.bounds import BoundingBox
+from raytracer.bounds import transform as transform_value
 from raytracer.colors import Color
 from raytracer.intersections import Computations, Intersection
 from raytracer.matrices import Matrix
@@ -132,8 +134,12 @@ def call_context(w: World | None = None, depth: int = 0) -> TraceContext:
 # ------------------------------------------------------------ chapters 5, 6, 9, 14, 16
 
 
-def transform(r: Ray, m: Matrix) -> Ray:
-    """Chapter 5: ``transform_ray_into`` on a new buffer."""
+def transform(r: Ray | BoundingBox, m: Matrix) -> Ray | BoundingBox:
+    """Chapter 5: ``transform_ray_into`` on a new buffer. A bounding box (the bonus chapter
+    'Bounding boxes and hierarchies'), or anything else, goes to the reference's
+    ``transform``, which transforms boxes and refuses the rest."""
+    if not isinstance(r, Ray):
+        return transform_value(r, m)
     out = new_ray()
     transform_ray_into(flat_matrix(m), ray_in(r), out)
     return ray_out(out)

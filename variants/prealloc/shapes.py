@@ -5,13 +5,16 @@ One record class per reference shape, built once per render context. A record ho
 shape's inverse and inverse transpose as flat lists, its material record, its parent's
 record, and a ray buffer for the ray in its object space. ``local_intersect_into`` and
 ``local_normal_at_into`` are the twins of the reference's ``local_intersect`` and
-``local_normal_at``: the same arithmetic in the same order, so the same floats.
+``local_normal_at``: the same arithmetic in the same order, so the same floats. A group's
+and a CSG shape's record keeps its bounding box (the bonus chapter 'Bounding boxes and
+hierarchies'), computed once when the records are built, and tests it before its children.
 """
 
 from __future__ import annotations
 
 import math
 
+from raytracer.bounds import BoundingBox
 from raytracer.rays import Ray
 from raytracer.shapes.cone import Cone
 from raytracer.shapes.csg import CSG, intersection_allowed
@@ -438,17 +441,83 @@ class SmoothTriangleRecord(TriangleRecord):
         out[3] = n2[3] * u + n3[3] * v + n1[3] * rest
 
 
-class GroupRecord(ShapeRecord):
-    """Chapter 14: a group; ``children`` are its children's records."""
+def box_buffer(box: BoundingBox) -> Vec | None:
+    """A bounding box as ``[xmin, ymin, zmin, xmax, ymax, zmax]``, or None when it is empty
+    (the bonus chapter)."""
+    lo, hi = box.min, box.max
+    if box.is_empty:
+        return None
+    return [float(lo.x), float(lo.y), float(lo.z), float(hi.x), float(hi.y), float(hi.z)]
 
-    __slots__ = ("children",)
+
+def meets_box(box: Vec | None, ray: Vec, eps: float) -> bool:
+    """The bonus chapter: whether an object-space ray's line passes through ``box`` (a
+    ``box_buffer``); twin: ``raytracer.bounds.ray_meets_box``, the same divisions and
+    comparisons, so the same answer. A slab the ray never enters ends the test at once."""
+    if box is None:
+        return False
+    ox, oy, oz, _, dx, dy, dz, _ = ray
+    tmin, tmax = -INF, INF
+    lo, hi = box[0], box[3]
+    inside = lo <= ox <= hi
+    if inside and -eps < dx < eps:
+        pass  # in the slab for all t, as for the cube
+    elif dx != 0:
+        tmin = (lo - ox) / dx
+        tmax = (hi - ox) / dx
+        if tmin > tmax:
+            tmin, tmax = tmax, tmin
+    elif not inside:
+        return False
+    lo, hi = box[1], box[4]
+    inside = lo <= oy <= hi
+    if inside and -eps < dy < eps:
+        pass
+    elif dy != 0:
+        t1 = (lo - oy) / dy
+        t2 = (hi - oy) / dy
+        if t1 > t2:
+            t1, t2 = t2, t1
+        if t1 > tmin:
+            tmin = t1
+        if t2 < tmax:
+            tmax = t2
+    elif not inside:
+        return False
+    lo, hi = box[2], box[5]
+    inside = lo <= oz <= hi
+    if inside and -eps < dz < eps:
+        pass
+    elif dz != 0:
+        t1 = (lo - oz) / dz
+        t2 = (hi - oz) / dz
+        if t1 > t2:
+            t1, t2 = t2, t1
+        if t1 > tmin:
+            tmin = t1
+        if t2 < tmax:
+            tmax = t2
+    elif not inside:
+        return False
+    return tmin <= tmax
+
+
+class GroupRecord(ShapeRecord):
+    """Chapter 14: a group; ``children`` are its children's records, ``box`` its bounding
+    box (a ``box_buffer``, the bonus chapter)."""
+
+    __slots__ = ("box", "children")
 
     def finish(self, children: list[ShapeRecord]) -> None:
         self.children = children
+        self.box = box_buffer(self.shape.local_bounds())
 
     def local_intersect_into(self, ray: Vec, xs: IntersectionBuffer) -> None:
         """Chapter 14: every child's intersections, sorted by t (only the ones this group
-        appended); twin: ``Group.local_intersect``."""
+        appended), none without asking them when the ray misses the box; twin:
+        ``Group.local_intersect``."""
+        if not meets_box(self.box, ray, self.eps):
+            return
         start = xs.count
         for child in self.children:
             intersect_into(child, ray, xs)
@@ -466,10 +535,11 @@ class CSGRecord(ShapeRecord):
 
     allowed: ``intersection_allowed(operation, lhit, inl, inr)`` for all eight cases,
     indexed ``allowed[lhit][inl][inr]``; in_left: every record ``includes(left, ...)`` is
-    true of; xs: the buffer for both operands' intersections before filtering.
+    true of; xs: the buffer for both operands' intersections before filtering; box: the
+    bounding box around both operands (a ``box_buffer``, the bonus chapter).
     """
 
-    __slots__ = ("allowed", "in_left", "left", "right", "xs")
+    __slots__ = ("allowed", "box", "in_left", "left", "right", "xs")
 
     def finish(self, children: list[ShapeRecord]) -> None:
         assert isinstance(self.shape, CSG)
@@ -484,10 +554,13 @@ class CSGRecord(ShapeRecord):
         )
         self.in_left = frozenset(subtree(self.left))
         self.xs = IntersectionBuffer()
+        self.box = box_buffer(self.shape.local_bounds())
 
     def local_intersect_into(self, ray: Vec, xs: IntersectionBuffer) -> None:
-        """Chapter 16: both operands' intersections, sorted, then filtered; twin:
-        ``CSG.local_intersect``."""
+        """Chapter 16: both operands' intersections, sorted, then filtered, none without
+        asking them when the ray misses the box; twin: ``CSG.local_intersect``."""
+        if not meets_box(self.box, ray, self.eps):
+            return
         both = self.xs
         both.count = 0
         intersect_into(self.left, ray, both)
