@@ -250,12 +250,18 @@ def test_a_non_affine_transform_is_refused() -> None:
         api["render"](api["camera"](4, 4, 1.0), _world_with(s))
 
 
-def test_a_world_without_light_is_refused() -> None:
+def test_a_world_without_light_renders_black() -> None:
+    """As the reference shades it: no light, black surfaces (no error); the book's
+    ``is_shadowed(w, point)`` needs the first light, and says so."""
     api = load_variant("numba").api
     w = api["default_world"]()
     w.light = None
-    with pytest.raises(ValueError, match="no light source"):
-        api["render"](api["camera"](4, 4, 1.0), w)
+    image = api["render"](api["camera"](4, 4, 1.0), w)
+    assert np.array_equal(image.array, np.zeros((4, 4, 3)))
+    c = api["color_at"](w, api["ray"](api["point"](0, 0, -5), api["vector"](0, 0, 1)))
+    assert (c.red, c.green, c.blue) == (0.0, 0.0, 0.0)
+    with pytest.raises(ValueError, match="is_shadowed: the world has no light source"):
+        api["is_shadowed"](w, api["point"](0, 10, 0))
 
 
 # ------------------------------------------------------------------------ specialization

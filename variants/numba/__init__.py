@@ -7,15 +7,19 @@ Options (all off by default; the name spells the ones given, sorted):
 - ``fastmath``: LLVM fast-math (reassociation, fused multiply-add, ...);
 - ``threads=N``: render on N threads (default: the CPUs this process may use, or
   ``NUMBA_NUM_THREADS``);
-- ``specialize=off``: always the generic kernel, every feature compiled in.
+- ``specialize=off``: always the generic kernel, every feature compiled in;
+- ``bvh=sah|groups|off``: how the rays find the primitives they may hit (``bvh``): a
+  bounding-volume hierarchy built by the surface area heuristic (the default), the scene's
+  own group boxes, or none (every ray visits every primitive).
 
-The package: ``layout`` (array columns), ``pack`` (world -> arrays), ``features`` (what a
-scene needs), ``specialize`` (one generated kernel module per feature set; its render
-compiled once into a shared library, loaded without numba), ``kernels_*`` (the kernel
-template), ``render`` (frames, and regions on threads over interleaved rows), ``api``
-(``NumbaTracer``: the book's pipeline and API through the kernels), ``canvas`` (an
-array-backed ``Canvas``). Its benchmark is ``rtc bench --numba-targets``
-(``harness.numba_targets``).
+The package: ``layout`` (array columns), ``pack`` (world -> arrays), ``bvh`` and
+``bvh_kernel`` (the hierarchy over the packed items, and its compiled builder),
+``features`` (what a scene needs), ``specialize`` (one generated kernel module per feature
+set; its render compiled once into a shared library, loaded without numba; the
+hierarchy's builder likewise), ``kernels_*`` (the kernel template), ``render`` (frames,
+and regions on threads over interleaved rows), ``api`` (``NumbaTracer``: the book's
+pipeline and API through the kernels), ``canvas`` (an array-backed ``Canvas``). Its
+benchmark is ``rtc bench --numba-targets`` (``harness.numba_targets``).
 
 Same pictures, not the same bits: at float64 without fastmath the kernels follow the
 reference's arithmetic except where a faster formulation rounds differently, each one
@@ -26,6 +30,11 @@ along the unnormalized vector to the light, which they meet at t = 1 (``kernels_
 the specular term left out where it is below 1e-9 of the light, Schlick's powers as
 products (``kernels_shading``); group transforms composed once (``pack``). Colors move by
 about 1e-9 at most; ``tests/test_numba.py`` and ``rtc bench --numba-targets`` measure it.
+The ``bvh`` structures change which primitives a ray visits and in what order, never the
+hit it keeps (ties go to the earlier primitive, as in the reference's sorted list) nor a
+shadow: their pictures are the same bits (``tests/test_numba_bvh.py``). Several lights
+shade as the reference does: each light's diffuse and specular with its own shadow test,
+the ambient term once, from the first (``tests/test_numba_lights.py``).
 """
 
 from __future__ import annotations
@@ -38,37 +47,43 @@ from variants.registry import (
     canonical_name,
     check_options,
     parse_bool,
+    parse_choice,
     parse_int,
     reject_inner,
     tracer_variant,
 )
 
 NAME = "numba"
-OPTIONS = ("fastmath", "float32", "specialize", "threads")
-USAGE = "float32, fastmath, threads=N (default: every CPU this process may use), specialize=off"
+OPTIONS = ("bvh", "fastmath", "float32", "specialize", "threads")
+USAGE = (
+    "float32, fastmath, threads=N (default: every CPU this process may use), specialize=off, "
+    "bvh=sah|groups|off (default sah)"
+)
 ONE_STEP = 1.0 / 255.0
 
 
 def variant(inner: Variant | None = None, **options: str) -> Variant:
     """The registry's factory: ``numba``, ``numba[float32,fastmath,threads=1]``,
-    ``numba[specialize=off]``."""
+    ``numba[specialize=off]``, ``numba[bvh=off]``."""
     reject_inner(NAME, inner)
     check_options(NAME, options, OPTIONS)
     if importlib.util.find_spec("numba") is None:
         raise Unavailable("numba is not installed (pip install numba)")
     from variants.numba.api import EXTRA, NumbaTracer
+    from variants.numba.bvh import DEFAULT, STRUCTURES
     from variants.numba.render import Options, max_threads
 
     float32 = parse_bool(NAME, "float32", options.get("float32", "off"))
     fastmath = parse_bool(NAME, "fastmath", options.get("fastmath", "off"))
     specialize = parse_bool(NAME, "specialize", options.get("specialize", "on"))
+    bvh = parse_choice(NAME, "bvh", options.get("bvh", DEFAULT), STRUCTURES)
     threads = (
         parse_int(NAME, "threads", options["threads"], 1, max_threads())
         if "threads" in options
         else None
     )
     tracer = NumbaTracer(
-        Options(float32=float32, fastmath=fastmath, threads=threads, specialize=specialize)
+        Options(float32=float32, fastmath=fastmath, threads=threads, specialize=specialize, bvh=bvh)
     )
     name = canonical_name(
         NAME,
@@ -77,6 +92,7 @@ def variant(inner: Variant | None = None, **options: str) -> Variant:
             "fastmath": fastmath or None,
             "threads": threads,
             "specialize": None if specialize else False,
+            "bvh": None if bvh == DEFAULT else bvh,
         },
     )
     exact = not (float32 or fastmath)

@@ -7,7 +7,9 @@ since shapes and worlds are mutable), calls one compiled entry point of the gene
 module (every feature on, the variant's precision) and converts the result back to the
 reference's values: ``Intersection``, ``Computations``, ``Color``, points and vectors. The
 test shape of chapter 9 is packed as a kind that never intersects; its ``saved_ray`` is
-the object-space ray the kernel computes.
+the object-space ray the kernel computes, when the ray gets past the boxes around it
+(``intersect`` packs a box for every group and CSG shape, as the reference tests them:
+the bonus chapter on bounding boxes; ``intersect_world`` uses the variant's ``bvh``).
 
 Everything else (constructors, tuples, matrices, ``hit``, canvases) is the reference's.
 """
@@ -35,7 +37,7 @@ from raytracer.shapes.shape import Shape
 from raytracer.shapes.smooth_triangle import SmoothTriangle
 from raytracer.shapes.test_shape import TestShape
 from raytracer.tolerance import epsilon
-from raytracer.tracer import Progress, Region, Tracer
+from raytracer.tracer import Progress, Region, Tracer, light_and_point
 from raytracer.tuples import Tuple
 from raytracer.world import World
 from variants.numba import layout as L
@@ -129,6 +131,12 @@ class NumbaTracer(Tracer):
         self._kernels: ModuleType | None = None
 
     @property
+    def builds_hierarchy(self) -> bool:  # type: ignore[override]
+        """True unless ``bvh=groups``: the packer flattens every group (``sah``: into its
+        own hierarchy; ``off``: a flat loop), so the scene loader need not divide them."""
+        return self.options.bvh != "groups"
+
+    @property
     def k(self) -> ModuleType:
         """The generic kernel module (loaded, or compiled and cached, on first use)."""
         if self._kernels is None:
@@ -139,12 +147,13 @@ class NumbaTracer(Tracer):
 
     def _intersections(self, packed: Packed, r: Ray, sort: bool) -> list[Intersection]:
         ray = _ray(r)
-        n, ts, rows, us, vs = self.k.api_intersections(
+        n, ts, rows, us, vs, reached = self.k.api_intersections(
             *packed.flat(), ray, epsilon(), sort, packed.capacity, packed.cs_size,
             packed.cs_prims,
         )  # fmt: skip
         for row, shape in enumerate(packed.shapes):
-            if isinstance(shape, TestShape):
+            # the test shape records the ray when it gets there: past its groups' boxes
+            if isinstance(shape, TestShape) and reached[row]:
                 o = self.k.api_local_ray(packed.flat()[0], row, ray)
                 shape.saved_ray = Ray(_point(*o[:3]), _vector(*o[3:]))
         found: list[Intersection] = []
@@ -158,16 +167,20 @@ class NumbaTracer(Tracer):
 
     def intersect(self, shape: Shape, r: Ray) -> list[Intersection]:
         """Chapters 5, 9, 14, 16: a world-space ray against ``shape`` (its own transform)."""
-        return self._intersections(pack_shapes([shape], self.dtype), r, _composite(shape))
+        packed = pack_shapes([shape], self.dtype, structure="groups", every_box=True)
+        return self._intersections(packed, r, _composite(shape))
 
     def local_intersect(self, shape: Shape, local_ray: Ray) -> list[Intersection]:
         """Chapter 9: an object-space ray against ``shape``."""
-        packed = pack_shapes([shape], self.dtype, own_transform=False)
+        packed = pack_shapes(
+            [shape], self.dtype, own_transform=False, structure="groups", every_box=True
+        )
         return self._intersections(packed, local_ray, _composite(shape))
 
     def intersect_world(self, w: World, r: Ray) -> list[Intersection]:
         """Chapter 7: every intersection with every object, sorted by t."""
-        return self._intersections(pack_world(w, self.dtype, allow_test_shape=True), r, True)
+        packed = pack_world(w, self.dtype, allow_test_shape=True, structure=self.options.bvh)
+        return self._intersections(packed, r, True)
 
     def filter_intersections(self, c: CSG, xs: Sequence[Intersection]) -> list[Intersection]:
         """Chapter 16: the intersections ``c``'s operation keeps."""
@@ -228,12 +241,14 @@ class NumbaTracer(Tracer):
         eyev: Tuple,
         normalv: Tuple,
         in_shadow: bool = False,
+        ambient: bool = True,
     ) -> Color:
-        """Chapters 6, 8, 10: the Phong color at one point."""
+        """Chapters 6, 8, 10: the Phong color at one point (``ambient`` False: without the
+        ambient term, as a world's second and later lights add theirs)."""
         pf, pi = pack_surface(object, self.dtype, material=material)
         rgb = self.k.api_lighting(
             pf, pi, 0, _light(light, self.dtype), _xyz(point), _xyz(eyev), _xyz(normalv),
-            bool(in_shadow),
+            bool(in_shadow), bool(ambient),
         )  # fmt: skip
         return _color(rgb)
 
@@ -283,9 +298,7 @@ class NumbaTracer(Tracer):
     def _world_with(self, w: World, shape: Shape, caller: str) -> tuple[Packed, int]:
         """``w`` packed, and the row of ``shape`` (appended, unreachable by rays, when it
         is not in the world)."""
-        if w.light is None:
-            raise ValueError(f"{caller}: the world has no light source")
-        packed = pack_world(w, self.dtype, allow_test_shape=True)
+        packed = pack_world(w, self.dtype, allow_test_shape=True, structure=self.options.bvh)
         row = packed.row_of(shape)
         if row < 0:
             _no_surface(shape, caller)
@@ -310,7 +323,8 @@ class NumbaTracer(Tracer):
             dtype=np.float64,
         )  # fmt: skip
         rgb = self.k.api_shade(
-            *packed.flat(), packed.light, row, values, mode, int(remaining), epsilon(),
+            *packed.flat(), *packed.light_table(), row, values, mode,
+            int(remaining), epsilon(),
             packed.cs_size, packed.cs_prims,
         )  # fmt: skip
         return _color(rgb)
@@ -327,25 +341,24 @@ class NumbaTracer(Tracer):
         """Chapter 11: the refracted color at a prepared hit."""
         return self._shade(2, w, comps, remaining, "refracted_color")
 
-    def _trace(self, mode: int, w: World, values: list[float], remaining: int, caller: str) -> Any:
-        if w.light is None:
-            raise ValueError(f"{caller}: the world has no light source")
-        packed = pack_world(w, self.dtype, allow_test_shape=True)
+    def _trace(self, mode: int, w: World, values: list[float], remaining: int) -> Any:
+        packed = pack_world(w, self.dtype, allow_test_shape=True, structure=self.options.bvh)
         return self.k.api_shade(
-            *packed.flat(), packed.light, 0, np.array(values, dtype=np.float64), mode,
-            int(remaining), epsilon(), packed.cs_size, packed.cs_prims,
+            *packed.flat(), *packed.light_table(), 0,
+            np.array(values, dtype=np.float64), mode, int(remaining), epsilon(),
+            packed.cs_size, packed.cs_prims,
         )  # fmt: skip
 
     def color_at(self, w: World, r: Ray, remaining: int = 5) -> Color:
-        """Chapter 7: the color seen along ``r``."""
-        if w.light is None and not w.objects:
-            return Color(0.0, 0.0, 0.0)
+        """Chapter 7: the color seen along ``r`` (black surfaces in a world with no light)."""
         o, d = r.origin, r.direction
-        return _color(self._trace(3, w, [o.x, o.y, o.z, d.x, d.y, d.z], remaining, "color_at"))
+        return _color(self._trace(3, w, [o.x, o.y, o.z, d.x, d.y, d.z], remaining))
 
-    def is_shadowed(self, w: World, p: Tuple) -> bool:
-        """Chapter 8: is something between ``p`` and the light?"""
-        red, _, _ = self._trace(4, w, [p.x, p.y, p.z], 0, "is_shadowed")
+    def is_shadowed(self, w: World, first: Tuple, second: Tuple | None = None) -> bool:
+        """Chapter 8: is something between a point and a light? ``is_shadowed(w, point)``
+        (the world's first light) or ``is_shadowed(w, light_position, point)``."""
+        light, p = light_and_point(w, first, second, "is_shadowed")
+        red, _, _ = self._trace(4, w, [p.x, p.y, p.z, light.x, light.y, light.z], 0)
         return bool(red > 0.5)
 
     def schlick(self, comps: Computations) -> float:

@@ -1,8 +1,9 @@
 """What a scene needs from the kernels: its feature set, found once from the packed arrays.
 
 The feature set is the set of ``kernel_flags`` switches that are on: the shape kinds and
-pattern kinds present, groups with bounding boxes, CSG, shadows (some object casts one),
-reflection, refraction, and Schlick (some material is both reflective and transparent).
+pattern kinds present, bounding boxes (a hierarchy's or groups'), CSG, shadows (some
+object casts one), reflection, refraction, and Schlick (some material is both reflective
+and transparent).
 A render compiles (or loads from the disk cache) one kernel module per feature set, so an
 opaque-spheres scene runs a kernel with no refraction, Schlick, cylinder or pattern code.
 """
@@ -69,7 +70,7 @@ class FeatureSet:
         shading = [word for flag, word in SHADING_FLAGS.items() if flag in self.flags]
         structure = [
             word
-            for flag, word in (("HAS_BOXES", "group bounding boxes"), ("HAS_CSG", "csg"))
+            for flag, word in (("HAS_BOXES", "bounding boxes"), ("HAS_CSG", "csg"))
             if flag in self.flags
         ]
         return [

@@ -22,7 +22,7 @@ HAS_TRIANGLE = True
 HAS_SMOOTH_TRIANGLE = True
 HAS_TEST_SHAPE = True  # the chapter 9 test shape (the book API only, never a render)
 HAS_CSG = True
-HAS_BOXES = True  # groups with bounding boxes
+HAS_BOXES = True  # bounding boxes (the hierarchy's nodes, or groups')
 
 HAS_PATTERNS = True
 HAS_STRIPE = True

@@ -54,9 +54,12 @@ from variants.numba.layout import (
     I_PRIM,
     INV,
     ITEM_A,
+    ITEM_C,
+    ITEM_D,
     ITEM_TYPE,
     NF,
     NITEM,
+    NLIGHT,
     NSF,
     NSI,
     REFLECTIVE,
@@ -74,15 +77,17 @@ def api_intersections(
 ):  # fmt: skip
     """Chapters 5, 7, 14, 16 (``intersect``, ``local_intersect``, ``intersect_world``): every
     intersection of ``ray`` with the packed shapes (the items', then the balls'), sorted
-    by t (stably) when ``sort``; returns (count, t, primitive, u, v)."""
+    by t (stably) when ``sort``; returns (count, t, primitive, u, v, reached): reached[p]
+    is 1 when the ray got past every box around primitive p (the test shape's saved ray)."""
     eps = F(eps)
     out_t = np.empty(capacity, F)
     out_u = np.empty(capacity, F)
     out_v = np.empty(capacity, F)
     out_p = np.empty(capacity, np.int64)
+    reached = np.zeros(max(pf.shape[0] // NF, 1), np.int8)
     s = scratch(cs_size, cs_prims, n_balls)
     sf, si, _ = s
-    w = (pf, pi, items, n_items, boxes, csg, balls, n_balls, np.zeros(6, F))
+    w = (pf, pi, items, n_items, boxes, csg, balls, n_balls, np.zeros(NLIGHT, F), 0)
     ox, oy, oz, dx, dy, dz = F(ray[0]), F(ray[1]), F(ray[2]), F(ray[3]), F(ray[4]), F(ray[5])
     n = 0
     i = 0
@@ -90,6 +95,7 @@ def api_intersections(
         kind = items[i * NITEM + ITEM_TYPE]
         if kind == I_PRIM:
             p = items[i * NITEM + ITEM_A]
+            reached[p] = 1
             m, t0, t1, t2, t3, u, v = intersect_prim(pf, pi, p, ox, oy, oz, dx, dy, dz, eps, INF)
             for local in range(m):
                 out_t[n] = nth(t0, t1, t2, t3, local)
@@ -104,6 +110,8 @@ def api_intersections(
             else:
                 i = items[i * NITEM + ITEM_A]
         elif HAS_CSG and kind == I_CSG:
+            for q in range(items[i * NITEM + ITEM_C], items[i * NITEM + ITEM_D]):
+                reached[q] = 1
             m = csg_collect(w, s, i, ox, oy, oz, dx, dy, dz, eps)
             for j in range(m):
                 out_t[n] = sf[j * NSF + CS_T]
@@ -116,6 +124,7 @@ def api_intersections(
             i += 1
     for j in range(n_balls):
         p = int(balls[B_PRIM * n_balls + j])
+        reached[p] = 1
         m, t0, t1, _, _, _, _ = intersect_prim(pf, pi, p, ox, oy, oz, dx, dy, dz, eps, INF)
         for local in range(m):
             out_t[n] = t0 if local == 0 else t1
@@ -142,7 +151,7 @@ def api_intersections(
             out_p[k + 1] = p
             out_u[k + 1] = u
             out_v[k + 1] = v
-    return n, out_t, out_p, out_u, out_v
+    return n, out_t, out_p, out_u, out_v, reached
 
 
 @njit(**ENTRY)
@@ -177,11 +186,11 @@ def api_normal_to_world(pf, p, x, y, z):
 
 
 @njit(**ENTRY)
-def api_lighting(pf, pi, p, light, point, eyev, normalv, in_shadow):
-    """Chapters 6, 8, 10: ``lighting``."""
+def api_lighting(pf, pi, p, light, point, eyev, normalv, in_shadow, ambient_on):
+    """Chapters 6, 8, 10: ``lighting`` (``ambient_on`` False: without the ambient term)."""
     return lighting_at(
         pf, pi, p, light, F(point[0]), F(point[1]), F(point[2]), F(eyev[0]), F(eyev[1]),
-        F(eyev[2]), F(normalv[0]), F(normalv[1]), F(normalv[2]), in_shadow,
+        F(eyev[2]), F(normalv[0]), F(normalv[1]), F(normalv[2]), in_shadow, ambient_on,
     )  # fmt: skip
 
 
@@ -219,20 +228,20 @@ def api_schlick(eyev, normalv, n1, n2):
 
 @njit(**ENTRY)
 def api_shade(
-    pf, pi, items, n_items, boxes, csg, balls, n_balls, light, p, comps, mode, remaining, eps,
-    cs_size, cs_prims,
+    pf, pi, items, n_items, boxes, csg, balls, n_balls, lights, n_lights, p, comps, mode,
+    remaining, eps, cs_size, cs_prims,
 ):  # fmt: skip
     """Chapters 7, 8, 11, with a prepared hit ``comps`` (eyev, normalv, over_point,
     under_point, reflectv, n1, n2 of the hit on primitive p):
 
     mode 0: ``shade_hit``; 1: ``reflected_color``; 2: ``refracted_color``;
     3: ``color_at`` (comps holds the ray's origin and direction); 4: ``is_shadowed`` (comps
-    holds the point; the result is 1 or 0 in red).
+    holds the point and the light's position; the result is 1 or 0 in red).
     """
     eps = F(eps)
     stack = np.empty((max(remaining, 0) + 3) * STACK_WIDTH, F)
     s = scratch(cs_size, cs_prims, n_balls)
-    w = (pf, pi, items, n_items, boxes, csg, balls, n_balls, light)
+    w = (pf, pi, items, n_items, boxes, csg, balls, n_balls, lights, n_lights)
     c = np.empty(comps.shape[0], F)
     for j in range(comps.shape[0]):
         c[j] = F(comps[j])
@@ -259,8 +268,8 @@ def api_shade(
     elif mode == 3:
         top = push(stack, top, c[0], c[1], c[2], c[3], c[4], c[5], ONE, remaining)
     else:
-        lx, ly, lz, distance = towards_light(light, c[0], c[1], c[2])
-        hit = shadowed(w, s, c[0], c[1], c[2], lx, ly, lz, distance, eps)
+        lx, ly, lz, distance = towards_light(c[3:6], c[0], c[1], c[2])
+        hit = shadowed(w, s, c[0], c[1], c[2], lx, ly, lz, distance, eps, 0)
         return ONE if hit else ZERO, ZERO, ZERO
     return drain(w, s, eps, stack, top, r, g, b)
 

@@ -564,7 +564,9 @@ def intersect_prim(pf, pi, p, ox, oy, oz, dx, dy, dz, eps, tmax):
 @njit(**INLINE)
 def first_hit_in(pf, pi, p, ox, oy, oz, dx, dy, dz, a, eps, tmax):
     """Chapters 5-15, for the hit and shadow rays: primitive p's first intersection with t
-    in [0, tmax): (found, t, index in its list, u, v); ``a`` = direction · direction.
+    in [0, tmax): (found, t, index in its list, u, v); ``a`` = direction · direction. When
+    none is found, t is still the first t >= 0 (or INF) unless it is certainly beyond tmax
+    (so that a caller can tell a tie at tmax).
     Divisions are skipped where the answer is already known: a plane behind the origin or
     certainly beyond tmax, a ball the ray leaves or meets beyond tmax."""
     kind = pi[p * NI + KIND]
@@ -599,14 +601,14 @@ def first_hit_in(pf, pi, p, ox, oy, oz, dx, dy, dz, a, eps, tmax):
         t = (-b + root) / (TWO * la)
         return t >= ZERO and t < tmax, t, 1, ZERO, ZERO
     n, t0, t1, t2, t3, u, v = intersect_local(pf, pi, p, lox, loy, loz, ldx, ldy, ldz, eps)
-    best = tmax
-    local = -1
+    best = INF
+    local = 0
     for j in range(n):
         t = nth(t0, t1, t2, t3, j)
         if t >= ZERO and t < best:
             best = t
             local = j
-    return local >= 0, best, max(local, 0), u, v
+    return best < tmax, best, local, u, v
 
 
 @njit(**INLINE)

@@ -119,19 +119,25 @@ def surface_color(pf, pi, p, x, y, z):
 
 
 @njit(**INLINE)
-def phong(pf, pi, p, light, x, y, z, ex, ey, ez, nx, ny, nz, lx, ly, lz, light_dot_normal, lit):
-    """Chapters 6 and 8: the Phong color at a world-space point (x, y, z), given the unit
-    vector (lx, ly, lz) towards the light and its dot product with the normal; ``lit`` is
-    False in shadow (ambient only)."""
+def phong(pf, p, sr, sg, sb, light, lm, ex, ey, ez, nx, ny, nz, lx, ly, lz, light_dot_normal, lit,
+          ambient_on):  # fmt: skip
+    """Chapters 6 and 8: the Phong color of a surface of color (sr, sg, sb) (``surface_color``
+    at the point) lit by the light at ``light[lm:lm + NLIGHT]``, given the unit vector (lx,
+    ly, lz) towards it and its dot product with the normal; ``lit`` is False in shadow
+    (ambient only); ``ambient_on`` False leaves the ambient term out (the second and later
+    lights of a world: the ambient light is counted once)."""
     m = p * NF
-    sr, sg, sb = surface_color(pf, pi, p, x, y, z)
-    er = sr * light[3]
-    eg = sg * light[4]
-    eb = sb * light[5]
-    ambient = pf[m + AMBIENT]
-    ar = er * ambient
-    ag = eg * ambient
-    ab = eb * ambient
+    er = sr * light[lm + 3]
+    eg = sg * light[lm + 4]
+    eb = sb * light[lm + 5]
+    ar = ZERO
+    ag = ZERO
+    ab = ZERO
+    if ambient_on:
+        ambient = pf[m + AMBIENT]
+        ar = er * ambient
+        ag = eg * ambient
+        ab = eb * ambient
     if not lit or light_dot_normal < ZERO:
         return ar, ag, ab
     diffuse = pf[m + DIFFUSE]
@@ -151,9 +157,9 @@ def phong(pf, pi, p, light, x, y, z, ex, ey, ez, nx, ny, nz, lx, ly, lz, light_d
         return ar + dr, ag + dg, ab + db
     factor = math.pow(reflect_dot_eye, pf[m + SHININESS]) * specular
     return (
-        ar + dr + light[3] * factor,
-        ag + dg + light[4] * factor,
-        ab + db + light[5] * factor,
+        ar + dr + light[lm + 3] * factor,
+        ag + dg + light[lm + 4] * factor,
+        ab + db + light[lm + 5] * factor,
     )
 
 
@@ -169,13 +175,15 @@ def towards_light(light, x, y, z):
 
 
 @njit(**INLINE)
-def lighting_at(pf, pi, p, light, x, y, z, ex, ey, ez, nx, ny, nz, in_shadow):
-    """Chapter 6: ``lighting(material, object, light, point, eyev, normalv, in_shadow)``."""
+def lighting_at(pf, pi, p, light, x, y, z, ex, ey, ez, nx, ny, nz, in_shadow, ambient_on):
+    """Chapter 6: ``lighting(material, object, light, point, eyev, normalv, in_shadow,
+    ambient)``."""
     lx, ly, lz, _ = towards_light(light, x, y, z)
     light_dot_normal = lx * nx + ly * ny + lz * nz
+    sr, sg, sb = surface_color(pf, pi, p, x, y, z)
     return phong(
-        pf, pi, p, light, x, y, z, ex, ey, ez, nx, ny, nz, lx, ly, lz, light_dot_normal,
-        not in_shadow,
+        pf, p, sr, sg, sb, light, 0, ex, ey, ez, nx, ny, nz, lx, ly, lz, light_dot_normal,
+        not in_shadow, ambient_on,
     )  # fmt: skip
 
 

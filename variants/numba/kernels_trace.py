@@ -2,9 +2,11 @@
 explicit stack that replaces the book's recursion, camera rays and samples, and the render.
 
 - ``nearest_hit`` tracks the closest non-negative t instead of building a sorted list; ties go
-  to the earlier primitive, as the reference's stable sort does. The balls (``layout``) come
-  after the items: one vectorized pass says which ones the ray can reach at all
-  (``ball_reach``), then those get the exact test.
+  to the earlier primitive, as the reference's stable sort does. The items are a flat list,
+  a group's boxes or a bounding-volume hierarchy (``variants.numba.bvh``), all walked by
+  one loop without recursion (a box's item says where to go when the ray misses it). The
+  balls (``layout``) come after the items: one vectorized pass says which ones the ray can
+  reach at all (``ball_reach``), then those get the exact test.
 - ``shadowed`` counts, in one vectorized pass, the shadow-casting balls the ray can reach,
   and tests them exactly only when there are any; then the items. The render casts shadow
   rays along the unnormalized vector to the light, which they reach at t = 1 (the
@@ -25,9 +27,10 @@ explicit stack that replaces the book's recursion, camera rays and samples, and 
   of the GIL).
 
 A world travels as one tuple ``w`` = (pf, pi, items, n_items, boxes, csg, balls, n_balls,
-light) and a thread's scratch as ``s`` = (sf, si, tb) (see ``layout``): one CSG tree's
-intersection list and per primitive of the tree where its entries start and, for n1/n2,
-how many come before the hit; the shadow memo and ray counters; one value per ball.
+lights, n_lights) and a thread's scratch as ``s`` = (sf, si, tb) (see ``layout``): one CSG
+tree's intersection list and per primitive of the tree where its entries start and, for
+n1/n2, how many come before the hit; the shadow memos (one per light) and ray counters;
+the hit ray's stack of item ranges; one value per ball.
 
 No function takes more than 30 arguments: Python compiles longer calls through a tuple,
 which numba's inliner refuses.
@@ -66,7 +69,7 @@ from variants.numba.kernels_geometry import (
     nth,
     starts_after,
 )
-from variants.numba.kernels_shading import phong, refraction, schlick_at
+from variants.numba.kernels_shading import phong, refraction, schlick_at, surface_color
 from variants.numba.layout import (
     B_PRIM,
     B_R2,
@@ -74,6 +77,8 @@ from variants.numba.layout import (
     B_X,
     B_Y,
     B_Z,
+    BV_FROM,
+    BV_TO,
     CAM_HALF_HEIGHT,
     CAM_HALF_WIDTH,
     CAM_INV,
@@ -106,6 +111,7 @@ from variants.numba.layout import (
     NF,
     NI,
     NITEM,
+    NLIGHT,
     NSF,
     NSI,
     OP_DIFFERENCE,
@@ -134,7 +140,8 @@ def scratch(cs_size, cs_prims, n_balls):
     Python): CSG lists, the shadow memo and ray counters, and one t per ball."""
     size = max(cs_size, cs_prims, MIN_SCRATCH)
     si = np.zeros(size * NSI, np.int64)
-    si[MEMO] = -1
+    for j in range(size):
+        si[j * NSI + MEMO] = -1
     return np.zeros(size * NSF, F), si, np.zeros(max(n_balls, 1), F)
 
 
@@ -165,7 +172,7 @@ def csg_collect(w, s, i, ox, oy, oz, dx, dy, dz, eps):
     """Chapter 16: the intersection list of CSG item i, sorted and filtered, in cs_*; returns
     its length. Operations are applied in post-order, each to the stretch of the list its
     primitives occupy, so nested CSG trees need no recursion."""
-    pf, pi, items, _, _, csg, _, _, _ = w
+    pf, pi, items, _, _, csg, _, _, _, _ = w
     sf, si, _ = s
     node = items[i * NITEM + ITEM_A]
     last_node = items[i * NITEM + ITEM_B]
@@ -243,27 +250,60 @@ def nearest_hit(w, s, ox, oy, oz, dx, dy, dz, eps):
     """Chapters 5 and 7: the hit: (t, primitive, index in its list, u, v); primitive -1
     when the ray hits nothing. Items first, then the balls: every ball's ``ball_reach``
     at once (in ``tb``), then the exact test of those the ray can reach; ties go to the
-    earlier primitive, as in the reference's stable sort."""
-    pf, pi, items, n_items, boxes, _, balls, n_balls, _ = w
+    earlier primitive, as in the reference's stable sort, in whatever order the items
+    come. A box the ray misses, or enters only beyond the nearest hit so far, sends it
+    past its contents; at a hierarchy's node split along an axis the ray travels down,
+    the second child is visited first (the first child and what follows the node wait
+    on the range stack in ``si``), so that near hits come early and cut boxes short."""
+    pf, pi, items, n_items, boxes, _, balls, n_balls, _, _ = w
     sf, si, tb = s
     a = dx * dx + dy * dy + dz * dz
+    ix = ONE / dx
+    iy = ONE / dy
+    iz = ONE / dz
     best_t = INF
     best_p = -1
     best_l = 0
     best_u = ZERO
     best_v = ZERO
     i = 0
-    while i < n_items:
+    end = n_items  # the items [i, end) come next; then the ranges on the stack
+    top = 0
+    while True:
+        if i >= end:
+            if not HAS_BOXES or top == 0:
+                break
+            top -= 1
+            i = si[top * NSI + BV_FROM]
+            end = si[top * NSI + BV_TO]
+            continue
         kind = items[i * NITEM + ITEM_TYPE]
         if kind == I_PRIM:
             p = items[i * NITEM + ITEM_A]
             found, t, local, u, v = first_hit_in(pf, pi, p, ox, oy, oz, dx, dy, dz, a, eps, best_t)
-            if found:
+            # a tie goes to the earlier primitive, whatever order the items are in
+            if found or (t == best_t and p < best_p):
                 best_t, best_p, best_l, best_u, best_v = t, p, local, u, v
             i += 1
         elif HAS_BOXES and kind == I_BOX:
-            if box_range(boxes, i, ox, oy, oz, ONE / dx, ONE / dy, ONE / dz, ZERO, best_t):
-                i += 1
+            if box_range(boxes, i, ox, oy, oz, ix, iy, iz, ZERO, best_t):
+                axis = items[i * NITEM + ITEM_C]
+                if axis != 0 and (dx if axis == 1 else (dy if axis == 2 else dz)) < ZERO:
+                    # a hierarchy's node split along an axis the ray goes down: its second
+                    # child first, then its first, then what follows the node
+                    skip = items[i * NITEM + ITEM_A]
+                    second = items[i * NITEM + ITEM_B]
+                    if skip < end:
+                        si[top * NSI + BV_FROM] = skip
+                        si[top * NSI + BV_TO] = end
+                        top += 1
+                    si[top * NSI + BV_FROM] = i + 1
+                    si[top * NSI + BV_TO] = second
+                    top += 1
+                    i = second
+                    end = skip
+                else:
+                    i += 1
             else:
                 i = items[i * NITEM + ITEM_A]
         elif HAS_CSG and kind == I_CSG:
@@ -271,7 +311,7 @@ def nearest_hit(w, s, ox, oy, oz, dx, dy, dz, eps):
             for j in range(m):
                 t = sf[j * NSF + CS_T]
                 if t >= ZERO:
-                    if t < best_t:
+                    if t < best_t or (t == best_t and si[j * NSI + CS_P] < best_p):
                         best_t = t
                         best_p = si[j * NSI + CS_P]
                         best_l = si[j * NSI + CS_L]
@@ -306,15 +346,18 @@ def nearest_hit(w, s, ox, oy, oz, dx, dy, dz, eps):
 
 
 @njit(**INLINE)
-def shadowed(w, s, ox, oy, oz, dx, dy, dz, distance, eps):
+def shadowed(w, s, ox, oy, oz, dx, dy, dz, distance, eps, slot):
     """Chapter 8: does a shadow-casting object meet the ray at some t in [0, distance)?
     (The render passes the unnormalized vector to the light and distance 1.)
     Every ball at once first; then the primitive that answered yes last time (on this
-    thread), since neighbouring pixels usually share their occluder; then the items. (Any
-    occluder gives the same answer.)"""
-    pf, pi, items, n_items, boxes, _, balls, n_balls, _ = w
+    thread, for this light: memo ``slot``), since neighbouring pixels usually share their
+    occluder; then the items. (Any occluder gives the same answer.)"""
+    pf, pi, items, n_items, boxes, _, balls, n_balls, _, _ = w
     sf, si, _ = s
     a = dx * dx + dy * dy + dz * dz
+    ix = ONE / dx
+    iy = ONE / dy
+    iz = ONE / dz
     if HAS_SPHERE and n_balls > 0:
         reached = 0
         for j in range(n_balls):  # counts only: no stores, so no overlap checks
@@ -326,7 +369,7 @@ def shadowed(w, s, ox, oy, oz, dx, dy, dz, distance, eps):
                 found, _, _ = ball_first(hb, cc, a, distance)
                 if found:
                     return True
-    last = si[MEMO]
+    last = si[slot * NSI + MEMO]
     if last >= 0:
         found, _, _, _, _ = first_hit_in(pf, pi, last, ox, oy, oz, dx, dy, dz, a, eps, distance)
         if found:
@@ -341,11 +384,11 @@ def shadowed(w, s, ox, oy, oz, dx, dy, dz, distance, eps):
                     pf, pi, p, ox, oy, oz, dx, dy, dz, a, eps, distance
                 )
                 if found:
-                    si[MEMO] = p
+                    si[slot * NSI + MEMO] = p
                     return True
             i += 1
         elif HAS_BOXES and kind == I_BOX:
-            if box_range(boxes, i, ox, oy, oz, ONE / dx, ONE / dy, ONE / dz, ZERO, distance):
+            if box_range(boxes, i, ox, oy, oz, ix, iy, iz, ZERO, distance):
                 i += 1
             else:
                 i = items[i * NITEM + ITEM_A]
@@ -417,11 +460,14 @@ def tally(p, n, t0, t1, t2, t3, t_hit, p_hit, l_hit, state):
 def refractive_indices(w, s, ox, oy, oz, dx, dy, dz, eps, t_hit, p_hit, l_hit):
     """Chapter 11: (n1, n2) at the hit (t_hit, p_hit, l_hit), from every intersection along
     the ray (negative t included, as in the reference's list)."""
-    pf, pi, items, n_items, boxes, _, balls, n_balls, _ = w
+    pf, pi, items, n_items, boxes, _, balls, n_balls, _, _ = w
     sf, si, _ = s
     # the latest-entered container other than the hit's object (t, p, local); is the hit's
     # object a container just before the hit, and its latest entry (t, local)
     state = (-INF, -1, -1, False, -INF, -1)
+    ix = ONE / dx
+    iy = ONE / dy
+    iz = ONE / dz
     i = 0
     while i < n_items:
         kind = items[i * NITEM + ITEM_TYPE]
@@ -434,7 +480,7 @@ def refractive_indices(w, s, ox, oy, oz, dx, dy, dz, eps, t_hit, p_hit, l_hit):
                 state = tally(p, n, t0, t1, t2, t3, t_hit, p_hit, l_hit, state)
             i += 1
         elif HAS_BOXES and kind == I_BOX:
-            if box_range(boxes, i, ox, oy, oz, ONE / dx, ONE / dy, ONE / dz, -INF, t_hit):
+            if box_range(boxes, i, ox, oy, oz, ix, iy, iz, -INF, t_hit):
                 i += 1
             else:
                 i = items[i * NITEM + ITEM_A]
@@ -514,40 +560,58 @@ def push(stack, top, ox, oy, oz, dx, dy, dz, weight, remaining):
 @njit(**INLINE)
 def shade_and_push(w, s, p, eyev, normalv, over, under, reflectv, n1, n2, weight, remaining,
                    eps, stack, top):  # fmt: skip
-    """Chapters 7, 8 and 11 (``shade_hit``): the surface color at a prepared hit, times
-    ``weight``; the reflected and refracted rays it spawns are pushed on the stack with
-    their weights. Returns (r, g, b, new top)."""
-    pf, pi, _, _, _, _, _, _, light = w
+    """Chapters 7, 8 and 11 (``shade_hit``): the surface color at a prepared hit (every
+    light's, each with its own shadow ray; the ambient term once), times ``weight``; the
+    reflected and refracted rays it spawns are pushed on the stack with their weights.
+    Returns (r, g, b, new top)."""
+    pf, pi, _, _, _, _, _, _, light, n_lights = w
     _, si, _ = s
     ex, ey, ez = eyev
     nx, ny, nz = normalv
     over_x, over_y, over_z = over
     under_x, under_y, under_z = under
     rx, ry, rz = reflectv
-    # towards the light, not normalized: a shadow ray along it meets the light at t = 1
-    vx = light[0] - over_x
-    vy = light[1] - over_y
-    vz = light[2] - over_z
-    facing = vx * nx + vy * ny + vz * nz >= ZERO  # the light is in front of the surface
-    lit = facing
-    if HAS_SHADOWS and facing:
-        if COUNT_RAYS:
-            si[1 * NSI + RAYS] += 1
-        lit = not shadowed(w, s, over_x, over_y, over_z, vx, vy, vz, ONE, eps)
-    lx = ZERO
-    ly = ZERO
-    lz = ZERO
-    light_dot_normal = -ONE  # in shadow, or facing away: ambient only (phong needs no more)
-    if lit:
-        scale = ONE / math.sqrt(vx * vx + vy * vy + vz * vz)
-        lx = vx * scale
-        ly = vy * scale
-        lz = vz * scale
-        light_dot_normal = lx * nx + ly * ny + lz * nz
-    sr, sg, sb = phong(
-        pf, pi, p, light, over_x, over_y, over_z, ex, ey, ez, nx, ny, nz, lx, ly, lz,
-        light_dot_normal, lit,
-    )  # fmt: skip
+    sr = ZERO
+    sg = ZERO
+    sb = ZERO
+    # several lights: each adds its diffuse and specular, with its own shadow test; the
+    # ambient term comes once, with the first; no light: black. (One kernel for any number:
+    # a kernel kept to one light measured no faster on the reference scene.)
+    cr = ZERO
+    cg = ZERO
+    cb = ZERO
+    if n_lights > 0:
+        cr, cg, cb = surface_color(pf, pi, p, over_x, over_y, over_z)
+    for k in range(n_lights):
+        lm = k * NLIGHT
+        # towards the light, not normalized: a shadow ray along it meets the light at t = 1
+        vx = light[lm] - over_x
+        vy = light[lm + 1] - over_y
+        vz = light[lm + 2] - over_z
+        facing = vx * nx + vy * ny + vz * nz >= ZERO  # the light is in front of the surface
+        lit = facing
+        if HAS_SHADOWS and facing:
+            if COUNT_RAYS:
+                si[1 * NSI + RAYS] += 1
+            slot = k % MIN_SCRATCH
+            lit = not shadowed(w, s, over_x, over_y, over_z, vx, vy, vz, ONE, eps, slot)
+        lx = ZERO
+        ly = ZERO
+        lz = ZERO
+        light_dot_normal = -ONE  # in shadow, or facing away: ambient only (phong needs no more)
+        if lit:
+            scale = ONE / math.sqrt(vx * vx + vy * vy + vz * vz)
+            lx = vx * scale
+            ly = vy * scale
+            lz = vz * scale
+            light_dot_normal = lx * nx + ly * ny + lz * nz
+        lr, lg, lb = phong(
+            pf, p, cr, cg, cb, light, lm, ex, ey, ez, nx, ny, nz, lx, ly, lz, light_dot_normal,
+            lit, k == 0,
+        )  # fmt: skip
+        sr += lr
+        sg += lg
+        sb += lb
     if remaining > 0 and (HAS_REFLECTION or HAS_REFRACTION):
         reflective = pf[p * NF + REFLECTIVE]
         transparency = pf[p * NF + TRANSPARENCY]
@@ -602,7 +666,7 @@ def prepare(pf, pi, p, ox, oy, oz, dx, dy, dz, t, u, v, eps):
 def drain(w, s, eps, stack, top, r, g, b):
     """Chapter 7 (``color_at``, iteratively): trace every ray on the stack and everything it
     spawns; returns the sum of their weighted surface colors added to (r, g, b)."""
-    pf, pi, _, _, _, _, _, _, _ = w
+    pf, pi, _, _, _, _, _, _, _, _ = w
     _, si, _ = s
     while top > 0:
         top -= 1
@@ -754,10 +818,10 @@ def render_rows(out, x0, y0, x1, y1, k, step, cam, w, depth, samples, seed_key, 
 
 def render_entry(
     out, x0, y0, x1, y1, k, step, cam, pf, pi, items, n_items, boxes, csg, balls, n_balls,
-    light, depth, samples, seed_key, eps, stack, sf, si, tb,
+    light, n_lights, depth, samples, seed_key, eps, stack, sf, si, tb,
 ):  # fmt: skip
     """The render's entry point, compiled as a C function (``make_render_entry``)."""
-    w = (pf, pi, items, n_items, boxes, csg, balls, n_balls, light)
+    w = (pf, pi, items, n_items, boxes, csg, balls, n_balls, light, n_lights)
     return render_rows(
         out, x0, y0, x1, y1, k, step, cam, w, depth, samples, seed_key, eps, stack, (sf, si, tb)
     )
@@ -767,7 +831,7 @@ def make_render_entry(cache):
     """Compile ``render_entry`` as a C-callable function (numba's ``cfunc``) over raw
     pointers: ``int64 f(F* out, int64 x0, int64 y0, int64 x1, int64 y1, int64 k, int64
     step, F* cam, F* pf, int64* pi, int64* items, int64 n_items, F* boxes, int64* csg, F*
-    balls, int64 n_balls, F* light, int64 depth, int64 samples, uint64 seed_key, float64
+    balls, int64 n_balls, F* light, int64 n_lights, int64 depth, int64 samples, uint64 seed_key, float64
     eps, F* stack, F* sf, int64* si, F* tb)``. Without the numba runtime: it cannot
     allocate. ``cache``: numba's disk cache (used only when the render cannot be linked as
     a shared library)."""
@@ -779,7 +843,7 @@ def make_render_entry(cache):
     i64 = types.int64
     signature = types.int64(
         fp, i64, i64, i64, i64, i64, i64, fp, fp, ip, ip, i64, fp, ip, fp, i64, fp, i64, i64,
-        types.uint64, types.float64, fp, fp, ip, fp,
+        i64, types.uint64, types.float64, fp, fp, ip, fp,
     )  # fmt: skip
     flags: dict[str, Any] = {"_nrt": False, "fastmath": FASTMATH, "error_model": "numpy"}
     return cfunc(signature, cache=cache, **flags)(render_entry)

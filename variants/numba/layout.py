@@ -10,13 +10,15 @@ entry point, called through ctypes), and takes no row views (no reference counti
   composed world-to-object transform, the transform for normals, its material and pattern,
   and its own parameters (chapters 5-15);
 - ``items[i, column]`` and ``boxes[i, column]``: the order in which a ray visits the world,
-  depth first: a primitive, a group's bounding box (skip the group when the ray misses it,
-  chapter 14), or a CSG tree (chapter 16);
+  depth first: a primitive, a bounding box (skip what it holds when the ray misses it:
+  a node of the bounding-volume hierarchy, ``bvh``, or a group's box, chapter 14), or a
+  CSG tree (chapter 16);
 - ``balls[row, j]``: the spheres with a similarity transform outside CSG trees, column by
   column (centre, radius², casts a shadow, primitive row), so that a ray meets all of them
   in one loop that the compiler turns into vector instructions; their items are dropped;
 - ``csg[n, column]``: CSG operations in post-order, each over a range of primitives;
-- ``light`` (position, intensity) and ``cam`` (inverse view transform and pixel geometry).
+- ``lights[k, column]``: light k's position and intensity (``NLIGHT`` columns), and ``cam``
+  (the inverse view transform and pixel geometry).
 
 This file is also the first part of every generated kernel module (see
 ``variants.numba.specialize``), so the kernels read these names as compile-time constants.
@@ -82,9 +84,11 @@ P_TEST = 5
 
 # items: what a ray visits, in order
 ITEM_TYPE = 0
-ITEM_A = 1  # primitive: its row; box: the item after the group; csg: its first csg node
-ITEM_B = 2  # csg: one past its last csg node
-ITEM_C = 3  # csg: its first primitive
+ITEM_A = 1  # primitive: its row; box: the item after its contents; csg: its first csg node
+ITEM_B = 2  # csg: one past its last csg node; box of a hierarchy's inner node: the first
+# item of its second child
+ITEM_C = 3  # csg: its first primitive; box: the split axis + 1 of a hierarchy's inner node
+# (a ray going down that axis visits the second child first), else 0
 ITEM_D = 4  # csg: one past its last primitive
 NITEM = 5
 I_PRIM = 0
@@ -115,6 +119,17 @@ NBALL = 6
 # boxes: one row per item (only I_BOX rows are used): lo x, y, z, hi x, y, z
 NBOX = 6
 
+# the hierarchy's builder (``bvh``, ``bvh_kernel``: its own copies, checked by the tests)
+BVH_BINS = 16  # bins per axis
+BVH_STACK = 256  # its stack of nodes to build
+BVH_UNIT = 9  # per unit: centroid x, y, z, box lo x, y, z, hi x, y, z
+BVH_STATS = 5  # what it reports: nodes, leaves, box items, depth, items
+
+# lights: one row per light
+LIGHT_POSITION = 0  # 3
+LIGHT_INTENSITY = 3  # 3
+NLIGHT = 6
+
 # cam: the camera
 CAM_INV = 0  # 12: rows 0-2 of the inverse view transform
 CAM_HALF_WIDTH = 12
@@ -135,9 +150,13 @@ CS_START = 2  # si: per primitive of the tree: where its entries start in the li
 CS_COUNT = 3  # si: per primitive: how many of its intersections come before the hit
 CS_LAST_L = 4  # si: per primitive: the index of its latest one
 RAYS = 5  # si: entries 0, 1, 2 (count_rays kernels): rays traced, shadow rays, n1/n2 passes
-MEMO = 6  # si: entry 0: the primitive that last shadowed a point on this thread (-1: none)
-NSI = 7
-MIN_SCRATCH = 3  # entries at least (the RAYS counters)
+MEMO = 6  # si: entry k: the primitive that last shadowed a point from light k (modulo the
+# entries) on this thread (-1: none)
+BV_FROM = 7  # si: the hit ray's stack of item ranges still to visit (an ordered hierarchy's
+BV_TO = 8  # ... second children taken first): entry k is [BV_FROM, BV_TO)
+NSI = 9
+BVH_DEPTH = 64  # the deepest a hierarchy's node can be (``bvh``: the builder keeps to it)
+MIN_SCRATCH = 2 * BVH_DEPTH + 2  # entries at least: the RAYS counters, the range stack
 
 # the per-ray stack of reflected and refracted rays: origin, direction, weight, remaining;
 # entry k at stack[k * STACK_WIDTH + column]

@@ -2,9 +2,17 @@
 
 A world is packed once per render: every leaf shape becomes one row of ``pf``/``pi`` with
 its transform composed through its groups and CSG parents (chapter 14), its material and
-its pattern (chapters 6, 10, 11) and its own parameters (chapters 12, 13, 15); groups become
-bounding-box items the ray can skip, CSG trees a range of rows plus their operations in
-post-order (chapter 16).
+its pattern (chapters 6, 10, 11) and its own parameters (chapters 12, 13, 15); CSG trees
+become a range of rows plus their operations in post-order (chapter 16). How the items are
+arranged is the ``bvh`` option (``variants.numba.bvh``): by default the groups are
+flattened and a bounding-volume hierarchy is built over the items with a box (``sah``);
+``groups`` keeps each group's box as an item the ray can skip (chapter 14); ``off`` none.
+Every light is packed (one row each).
+
+A group's run of plain triangles (a mesh: ``Triangle`` or ``SmoothTriangle`` with no
+transform of their own) is packed at once with numpy (``add_triangles``): the rows
+``leaf_row`` would make one at a time, about ten times faster (a million triangles in
+seconds, not a minute).
 
 Only the reference's own shape and pattern classes are packed (or subclasses that do not
 change how they intersect, shade or color); anything else is refused with a ``PackError``
@@ -24,9 +32,12 @@ effect on the picture):
 
 from __future__ import annotations
 
+import itertools
 import math
+import operator
+import time
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -58,6 +69,7 @@ from raytracer.shapes.triangle import Triangle
 from raytracer.tuples import Tuple
 from raytracer.world import World
 from variants.numba import layout as L
+from variants.numba.bvh import BALLS_MAX, DEFAULT, STRUCTURES, Hierarchy, build_tree
 
 # leaf classes, most derived first (a smooth triangle is a triangle)
 SHAPE_KINDS: tuple[tuple[type[Shape], int], ...] = (
@@ -306,7 +318,7 @@ def _stretch(m: Matrix) -> float:
 
 def _local_bounds(shape: Shape, kind: int) -> list[tuple[float, float, float]] | None:
     """Points whose hull holds the shape in object space; None when it is unbounded."""
-    if kind in (L.K_SPHERE, L.K_CUBE):
+    if kind in (L.K_SPHERE, L.K_CUBE, L.K_TEST):  # the test shape's box is the unit cube's
         lo_y, hi_y, radius = -1.0, 1.0, 1.0
     elif kind in (L.K_CYLINDER, L.K_CONE):
         lo_y, hi_y = float(shape.minimum), float(shape.maximum)  # type: ignore[attr-defined]
@@ -327,7 +339,8 @@ class Packed:
 
     shapes: the leaf shape of each primitive row; capacity: the most intersections a ray
     can have with everything packed; cs_size, cs_prims: the largest CSG tree's intersection
-    list and primitive count (per-thread scratch sizes, at least 1).
+    list and primitive count (per-thread scratch sizes, at least 1); hierarchy: how the
+    items are arranged (``bvh``).
     """
 
     pf: np.ndarray
@@ -335,17 +348,21 @@ class Packed:
     items: np.ndarray
     boxes: np.ndarray
     csg: np.ndarray
-    light: np.ndarray
+    lights: np.ndarray
     shapes: list[Shape]
     capacity: int
     cs_size: int
     cs_prims: int
-    rows_by_id: dict[int, int] = field(default_factory=dict, repr=False)
     balls: np.ndarray = field(default_factory=lambda: np.zeros((L.NBALL, 0)), repr=False)
+    hierarchy: Hierarchy = field(default_factory=lambda: Hierarchy("off"))
+    seconds: float = 0.0  # the time packing took, the hierarchy's build included
+    _rows_by_id: dict[int, int] | None = field(default=None, repr=False)
 
     def row_of(self, shape: Shape) -> int:
         """The primitive row of ``shape`` (by identity), or -1."""
-        return self.rows_by_id.get(id(shape), -1)
+        if self._rows_by_id is None:
+            self._rows_by_id = {id(shape): row for row, shape in enumerate(self.shapes)}
+        return self._rows_by_id.get(id(shape), -1)
 
     def arrays(self) -> tuple[np.ndarray, ...]:
         """(pf, pi, items, boxes, csg): the tables (2-D, one row per primitive, item ...)."""
@@ -359,6 +376,10 @@ class Packed:
             _flat(self.boxes), _flat(self.csg), _flat(self.balls), self.balls.shape[1],
         )  # fmt: skip
 
+    def light_table(self) -> tuple[np.ndarray, int]:
+        """(lights, n_lights): the lights flattened (``layout``) and their number."""
+        return _flat(self.lights), len(self.lights)
+
 
 def _flat(table: np.ndarray) -> np.ndarray:
     """A table as the 1-D, C-contiguous array the kernels index (at least one element, so
@@ -367,16 +388,73 @@ def _flat(table: np.ndarray) -> np.ndarray:
     return flat if flat.size else np.zeros(1, dtype=table.dtype)
 
 
-class _Packer:
-    """Collects rows and items while walking shapes, then builds the arrays."""
+def _stack(parts: list[Any], width: int, dtype: Any) -> np.ndarray:
+    """Rows (lists) and blocks (2-D arrays) as one table, in order."""
+    blocks: list[np.ndarray] = []
+    pending: list[Any] = []
+    for part in parts:
+        if isinstance(part, np.ndarray):
+            if pending:
+                blocks.append(np.array(pending, dtype=dtype).reshape(len(pending), width))
+                pending = []
+            blocks.append(part.astype(dtype, copy=False))
+        else:
+            pending.append(part)
+    if pending:
+        blocks.append(np.array(pending, dtype=dtype).reshape(len(pending), width))
+    if not blocks:
+        return np.zeros((0, width), dtype=dtype)
+    return blocks[0] if len(blocks) == 1 else np.concatenate(blocks)
 
-    def __init__(self, dtype: Any, allow_test_shape: bool) -> None:
+
+def _outward(boxes: np.ndarray, dtype: Any) -> np.ndarray:
+    """Boxes (lo x, y, z, hi x, y, z) in ``dtype``, rounded outwards (float32 would
+    otherwise shrink a box by up to half a unit in the last place, and lose hits)."""
+    if np.dtype(dtype) == boxes.dtype:
+        return boxes
+    rounded = boxes.astype(dtype)
+    lo, hi = rounded[:, 0:3], rounded[:, 3:6]
+    with np.errstate(invalid="ignore"):
+        low = lo.astype(boxes.dtype) > boxes[:, 0:3]
+        high = hi.astype(boxes.dtype) < boxes[:, 3:6]
+    lo[low] = np.nextafter(lo[low], np.array(-np.inf, dtype=dtype))
+    hi[high] = np.nextafter(hi[high], np.array(np.inf, dtype=dtype))
+    return rounded
+
+
+NO_BOX = (math.nan,) * 6  # an item's bounds when it has none (unbounded, or not a leaf)
+FAST_TRIANGLES: dict[type, int] = {Triangle: L.K_TRIANGLE, SmoothTriangle: L.K_SMOOTH_TRIANGLE}
+_TRANSFORM = operator.attrgetter("transform")
+_MATERIAL = operator.attrgetter("material")
+_CASTS_SHADOW = operator.attrgetter("casts_shadow")
+_CORNERS = operator.attrgetter(
+    *[f"{corner}.{axis}" for corner in ("p1", "p2", "p3", "e1", "e2", "normal") for axis in "xyz"]
+)
+_NORMALS = operator.attrgetter(*[f"{n}.{axis}" for n in ("n1", "n2", "n3") for axis in "xyz"])
+
+
+class _Packer:
+    """Collects rows and items while walking shapes, then builds the arrays.
+
+    Rows and items are kept as single rows (lists) or as blocks (arrays: a group's run of
+    triangles, packed at once); ``bounds`` holds, per item, a box item's box or a leaf
+    item's world-space box (NaN: none)."""
+
+    def __init__(
+        self, dtype: Any, allow_test_shape: bool, structure: str = DEFAULT, every_box: bool = False
+    ) -> None:
+        if structure not in STRUCTURES:
+            raise ValueError(f"numba: unknown bvh structure {structure!r}: {STRUCTURES}")
         self.dtype = dtype
         self.allow_test_shape = allow_test_shape
-        self.rows_f: list[list[float]] = []
-        self.rows_i: list[list[int]] = []
-        self.items: list[list[int]] = []
-        self.boxes: list[tuple[float, ...]] = []
+        self.structure = structure
+        self.every_box = every_box
+        self.rows_f: list[Any] = []
+        self.rows_i: list[Any] = []
+        self.n_rows = 0
+        self.items: list[Any] = []
+        self.bounds: list[Any] = []
+        self.n_items = 0
         self.csg: list[list[int]] = []
         self.shapes: list[Shape] = []
         self.capacity = 0
@@ -385,7 +463,7 @@ class _Packer:
 
     # -- rows
 
-    def leaf_row(
+    def row(
         self,
         shape: Shape,
         kind: int,
@@ -394,9 +472,9 @@ class _Packer:
         material: Material | None = None,
         pattern: Pattern | None = None,
         fwd: Matrix | None = None,
-    ) -> int:
-        """Append one primitive row; returns its index. ``fwd``: object to world space (for
-        the bounding sphere; None: no bounding sphere)."""
+    ) -> tuple[list[float], list[int]]:
+        """One primitive row (floats, ints). ``fwd``: object to world space (for the
+        bounding sphere; None: no bounding sphere)."""
         if kind == L.K_TEST and not self.allow_test_shape:
             raise PackError(
                 f"numba: cannot render {where}, a TestShape: it records rays in Python "
@@ -447,11 +525,33 @@ class _Packer:
         if ball is not None:
             f[L.SPH_CENTER : L.SPH_INV_R + 1] = ball
             i[L.WORLD_SPHERE] = 1
+        return f, i
+
+    def leaf_row(
+        self,
+        shape: Shape,
+        kind: int,
+        inv: Matrix,
+        where: str,
+        material: Material | None = None,
+        pattern: Pattern | None = None,
+        fwd: Matrix | None = None,
+    ) -> int:
+        """Append one primitive row (``row``); returns its index."""
+        f, i = self.row(shape, kind, inv, where, material, pattern, fwd)
         self.rows_f.append(f)
         self.rows_i.append(i)
         self.shapes.append(shape)
         self.capacity += MAX_HITS[kind]
-        return len(self.rows_f) - 1
+        self.n_rows += 1
+        return self.n_rows - 1
+
+    def item(self, values: list[int], bounds: Box) -> int:
+        """Append one item with its bounds; returns its index in ``items``."""
+        self.items.append(values)
+        self.bounds.append(NO_BOX if bounds is None else (*bounds[0], *bounds[1]))
+        self.n_items += 1
+        return len(self.items) - 1
 
     # -- trees
 
@@ -472,9 +572,9 @@ class _Packer:
             return self.add_csg(shape, inv, fwd, where)
         kind = shape_kind(shape, where)
         row = self.leaf_row(shape, kind, inv, where, fwd=fwd)
-        self.items.append([L.I_PRIM, row, 0, 0, 0])
-        self.boxes.append((0.0,) * 6)
-        return self.world_box(shape, kind, fwd)
+        box = self.world_box(shape, kind, fwd)
+        self.item([L.I_PRIM, row, 0, 0, 0], box)
+        return box
 
     def world_box(self, shape: Shape, kind: int, fwd: Matrix) -> Box:
         points = _local_bounds(shape, kind)
@@ -482,42 +582,125 @@ class _Packer:
             return UNBOUNDED
         return _box_of_points([_apply(fwd, *p) for p in points])
 
-    def open_box(self) -> int:
-        self.items.append([L.I_BOX, 0, 0, 0, 0])
-        self.boxes.append((0.0,) * 6)
-        return len(self.items) - 1
+    def open_box(self) -> tuple[int, int]:
+        """A box item (``groups``), filled in by ``close_box``: (its index in ``items``,
+        its item number); (-1, -1) when the structure has no group boxes."""
+        if self.structure != "groups":
+            return -1, -1
+        return self.item([L.I_BOX, 0, 0, 0, 0], UNBOUNDED), self.n_items - 1
 
-    def close_box(self, at: int, box: Box) -> None:
-        """Fill in the box item at ``at`` (skip to here); drop it when it is useless."""
-        inside = len(self.items) - at - 1
-        if box is None or inside < 2:
+    def close_box(self, opened: tuple[int, int], box: Box) -> None:
+        """Fill in the box item ``opened`` (skip to here); drop it when it is useless."""
+        at, number = opened
+        if at < 0:
+            return
+        inside = self.n_items - number - 1
+        if box is None or inside < (1 if self.every_box else 2):
             self.items[at] = [L.I_SKIP, 0, 0, 0, 0]
             return
-        self.items[at][L.ITEM_A] = len(self.items)
-        self.boxes[at] = (*box[0], *box[1])
+        self.items[at][L.ITEM_A] = self.n_items
+        self.bounds[at] = (*box[0], *box[1])
 
     def add_group(self, g: Group, inv: Matrix, fwd: Matrix, where: str) -> Box:
-        at = self.open_box()
-        boxes = [
-            self.add(child, inv, fwd, f"{where}.children[{k}]")
-            for k, child in enumerate(g.children)
+        opened = self.open_box()
+        boxes: list[Box] = []
+        children = g.children
+        # runs of plain triangles of one class with no transform of their own are packed
+        # at once (a mesh); -1: any other child
+        kinds = [
+            FAST_TRIANGLES.get(cls, -1) if m is identity_matrix or m == identity_matrix else -1
+            for cls, m in zip(map(type, children), map(_TRANSFORM, children), strict=True)
         ]
+        start = 0
+        for k in range(len(children) + 1):
+            if k < len(children) and kinds[k] >= 0 and kinds[k] == kinds[start]:
+                continue
+            if start < k and kinds[start] >= 0:
+                boxes.append(self.add_triangles(children, start, k, kinds[start], inv, fwd, where))
+                start = k
+            if k < len(children) and kinds[k] < 0:
+                boxes.append(self.add(children[k], inv, fwd, f"{where}.children[{k}]"))
+                start = k + 1
         box = _union(boxes)
-        self.close_box(at, box)
+        self.close_box(opened, box)
         return box
 
+    def add_triangles(
+        self,
+        children: list[Shape],
+        start: int,
+        stop: int,
+        kind: int,
+        inv: Matrix,
+        fwd: Matrix,
+        where: str,
+    ) -> Box:
+        """Chapter 15, at scale: a group's children ``start`` to ``stop`` - 1, triangles of
+        one ``kind`` with the identity as their own transform, packed as one block of rows
+        and items: the same rows as ``leaf_row`` makes one at a time, built with numpy."""
+        run = children[start:stop]
+        n = len(run)
+        # one template row per (material, casts_shadow): the first triangle's
+        ids = np.fromiter(map(id, map(_MATERIAL, run)), dtype=np.int64, count=n)
+        shadows = np.fromiter(map(bool, map(_CASTS_SHADOW, run)), dtype=np.int64, count=n)
+        _, first, which = np.unique(ids * 2 + shadows, return_index=True, return_inverse=True)
+        rows_f: list[list[float]] = []
+        rows_i: list[list[int]] = []
+        for j in first.tolist():
+            f, i = self.row(run[j], kind, inv, f"{where}.children[{start + j}]")
+            rows_f.append(f)
+            rows_i.append(i)
+        pf = np.array(rows_f, dtype=np.float64)[which.reshape(-1)]
+        pi = np.array(rows_i, dtype=np.int64)[which.reshape(-1)]
+        c = np.fromiter(
+            itertools.chain.from_iterable(map(_CORNERS, run)), dtype=np.float64, count=n * 18
+        ).reshape(n, 18)
+        pf[:, L.TRI_P1 : L.TRI_P1 + 3] = c[:, 0:3]
+        pf[:, L.TRI_E1 : L.TRI_E1 + 3] = c[:, 9:12]
+        pf[:, L.TRI_E2 : L.TRI_E2 + 3] = c[:, 12:15]
+        pf[:, L.TRI_NORMAL : L.TRI_NORMAL + 3] = c[:, 15:18]
+        if kind == L.K_SMOOTH_TRIANGLE:
+            pf[:, L.TRI_N1 : L.TRI_N3 + 3] = np.fromiter(
+                itertools.chain.from_iterable(map(_NORMALS, run)), dtype=np.float64, count=n * 9
+            ).reshape(n, 9)
+        points = c[:, 0:9].reshape(n, 3, 3)  # triangle, corner, axis
+        pf[:, L.BOUND : L.BOUND + 4] = _triangle_spheres(points, fwd)
+        world = _apply_array(fwd, points)
+        lo, hi = _corner_range(world)
+        pad = 1e-9 * (1.0 + np.abs(lo) + np.abs(hi))
+        bounds = np.concatenate([lo - pad, hi + pad], axis=1)
+        bounds[~np.isfinite(bounds).all(axis=1)] = math.nan
+        first_row = self.n_rows
+        items = np.zeros((n, L.NITEM), dtype=np.int64)
+        items[:, L.ITEM_TYPE] = L.I_PRIM
+        items[:, L.ITEM_A] = np.arange(first_row, first_row + n)
+        self.rows_f.append(pf)
+        self.rows_i.append(pi)
+        self.shapes.extend(run)
+        self.n_rows += n
+        self.capacity += n * MAX_HITS[kind]
+        self.items.append(items)
+        self.bounds.append(bounds)
+        self.n_items += n
+        if np.isnan(bounds).any():
+            return UNBOUNDED
+        box_lo, box_hi = bounds[:, 0:3].min(axis=0), bounds[:, 3:6].max(axis=0)
+        return (
+            (float(box_lo[0]), float(box_lo[1]), float(box_lo[2])),
+            (float(box_hi[0]), float(box_hi[1]), float(box_hi[2])),
+        )
+
     def add_csg(self, c: CSG, inv: Matrix, fwd: Matrix, where: str) -> Box:
-        at = self.open_box()
-        item = len(self.items)
-        self.items.append([L.I_CSG, len(self.csg), 0, len(self.rows_f), 0])
-        self.boxes.append((0.0,) * 6)
+        opened = self.open_box()
+        item = self.item([L.I_CSG, len(self.csg), 0, self.n_rows, 0], UNBOUNDED)
         capacity_before = self.capacity
         box = self.csg_tree(c, inv, fwd, where)
         self.items[item][L.ITEM_B] = len(self.csg)
-        self.items[item][L.ITEM_D] = len(self.rows_f)
+        self.items[item][L.ITEM_D] = self.n_rows
+        self.bounds[item] = NO_BOX if box is None else (*box[0], *box[1])
         self.cs_size = max(self.cs_size, self.capacity - capacity_before)
-        self.cs_prims = max(self.cs_prims, len(self.rows_f) - self.items[item][L.ITEM_C])
-        self.close_box(at, box)
+        self.cs_prims = max(self.cs_prims, self.n_rows - self.items[item][L.ITEM_C])
+        self.close_box(opened, box)
         return box
 
     def csg_tree(self, shape: Shape, inv: Matrix, fwd: Matrix, where: str) -> Box:
@@ -525,11 +708,11 @@ class _Packer:
         if isinstance(shape, CSG) and _unchanged(type(shape), CSG, SHAPE_METHODS):
             if shape.operation not in OPERATIONS:
                 raise PackError(f"numba: {where} has an unknown operation {shape.operation!r}")
-            start = len(self.rows_f)
+            start = self.n_rows
             left = self.csg_operand(shape.left, inv, fwd, f"{where}.left")
-            mid = len(self.rows_f)
+            mid = self.n_rows
             right = self.csg_operand(shape.right, inv, fwd, f"{where}.right")
-            self.csg.append([start, mid, len(self.rows_f), OPERATIONS[shape.operation]])
+            self.csg.append([start, mid, self.n_rows, OPERATIONS[shape.operation]])
             return _union([left, right])
         if isinstance(shape, Group) and _unchanged(type(shape), Group, SHAPE_METHODS):
             return _union(
@@ -549,86 +732,159 @@ class _Packer:
 
     # -- result
 
-    def take_out_balls(self) -> list[int]:
-        """Chapter 5: the world spheres reached by a plain item (not in a CSG tree) leave
-        the items (I_SKIP) for the ball list; a box left with nothing to skip is dropped.
-        Returns their rows, in item order."""
-        rows = []
-        for item in self.items:
-            if item[L.ITEM_TYPE] == L.I_PRIM and self.rows_i[item[L.ITEM_A]][L.WORLD_SPHERE]:
-                rows.append(item[L.ITEM_A])
-                item[:] = [L.I_SKIP, 0, 0, 0, 0]
-        for at in reversed(range(len(self.items))):  # inner boxes first
-            item = self.items[at]
-            if item[L.ITEM_TYPE] == L.I_BOX:
-                inside = self.items[at + 1 : item[L.ITEM_A]]
-                if all(other[L.ITEM_TYPE] == L.I_SKIP for other in inside):
-                    item[:] = [L.I_SKIP, 0, 0, 0, 0]
-        self.drop_skips()
-        return rows
-
-    def drop_skips(self) -> None:
-        """Remove the I_SKIP items (and their box rows); a box's jump target moves to the
-        first item kept at or after it."""
-        kept = [at for at, item in enumerate(self.items) if item[L.ITEM_TYPE] != L.I_SKIP]
-        moved = [0] * (len(self.items) + 1)  # old index -> items kept before it
-        count = 0
-        for at in range(len(self.items) + 1):
-            moved[at] = count
-            if at < len(self.items) and self.items[at][L.ITEM_TYPE] != L.I_SKIP:
-                count += 1
-        for at in kept:
-            if self.items[at][L.ITEM_TYPE] == L.I_BOX:
-                self.items[at][L.ITEM_A] = moved[self.items[at][L.ITEM_A]]
-        self.items = [self.items[at] for at in kept]
-        self.boxes = [self.boxes[at] for at in kept]
-
-    def build(self, light: PointLight | None) -> Packed:
+    def build(self, lights: Sequence[PointLight], started: float | None = None) -> Packed:
+        """The arrays: rows, items (the balls taken out, empty boxes dropped, and for
+        ``sah`` the hierarchy built), boxes, CSG operations, the lights."""
         dtype = self.dtype
-        ball_rows = self.take_out_balls()
+        pf = _stack(self.rows_f, L.NF, np.float64)
+        pi = _stack(self.rows_i, L.NI, np.int64)
+        items = _stack(self.items, L.NITEM, np.int64)
+        bounds = _stack(self.bounds, L.NBOX, np.float64)
+        # chapter 5: world spheres reached by a plain item (not in a CSG tree) leave the
+        # items for the ball list (``sah``: while there are few of them), in item order
+        prim = items[:, L.ITEM_TYPE] == L.I_PRIM
+        ball = np.zeros(len(items), dtype=bool)
+        ball[prim] = pi[items[prim, L.ITEM_A], L.WORLD_SPHERE] != 0
+        if self.structure == "sah" and ball.sum() >= BALLS_MAX:
+            ball[:] = False
+        ball_rows = items[ball, L.ITEM_A]
+        items[ball, L.ITEM_TYPE] = L.I_SKIP
+        items, bounds = _drop_skips(items, bounds)
+        hierarchy = Hierarchy(self.structure)
+        if self.structure == "sah":
+            items, boxes, hierarchy = _hierarchy(items, bounds)
+        else:
+            boxes = np.where((items[:, L.ITEM_TYPE] == L.I_BOX)[:, None], bounds, 0.0)
+            boxes = boxes.reshape(len(items), L.NBOX)
+            if self.structure == "groups":
+                found = int((items[:, L.ITEM_TYPE] == L.I_BOX).sum())
+                hierarchy = Hierarchy("groups", boxes=found)
         balls = np.zeros((L.NBALL, len(ball_rows)), dtype=dtype)
-        for j, row in enumerate(ball_rows):
-            f = self.rows_f[row]
-            balls[L.B_X : L.B_Z + 1, j] = f[L.SPH_CENTER : L.SPH_CENTER + 3]
-            balls[L.B_R2, j] = f[L.SPH_R2]
-            balls[L.B_SHADOW, j] = float(self.rows_i[row][L.CASTS_SHADOW])
-            balls[L.B_PRIM, j] = float(row)
-        n = len(self.rows_f)
-        pf = np.array(self.rows_f, dtype=dtype).reshape(n, L.NF)
-        pi = np.array(self.rows_i, dtype=np.int64).reshape(n, L.NI)
-        items = np.array(self.items, dtype=np.int64).reshape(len(self.items), L.NITEM)
-        boxes = np.array(self.boxes, dtype=dtype).reshape(len(self.boxes), 6)
+        balls[L.B_X : L.B_Z + 1] = pf[ball_rows, L.SPH_CENTER : L.SPH_CENTER + 3].T
+        balls[L.B_R2] = pf[ball_rows, L.SPH_R2]
+        balls[L.B_SHADOW] = pi[ball_rows, L.CASTS_SHADOW]
+        balls[L.B_PRIM] = ball_rows
         csg = np.array(self.csg, dtype=np.int64).reshape(len(self.csg), L.NCSG)
-        light_row = [0.0] * 6
-        if light is not None:
-            light_row = _xyz(light.position) + _rgb(light.intensity)
+        light_rows = np.zeros((len(lights), L.NLIGHT), dtype=dtype)
+        for k, light in enumerate(lights):
+            if not isinstance(light, PointLight):
+                raise PackError(
+                    f"numba: light {k} of the world is a {type(light).__name__}; the kernels "
+                    "know point lights"
+                )
+            light_rows[k] = _xyz(light.position) + _rgb(light.intensity)
+        seconds = time.perf_counter() - started if started is not None else 0.0
         return Packed(
-            pf, pi, items, boxes, csg, np.array(light_row, dtype=dtype), list(self.shapes),
-            max(self.capacity, 1), self.cs_size, self.cs_prims,
-            {id(shape): row for row, shape in enumerate(self.shapes)}, balls,
+            pf.astype(dtype, copy=False), pi, items, _outward(boxes, dtype), csg,
+            light_rows, self.shapes, max(self.capacity, 1), self.cs_size,
+            self.cs_prims, balls, hierarchy, seconds,
         )  # fmt: skip
 
 
-def pack_world(world: World, dtype: Any = np.float64, *, allow_test_shape: bool = False) -> Packed:
-    """Chapter 7: every object of ``world`` and its light, packed."""
+def _drop_skips(items: np.ndarray, bounds: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The items without I_SKIP ones and without boxes left with nothing inside; a box's
+    jump target moves to the first item kept at or after it."""
+    kinds = items[:, L.ITEM_TYPE]
+    if not ((kinds == L.I_SKIP) | (kinds == L.I_BOX)).any():
+        return items, bounds
+    leaf = (kinds == L.I_PRIM) | (kinds == L.I_CSG)
+    leaves_before = np.concatenate([[0], np.cumsum(leaf)])
+    box = np.flatnonzero(kinds == L.I_BOX)
+    empty = leaves_before[items[box, L.ITEM_A]] - leaves_before[box + 1] == 0
+    items[box[empty], L.ITEM_TYPE] = L.I_SKIP
+    kept = items[:, L.ITEM_TYPE] != L.I_SKIP
+    moved = np.concatenate([[0], np.cumsum(kept)])  # old index -> items kept before it
+    box = np.flatnonzero(items[:, L.ITEM_TYPE] == L.I_BOX)
+    items[box, L.ITEM_A] = moved[items[box, L.ITEM_A]]
+    return items[kept], bounds[kept]
+
+
+def _hierarchy(items: np.ndarray, bounds: np.ndarray) -> tuple[np.ndarray, np.ndarray, Hierarchy]:
+    """``sah``: the unbounded items first, then the hierarchy over the others."""
+    bounded = ~np.isnan(bounds).any(axis=1)
+    outside = items[~bounded]
+    units = items[bounded]
+    if len(units) < 2:
+        ordered = np.concatenate([outside, units])
+        boxes = np.zeros((len(ordered), L.NBOX), dtype=np.float64)
+        return ordered, boxes, Hierarchy("sah", len(units), len(outside))
+    tree, tree_boxes, hierarchy = build_tree(units, bounds[bounded])
+    box = tree[:, L.ITEM_TYPE] == L.I_BOX
+    tree[box, L.ITEM_A] += len(outside)
+    inner = box & (tree[:, L.ITEM_C] > 0)
+    tree[inner, L.ITEM_B] += len(outside)
+    boxes = np.concatenate([np.zeros((len(outside), L.NBOX)), tree_boxes])
+    return np.concatenate([outside, tree]), boxes, replace(hierarchy, outside=len(outside))
+
+
+def _apply_array(m: Matrix, points: np.ndarray) -> np.ndarray:
+    """``_apply`` on an array of points (..., 3), element by element (as ``_apply`` adds
+    its terms; no matrix product, which would wake BLAS threads)."""
+    r = m.rows
+    x, y, z = points[..., 0], points[..., 1], points[..., 2]
+    out = np.empty_like(points)
+    for k in range(3):
+        out[..., k] = r[k][0] * x + r[k][1] * y + r[k][2] * z + r[k][3]
+    return out
+
+
+def _corner_range(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The least and greatest of each triangle's corners (points: triangle, corner, axis),
+    axis by axis (explicit: numpy reduces a short axis slowly)."""
+    a, b, c = points[:, 0], points[:, 1], points[:, 2]
+    return np.minimum(np.minimum(a, b), c), np.maximum(np.maximum(a, b), c)
+
+
+def _triangle_spheres(points: np.ndarray, fwd: Matrix) -> np.ndarray:
+    """``_bounding_sphere`` of many triangles (points: triangle, corner, axis) at once:
+    n x 4 (world centre, radius; radius inf where not finite)."""
+    lo, hi = _corner_range(points)
+    centre = (lo + hi) / 2
+    radius = np.sqrt(((points - centre[:, None, :]) ** 2).sum(axis=2)).max(axis=1)
+    out = np.empty((len(points), 4), dtype=np.float64)
+    out[:, 0:3] = _apply_array(fwd, centre)
+    out[:, 3] = radius * _stretch(fwd) * (1.0 + 1e-6) + 1e-9
+    bad = ~np.isfinite(out).all(axis=1)
+    out[bad] = (0.0, 0.0, 0.0, math.inf)
+    return out
+
+
+def pack_world(
+    world: World,
+    dtype: Any = np.float64,
+    *,
+    allow_test_shape: bool = False,
+    structure: str = DEFAULT,
+) -> Packed:
+    """Chapter 7: every object of ``world`` and its lights, packed; ``structure``: how the
+    items are arranged (``bvh``)."""
     if not isinstance(world, World):
         raise PackError(f"numba: expected a World, got {type(world).__name__}")
-    packer = _Packer(dtype, allow_test_shape)
+    started = time.perf_counter()
+    packer = _Packer(dtype, allow_test_shape, structure)
     for k, shape in enumerate(world.objects):
         packer.add(shape, identity_matrix, identity_matrix, f"world object {k} ({_label(shape)})")
-    return packer.build(world.light)
+    return packer.build(list(world.lights), started)
 
 
 def pack_shapes(
-    shapes: Sequence[Shape], dtype: Any = np.float64, *, own_transform: bool = True
+    shapes: Sequence[Shape],
+    dtype: Any = np.float64,
+    *,
+    own_transform: bool = True,
+    structure: str = DEFAULT,
+    every_box: bool = False,
 ) -> Packed:
     """One or more shapes as the roots of a packed scene, with their own transforms (as
     ``intersect`` sees them: not their parents'), or without (``own_transform=False``, as
-    ``local_intersect`` sees them). Test shapes are allowed (the book API's kernels)."""
-    packer = _Packer(dtype, allow_test_shape=True)
+    ``local_intersect`` sees them). Test shapes are allowed (the book API's kernels).
+    ``every_box`` (with ``structure="groups"``): a box for every bounded group and CSG
+    shape, even around one item (where it saves no work, but says, as the reference's
+    ``intersect`` does, whether a ray reaches what it holds)."""
+    packer = _Packer(dtype, allow_test_shape=True, structure=structure, every_box=every_box)
     for shape in shapes:
         packer.add(shape, identity_matrix, identity_matrix, _label(shape), own=own_transform)
-    return packer.build(None)
+    return packer.build([])
 
 
 def world_inverse(shape: Shape) -> Matrix:
@@ -657,14 +913,14 @@ def pack_surface(
     """One primitive row (pf, pi, flat) for a single shape's surface, with world-to-object ``inv``
     (default: through its parents), optionally another material or pattern. ``leaf=False``
     packs only the transforms (for ``world_to_object`` / ``normal_to_world`` on a group)."""
-    packer = _Packer(dtype, allow_test_shape=True)
+    packer = _Packer(dtype, allow_test_shape=True, structure="off")
     target: Shape = shape if shape is not None else Sphere()
     where = _label(target)
     if inv is None:
         inv = world_inverse(target) if shape is not None else identity_matrix
     kind = shape_kind(target, where) if leaf else L.K_SPHERE
     packer.leaf_row(target, kind, inv, where, material, pattern)
-    built = packer.build(None)
+    built = packer.build([])
     return _flat(built.pf), _flat(built.pi)
 
 

@@ -28,8 +28,9 @@ from raytracer.sampling import GAMMA, MASK64
 from raytracer.tracer import Region
 from raytracer.world import World
 from variants.numba import layout as L
+from variants.numba.bvh import DEFAULT
 from variants.numba.features import FeatureSet, analyse
-from variants.numba.pack import Packed, PackedCamera, PackError, pack_camera, pack_world
+from variants.numba.pack import Packed, PackedCamera, pack_camera, pack_world
 from variants.numba.specialize import KernelConfig, Renderer, library_path, load_renderer
 
 PAGE = 4096  # bytes: each thread's scratch starts on a page of its own (no false sharing)
@@ -53,13 +54,16 @@ class Options:
 
     float32: compute and store in float32; fastmath: LLVM fast-math; threads: render
     threads (None: ``max_threads()``); specialize: a kernel per feature set (False: the
-    generic kernel with every feature, to show what specialization buys).
+    generic kernel with every feature, to show what specialization buys); bvh: how the
+    items are arranged (``bvh.STRUCTURES``: a hierarchy by the surface area heuristic, the
+    scene's groups, or a flat list).
     """
 
     float32: bool = False
     fastmath: bool = False
     threads: int | None = None
     specialize: bool = True
+    bvh: str = DEFAULT
 
     @property
     def dtype(self) -> Any:
@@ -81,11 +85,10 @@ def render_threads(options: Options) -> int:
     return int(threads)
 
 
-def packed_for_render(w: World, options: Options, caller: str = "render") -> Packed:
-    packed = pack_world(w, options.dtype)
-    if w.light is None and len(packed.shapes):
-        raise PackError(f"{caller}: the world has no light source")
-    return packed
+def packed_for_render(w: World, options: Options) -> Packed:
+    """``w`` packed for a render (a world with no light renders black, as the reference
+    shades it)."""
+    return pack_world(w, options.dtype, structure=options.bvh)
 
 
 class Scratch:
@@ -106,8 +109,9 @@ class Scratch:
         self.ints = np.zeros(threads * self.int_stride + PAGE // 8, dtype=np.int64)
         self.float_base = _page_offset(self.floats)
         self.int_base = _page_offset(self.ints)
-        for k in range(threads):
-            self.ints[self.int_base + k * self.int_stride + L.MEMO] = -1
+        for k in range(threads):  # every light's shadow memo: none yet
+            base = self.int_base + k * self.int_stride
+            self.ints[base + L.MEMO : base + entries * L.NSI : L.NSI] = -1
 
     def addresses(self, k: int) -> tuple[int, int, int, int]:
         """Thread k's (stack, sf, si, tb) addresses."""
@@ -144,6 +148,7 @@ class Frame:
     dtype: Any
     addresses: list[tuple[int, int, int, int]] = field(default_factory=list)
     lock: threading.Lock = field(default_factory=threading.Lock)
+    arrays: tuple[Any, ...] = ()  # the arrays ``common`` points into, kept alive
 
 
 def prepare_frame(
@@ -157,14 +162,19 @@ def prepare_frame(
     threads = min(render_threads(options), max(camera.vsize, 1))
     scratch = Scratch(threads, settings.depth, packed, options.dtype)
     pf, pi, items, n_items, boxes, csg, balls, n_balls = packed.flat()
+    lights, n_lights = packed.light_table()
     common = (
         camera.array.ctypes.data, pf.ctypes.data, pi.ctypes.data, items.ctypes.data, n_items,
-        boxes.ctypes.data, csg.ctypes.data, balls.ctypes.data, n_balls,
-        packed.light.ctypes.data, settings.depth, settings.samples,
-        (settings.seed * GAMMA) & MASK64, float(settings.epsilon),
+        boxes.ctypes.data, csg.ctypes.data, balls.ctypes.data, n_balls, lights.ctypes.data,
+        n_lights, settings.depth, settings.samples, (settings.seed * GAMMA) & MASK64,
+        float(settings.epsilon),
     )  # fmt: skip
     addresses = [scratch.addresses(k) for k in range(threads)]
-    return Frame(camera, packed, renderer, threads, scratch, common, options.dtype, addresses)
+    arrays = (pf, pi, items, boxes, csg, balls, lights)
+    return Frame(
+        camera, packed, renderer, threads, scratch, common, options.dtype, addresses,
+        arrays=arrays,
+    )  # fmt: skip
 
 
 def run_region(frame: Frame, region: Region, out: np.ndarray | None = None) -> np.ndarray:
@@ -224,7 +234,7 @@ def traversals(
 
 def explain(options: Options, w: World) -> str:
     """What a render of ``w`` runs: the feature set found, the kernel, the threads."""
-    packed = packed_for_render(w, options, "explain")
+    packed = packed_for_render(w, options)
     found = analyse(packed)
     config = options.config(found)
     kinds: dict[str, int] = {}
@@ -238,6 +248,20 @@ def explain(options: Options, w: World) -> str:
     ]
     if balls:
         lines.append(f"  spheres tested in world space (similarity transforms): {balls}")
+    n_balls = packed.balls.shape[1]
+    if n_balls:
+        lines.append(f"  of them tested all at once, outside the items: {n_balls}")
+    n_lights = len(packed.lights)
+    lines.append(
+        f"  lights: {n_lights}"
+        + (" (every surface black)" if n_lights == 0 else "")
+        + (" (each with its own shadow rays; the ambient term once)" if n_lights > 1 else "")
+    )
+    lines.append(f"  {packed.hierarchy.describe()}")
+    lines.append(
+        f"  packed in {packed.seconds:.3g} s ({len(packed.items):,} items, "
+        f"{packed.pf.nbytes + packed.items.nbytes + packed.boxes.nbytes:,} bytes)"
+    )
     if options.specialize:
         left_out = ", ".join(found.left_out()) or "nothing"
         lines.append(f"  kernel: specialized to these features; left out: {left_out}")

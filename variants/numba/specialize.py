@@ -174,8 +174,8 @@ def load_kernels(config: KernelConfig) -> ModuleType:
 class Renderer:
     """The compiled render entry point (``kernels_trace.render_entry``), callable through
     ctypes without the GIL: ``function(out, x0, y0, x1, y1, k, step, cam, pf, pi, items,
-    n_items, boxes, csg, balls, n_balls, light, depth, samples, seed_key, eps, stack, sf,
-    si, tb)`` with pointers as integer addresses: rows k, k + step ... of the region
+    n_items, boxes, csg, balls, n_balls, lights, n_lights, depth, samples, seed_key, eps,
+    stack, sf, si, tb)`` with pointers as integer addresses: rows k, k + step ... of the region
     x0 <= x < x1, y0 <= y < y1 into ``out`` ((y1 - y0) x (x1 - x0) x 3). ``origin`` says
     where it came from; ``keep`` holds what must stay alive while it is used."""
 
@@ -187,7 +187,7 @@ class Renderer:
 def _argument_types() -> list[Any]:
     p, i64 = ctypes.c_void_p, ctypes.c_int64
     return [
-        p, i64, i64, i64, i64, i64, i64, p, p, p, p, i64, p, p, p, i64, p, i64, i64,
+        p, i64, i64, i64, i64, i64, i64, p, p, p, p, i64, p, p, p, i64, p, i64, i64, i64,
         ctypes.c_uint64, ctypes.c_double, p, p, p, p,
     ]  # fmt: skip
 
@@ -220,7 +220,7 @@ def _platform_key() -> str:
 
 def library_path(config: KernelConfig) -> Path:
     """Where the render's shared library for ``config`` is (or will be) kept."""
-    key = "\n".join([module_source(config), STUB, ENTRY_NAME, _platform_key()])
+    key = "\n".join([module_source(config), STUB, UNREACHABLE, ENTRY_NAME, _platform_key()])
     digest = hashlib.sha256(key.encode("utf-8")).hexdigest()[:16]
     return kernel_folder() / f"{PREFIX}{digest}.so"
 
@@ -272,23 +272,25 @@ extern int64_t numba_entry(
     REAL *out, int64_t x0, int64_t y0, int64_t x1, int64_t y1, int64_t k, int64_t step,
     REAL *cam,
     REAL *pf, int64_t *pi, int64_t *items, int64_t n_items, REAL *boxes, int64_t *csg,
-    REAL *balls, int64_t n_balls, REAL *light, int64_t depth, int64_t samples,
-    uint64_t seed_key, double eps, REAL *stack, REAL *sf, int64_t *si, REAL *tb)
-    __asm__("ENTRY_SYMBOL");
+    REAL *balls, int64_t n_balls, REAL *lights, int64_t n_lights, int64_t depth,
+    int64_t samples, uint64_t seed_key, double eps, REAL *stack, REAL *sf, int64_t *si,
+    REAL *tb) __asm__("ENTRY_SYMBOL");
 
 int64_t ENTRY_NAME(
     REAL *out, int64_t x0, int64_t y0, int64_t x1, int64_t y1, int64_t k, int64_t step,
     REAL *cam,
     REAL *pf, int64_t *pi, int64_t *items, int64_t n_items, REAL *boxes, int64_t *csg,
-    REAL *balls, int64_t n_balls, REAL *light, int64_t depth, int64_t samples,
-    uint64_t seed_key, double eps, REAL *stack, REAL *sf, int64_t *si, REAL *tb) {
+    REAL *balls, int64_t n_balls, REAL *lights, int64_t n_lights, int64_t depth,
+    int64_t samples, uint64_t seed_key, double eps, REAL *stack, REAL *sf, int64_t *si,
+    REAL *tb) {
     return numba_entry(out, x0, y0, x1, y1, k, step, cam, pf, pi, items, n_items, boxes,
-                       csg, balls, n_balls, light, depth, samples, seed_key, eps, stack, sf,
-                       si, tb);
+                       csg, balls, n_balls, lights, n_lights, depth, samples, seed_key, eps,
+                       stack, sf, si, tb);
 }
-
+"""
+UNREACHABLE = """
 static void unreachable(const char *name) {
-    fprintf(stderr, "rtc numba render: compiled code reached %s (an exception inside a "
+    fprintf(stderr, "rtc numba: compiled code reached %s (an exception inside a "
                     "kernel, which cannot raise): this is a bug\\n", name);
     abort();
 }
@@ -297,26 +299,38 @@ static void unreachable(const char *name) {
 
 def _build_library(config: KernelConfig, path: Path) -> None:
     """Compile the render entry of ``config``'s kernel module and link it into ``path``."""
+    _compiler()  # before compiling anything
+    real = "float" if config.float32 else "double"
+    stub = STUB.replace("REAL", real).replace("ENTRY_NAME", ENTRY_NAME)
+    _link(load_kernels(config).make_render_entry(False), stub, path, "render")
+
+
+def _compiler() -> list[str]:
     compiler = (
         shlex.split(os.environ.get("CC", ""))
         or [found for found in (shutil.which("cc"), shutil.which("gcc")) if found][:1]
     )
     if not compiler:
         raise BuildError("no C compiler (cc, gcc or $CC) found")
-    entry = load_kernels(config).make_render_entry(False)
+    return compiler
+
+
+def _link(entry: Any, stub: str, path: Path, what: str) -> None:
+    """Link a compiled ``cfunc`` ``entry`` with the C ``stub`` (which calls it as
+    ``ENTRY_SYMBOL``) into the shared library ``path``; ``what`` names it in errors."""
+    compiler = _compiler()
     try:
         obj, helpers = _object_code(entry)
     except Exception as error:  # numba's internals moved: fall back to numba's own cache
-        raise BuildError(f"cannot take the compiled render out of numba: {error!r}") from None
+        raise BuildError(f"cannot take the compiled {what} out of numba: {error!r}") from None
     runtime = [name for name in helpers if not name.startswith("numba_")]
     if runtime:
-        raise BuildError(f"the compiled render calls numba's runtime ({', '.join(runtime)})")
-    real = "float" if config.float32 else "double"
+        raise BuildError(f"the compiled {what} calls numba's runtime ({', '.join(runtime)})")
     source = (
-        STUB.replace("REAL", real)
-        .replace("ENTRY_SYMBOL", entry.native_name)
-        .replace("ENTRY_NAME", ENTRY_NAME)
-    ) + "".join(f'void {name}(void) {{ unreachable("{name}"); }}\n' for name in helpers)
+        stub.replace("ENTRY_SYMBOL", entry.native_name)
+        + UNREACHABLE
+        + "".join(f'void {name}(void) {{ unreachable("{name}"); }}\n' for name in helpers)
+    )
     with tempfile.TemporaryDirectory(prefix="rtc-numba-link-", dir=path.parent) as folder:
         work = Path(folder)
         (work / "kernel.o").write_bytes(obj)
@@ -332,8 +346,94 @@ def _build_library(config: KernelConfig, path: Path) -> None:
             raise BuildError(f"{compiler[0]} failed to run: {error}") from None
         if done.returncode != 0 or not built.is_file():
             problem = done.stderr.strip()[:500] or f"exit status {done.returncode}"
-            raise BuildError(f"{compiler[0]} could not link the render: {problem}")
+            raise BuildError(f"{compiler[0]} could not link the {what}: {problem}")
         os.replace(built, path)
+
+
+# ------------------------------------------------------------- the hierarchy's builder
+
+BVH_ENTRY_NAME = "rtc_build_bvh"
+BVH_STUB = """/* Generated by variants.numba.specialize: the hierarchy builder's C entry point
+   (variants/numba/bvh_kernel.py), and stubs for numba runtime helpers. Do not edit. */
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+extern int64_t numba_entry(
+    int64_t n, double *units, int64_t *order, int64_t *uitems, int64_t *items,
+    double *boxes, int64_t *work, double *fwork, int64_t leaf_max, int64_t sah_depth,
+    double unit_cost, int64_t *stats) __asm__("ENTRY_SYMBOL");
+
+int64_t BVH_ENTRY_NAME(
+    int64_t n, double *units, int64_t *order, int64_t *uitems, int64_t *items,
+    double *boxes, int64_t *work, double *fwork, int64_t leaf_max, int64_t sah_depth,
+    double unit_cost, int64_t *stats) {
+    return numba_entry(n, units, order, uitems, items, boxes, work, fwork, leaf_max,
+                       sah_depth, unit_cost, stats);
+}
+"""
+
+
+@dataclass(frozen=True)
+class Builder:
+    """The hierarchy's builder (``bvh_kernel.build``) as a Python function over numpy
+    arrays; ``origin`` says where it came from, ``keep`` holds what must stay alive."""
+
+    function: Any
+    origin: str
+    keep: Any = None
+
+
+_bvh_builders: dict[str, Builder] = {}
+
+
+def bvh_library_path() -> Path:
+    """Where the builder's shared library is (or will be) kept."""
+    text = (PACKAGE_DIR / "bvh_kernel.py").read_text(encoding="utf-8")
+    key = "\n".join([text, BVH_STUB, UNREACHABLE, BVH_ENTRY_NAME, _platform_key()])
+    digest = hashlib.sha256(key.encode("utf-8")).hexdigest()[:16]
+    return kernel_folder() / f"{PREFIX}bvh_{digest}.so"
+
+
+def load_bvh_builder() -> Builder:
+    """The hierarchy's builder: from its shared library (built first if missing), else
+    numba's ``njit`` function with its disk cache. Once per process."""
+    path = bvh_library_path()
+    key = str(path)
+    with _lock:
+        found = _bvh_builders.get(key)
+        if found is not None:
+            return found
+        problem = ""
+        if not path.is_file():
+            try:
+                _compiler()
+                from variants.numba import bvh_kernel
+
+                stub = BVH_STUB.replace("BVH_ENTRY_NAME", BVH_ENTRY_NAME)
+                _link(bvh_kernel.make_entry(False), stub, path, "hierarchy builder")
+            except BuildError as error:
+                problem = str(error)
+        if path.is_file():
+            library = ctypes.CDLL(str(path))
+            entry = getattr(library, BVH_ENTRY_NAME)
+            entry.restype = ctypes.c_int64
+            p, i64 = ctypes.c_void_p, ctypes.c_int64
+            entry.argtypes = [i64, p, p, p, p, p, p, p, i64, i64, ctypes.c_double, p]
+
+            def through_ctypes(n: int, *arrays_and_values: Any) -> int:
+                passed = [a.ctypes.data if hasattr(a, "ctypes") else a for a in arrays_and_values]
+                return int(entry(n, *passed))
+
+            found = Builder(through_ctypes, f"shared library {path}", library)
+        else:
+            from variants.numba import bvh_kernel
+
+            found = Builder(
+                bvh_kernel.build, f"numba with its disk cache (no shared library: {problem})"
+            )
+        _bvh_builders[key] = found
+        return found
 
 
 def _object_code(entry: Any) -> tuple[bytes, list[str]]:

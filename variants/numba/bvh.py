@@ -1,0 +1,108 @@
+"""The bounding-volume hierarchy (the bonus chapter "Bounding boxes and hierarchies", done
+as renderers do it): how a packed world's items are arranged for the rays.
+
+The variant's ``bvh`` option picks one of three structures (``STRUCTURES``):
+
+- ``sah`` (the default): the world's groups are flattened (their transforms are already
+  composed into each primitive), every leaf item (a primitive, or a whole CSG tree) with a
+  world-space box becomes a unit, and a hierarchy is built over the units by the binned
+  surface area heuristic (``bvh_kernel``, compiled), once per render, when the world is
+  packed. Items without a box (planes, open cylinders and cones, CSG trees holding them)
+  stay outside the tree and come first, so that a hit on them (a floor) can already cut
+  the tree's boxes short. When the world has few spheres with a similarity transform they
+  stay the ``balls``, tested all at once (``layout``); from ``BALLS_MAX`` on they join the
+  hierarchy;
+- ``groups``: the scene's own group tree: a group's box skips its children (chapter 14);
+- ``off``: no boxes at all: every ray visits every item.
+
+The kernels traverse all three with the same loop and no recursion (``kernels_trace``): a
+box the ray misses, or meets only beyond the nearest hit so far, sends it past the box's
+contents; the hit ray visits an inner node's second child first when it travels down the
+node's split axis.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from variants.numba import layout as L
+
+STRUCTURES = ("sah", "groups", "off")
+DEFAULT = "sah"
+LEAF_MAX = 4  # the most units in a leaf
+UNIT_COST = 1.0  # a unit's test against a box test, for the heuristic (a primitive is first
+# tested against its bounding sphere, about as fast as a box; 2.0 measured no faster)
+BALLS_MAX = 32  # from this many world spheres on, they join the hierarchy (``sah``)
+
+
+@dataclass(frozen=True)
+class Hierarchy:
+    """How a packed world's items are arranged: ``structure`` (``STRUCTURES``); for
+    ``sah``: the units in the tree, the items outside it, the tree's nodes, leaves and
+    box items, its depth and the seconds its build took."""
+
+    structure: str
+    units: int = 0
+    outside: int = 0
+    nodes: int = 0
+    leaves: int = 0
+    boxes: int = 0
+    depth: int = 0
+    seconds: float = 0.0
+
+    def describe(self) -> str:
+        """One line for ``explain``."""
+        if self.structure == "off":
+            return "bvh: off (every ray visits every item)"
+        if self.structure == "groups":
+            return f"bvh: the scene's own groups ({self.boxes:,} group boxes)"
+        outside = (
+            f"; {self.outside:,} unbounded item{'' if self.outside == 1 else 's'} outside it"
+            if self.outside
+            else ""
+        )
+        if self.nodes == 0:
+            return f"bvh: SAH, nothing to build over ({self.units} bounded){outside}"
+        return (
+            f"bvh: SAH over {self.units:,} primitives, {self.nodes:,} nodes ({self.leaves:,} "
+            f"leaves), depth {self.depth}, built in {self.seconds:.3g} s{outside}"
+        )
+
+
+def build_tree(
+    unit_items: np.ndarray, unit_boxes: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, Hierarchy]:
+    """The hierarchy over units (``unit_items``: n x NITEM, ``unit_boxes``: n x 6 world-space
+    boxes, finite): its items and boxes tables (box rows of the units' items are 0; jumps
+    count from the tree's first item) and what it is (``outside`` left 0)."""
+    from variants.numba.specialize import load_bvh_builder
+
+    n = len(unit_items)
+    started = time.perf_counter()
+    units = np.empty((n, L.BVH_UNIT), dtype=np.float64)
+    units[:, 0:3] = (unit_boxes[:, 0:3] + unit_boxes[:, 3:6]) * 0.5
+    units[:, 3:9] = unit_boxes
+    order = np.arange(n, dtype=np.int64)
+    uitems = np.ascontiguousarray(unit_items, dtype=np.int64)
+    items = np.zeros((3 * n + 1, L.NITEM), dtype=np.int64)
+    boxes = np.zeros((3 * n + 1, L.NBOX), dtype=np.float64)
+    work = np.zeros(6 * L.BVH_STACK + 3 * L.BVH_BINS, dtype=np.int64)
+    fwork = np.zeros(3 * L.BVH_BINS * 6 + 2 * L.BVH_BINS, dtype=np.float64)
+    stats = np.zeros(L.BVH_STATS, dtype=np.int64)
+    # below sah_depth the heuristic decides; from there on stretches are halved, so the
+    # depth stays within BVH_DEPTH (the kernels' range stack)
+    sah_depth = L.BVH_DEPTH - math.ceil(math.log2(max(n, 2))) - 2
+    count = load_bvh_builder().function(
+        n, units.reshape(-1), order, uitems.reshape(-1), items.reshape(-1), boxes.reshape(-1),
+        work, fwork, LEAF_MAX, sah_depth, UNIT_COST, stats,
+    )  # fmt: skip
+    if count < 0 or stats[3] >= L.BVH_DEPTH:
+        raise RuntimeError(f"numba: the hierarchy over {n} units went too deep (a bug)")
+    seconds = time.perf_counter() - started
+    nodes, leaves, box_items, depth, _ = (int(v) for v in stats)
+    hierarchy = Hierarchy("sah", n, 0, nodes, leaves, box_items, depth, seconds)
+    return items[:count], boxes[:count], hierarchy
