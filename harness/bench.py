@@ -388,6 +388,19 @@ class Bench:
                 )
                 self.measure_row("threads", name, s.scene, task, {"group": label, "count": count})
 
+    def scene_size(self) -> None:
+        """Cost against scene size (``harness.scene_size``): load, prepare and render time
+        of a mesh of 1k to 1M triangles per variant, and the OBJ parser's time and memory."""
+        from harness import scene_size
+
+        s = self.settings
+        plan = scene_size.Plan(
+            variants=s.mesh_variants, meshes=s.meshes, size=s.size, samples=s.samples,
+            depth=s.depth, seed=s.seed, threads=s.threads, repeat=s.repeat, budget=s.budget,
+        )  # fmt: skip
+        jobs = self.writer.staging / "jobs" / "scene-size"
+        self.series.extend(scene_size.run(plan, jobs, self.log, self._save_image))
+
     def kata(self) -> dict[str, Any] | None:
         self.log("kata: rtc kata --variant all --json")
         try:
@@ -419,7 +432,7 @@ class Bench:
             if section == "kata":
                 kata = self.kata()
             else:
-                getattr(self, section)()
+                getattr(self, section.replace("-", "_"))()
         rtc = {
             "stem": self.writer.stem,
             "started": started.isoformat(),
@@ -474,6 +487,12 @@ class Bench:
             )
         for entry in self.series:
             for point in entry.get("points", []):
+                if entry["section"] == "scene-size" and point.get("render"):
+                    name = f"scene-size {entry['name']} {point['mesh']}"
+                    found.append({"name": name, "values": point["render"], "metadata": {
+                        **common, "variant": entry["name"], "triangles": point["triangles"],
+                        "width": self.settings.size.width, "height": self.settings.size.height,
+                        "samples": self.settings.samples}})  # fmt: skip
                 if "wall" not in point:
                     continue
                 w, h = point["size"]

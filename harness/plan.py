@@ -12,11 +12,16 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
+from harness.make_meshes import SCALE_MESHES
 from harness.presets import PRESETS, SceneRef
 from harness.sizes import Size, smaller_sizes
 
 BASELINE = "naive"
-SECTIONS = ("table", "sweep", "scaling", "preset", "kata")
+SECTIONS = ("table", "sweep", "scaling", "preset", "kata", "scene-size")
+DEFAULT_SECTIONS = ("table", "sweep", "scaling", "preset", "kata")
+"""What ``rtc bench`` runs without ``--sections``: ``scene-size`` (``harness.scene_size``)
+loads and packs meshes of up to a million triangles, minutes on its own, so it runs only
+when asked for."""
 PARALLEL_OPTIONS = ("workers", "threads")  # options whose value is a worker or thread count
 BENCH_CONFIGS: dict[str, tuple[str, ...]] = {
     "pooled": (
@@ -77,7 +82,8 @@ class BenchSettings:
     each measuring process may use (None: all); repeat: timed renders per row; budget:
     seconds the renders of one row may take (None: no limit); variants: canonical names,
     naive first; sections: which parts to run (``SECTIONS``); mode: quick or full (its
-    defaults); epsilon: ``RenderSettings.epsilon`` (None: the book's EPSILON).
+    defaults); epsilon: ``RenderSettings.epsilon`` (None: the book's EPSILON);
+    mesh_variants, meshes: the ``scene-size`` section's (``harness.scene_size``).
     """
 
     scene: SceneRef
@@ -95,6 +101,8 @@ class BenchSettings:
     unavailable: dict[str, str] = field(default_factory=dict)
     preset: str = "cpp-spheres"
     epsilon: float | None = None
+    mesh_variants: tuple[str, ...] = ("numba", "numba[bvh=off]")
+    meshes: tuple[str, ...] = SCALE_MESHES
 
     def as_dict(self) -> dict[str, Any]:
         data = asdict(self)

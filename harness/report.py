@@ -16,7 +16,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from harness import figures, plots
+from harness import figures, plots, scene_size_report
 from harness.alloccount import FREE_LIST_NOTE, METHOD_NOTES
 from harness.document import (
     Block,
@@ -609,6 +609,11 @@ def build_blocks(runs: list[Run], plot_files: Mapping[str, Path | None]) -> list
         chosen["scaling"], plot_files.get("pixels"), plot_files.get("threads")
     )
     blocks += _preset_blocks(chosen["preset"])
+    meshes = scene_size_report.newest(runs)
+    if meshes is not None:
+        mesh_png = plot_files.get("scene-size")
+        plot = None if mesh_png is None else f"{REPORT_DIR}/{mesh_png.name}"
+        blocks += scene_size_report.blocks(meshes, plot, context_line(meshes))
     blocks += _kata_blocks(chosen["kata"])
     if latest.get("notes"):
         blocks += [Heading(2, "Notes"), Bullets(list(latest["notes"]))]
@@ -662,6 +667,11 @@ def build_report(results: Path) -> tuple[Path, Path, list[str]]:
             "pixels": plots.pixels_plot(chosen["scaling"], folder / "time-vs-pixels.png"),
             "threads": plots.threads_plot(chosen["scaling"], folder / "throughput-vs-workers.png"),
         }
+        meshes = scene_size_report.newest(runs)
+        if meshes is not None:
+            plot_files["scene-size"] = plots.scene_size_plot(
+                meshes, folder / "time-vs-triangles.png"
+            )
         blocks = build_blocks(runs, plot_files)
     else:
         blocks = [Heading(1, "Benchmark results"), Para("No bench run yet (`rtc bench`).")]
@@ -681,6 +691,8 @@ def console_table(run: Run) -> str:
         f"{'variant':<44} {'size':>9} {'median':>9} {'speed-up':>14} {'MRay/s':>8} "
         f"{'allocs':>8} {'RMSE':>9}"
     ]
+    if not _rows(run, "table") and not _rows(run, "preset"):
+        lines = []  # a run of other sections only (scene-size)
     for row in _rows(run, "table"):
         if row["status"] != "ok":
             lines.append(f"{row['name']:<44} failed: {row.get('error', '')[:60]}")
@@ -700,6 +712,7 @@ def console_table(run: Run) -> str:
                 f"{figures.seconds_text(figures.median_wall(row)):>9} {'':>14} "
                 f"{figures.mrays(row):>8.3g}"
             )
+    lines += scene_size_report.console_lines(run)
     if math.isfinite(run["seconds"]):
         lines.append(f"(the run took {run['seconds']:.0f} s)")
     return "\n".join(lines)

@@ -56,7 +56,7 @@ from raytracer import (
         (
             "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n",
             4,
-            r"line 4: 'f 1 2 4': the face names vertex 4, but 3 vertexs? are defined",
+            r"line 4: 'f 1 2 4': the face names vertex 4, but 3 vertices are defined",
         ),
         ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", 4, r"line 4: 'f 0 1 2': the face names vertex 0"),
         (
