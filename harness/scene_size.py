@@ -6,7 +6,8 @@ The same scene (a floor, one light, a noisy torus of 1,000 to 1,000,000 flat tri
 loop), one fresh process per (variant, mesh), with its costs apart:
 
 - ``load``: ``load_scene`` of the scene file (reading the OBJ file, chapter 15's parser, the
-  group, the scene's material given to every triangle), and the memory it took (resident
+  group, the scene's material given to every triangle, and ``divide`` for a tracer without a
+  hierarchy of its own, ``harness.scenefile.divides``), and the memory it took (resident
   set: its high-water mark after the load less the resident set before it);
 - ``prepare``: the tracer's ``prepare`` for the frame, once (numba: packing the world into
   arrays, building the hierarchy, loading the compiled render), and of it the hierarchy's
@@ -330,7 +331,7 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
     import numpy as np
 
     from harness.imagediff import canvas_array
-    from harness.scenefile import load_scene_text
+    from harness.scenefile import divides, load_scene_text
     from harness.usage import TreeCpuClock, reset_peak_rss
     from raytracer.camera import RenderSettings
     from variants.registry import load_variant
@@ -345,7 +346,9 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
     def load(mesh: Path, at: Size) -> Any:
         text = scene_text(mesh.name, at)
         path = mesh.parent / "scene.yml"  # not written: its OBJ file is beside it
-        return load_scene_text(text, variant.api, path=path, variant=variant.name)
+        return load_scene_text(
+            text, variant.api, path=path, variant=variant.name, divide=divides(variant)
+        )
 
     started = time.perf_counter()
     warm = load(Path(job["warm_mesh"]), WARM)

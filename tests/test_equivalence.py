@@ -22,6 +22,7 @@ from variants.registry import Variant, available_variants, load_variant
 SCENES_FOLDER = Path(__file__).resolve().parent.parent / "harness" / "scenes"
 REFERENCE_SCENE = SCENES_FOLDER / "reference.yml"
 COVER_SCENE = SCENES_FOLDER / "cover.yml"
+MESH_SCENE = SCENES_FOLDER / "mesh.yml"
 # Compositions beyond the defaults that ``all`` gives: the pool over another variant, and
 # each job granularity.
 COMPOSED = (
@@ -101,6 +102,14 @@ def cover_scene(api: Any) -> tuple[Any, Any]:
     return scene.camera, scene.world
 
 
+def mesh_scene(api: Any) -> tuple[Any, Any]:
+    """``harness/scenes/mesh.yml`` at 16x10: OBJ meshes in groups, divided by the loader
+    for the tracers that test boxes (the bonus chapter), flattened into numba's own
+    hierarchy: the same picture either way."""
+    scene = load_scene(MESH_SCENE, api).resized(16, 10)
+    return scene.camera, scene.world
+
+
 def reference_scene(api: Any) -> tuple[Any, Any]:
     """The reference scene file (cylinders, groups, glass) at 16x12."""
     scene = load_scene(REFERENCE_SCENE, api).resized(16, 12)
@@ -114,6 +123,7 @@ SCENES = [
     Scene("reference-16x12", reference_scene, RenderSettings(epsilon=0.001)),
     Scene("three-lights", three_lights),
     Scene("cover-16x16", cover_scene),
+    Scene("mesh-16x10", mesh_scene),
 ]
 
 

@@ -237,10 +237,17 @@ def _finish(
 
 
 def _pass_down(ctx: Context, group: Any, inherited: Inherited, spec: ShapeSpec) -> None:
-    """Give every shape inside an OBJ model's group the model's material and shadow."""
-    for child in getattr(group, "children", ()):
-        _finish(ctx, child, None, inherited.material, inherited.shadow, spec)
-        _pass_down(ctx, child, inherited, spec)
+    """Give every shape inside an OBJ model's group the model's material (one material
+    value, made once, shared by every triangle) and shadow."""
+    made = None if inherited.material is None else make_material(ctx, inherited.material)
+    stack = list(getattr(group, "children", ()))
+    while stack:
+        child = stack.pop()
+        if made is not None:
+            child.material = made
+        if not inherited.shadow:
+            child.casts_shadow = False
+        stack.extend(getattr(child, "children", ()))
 
 
 def _build_obj(ctx: Context, spec: ShapeSpec) -> Any:
