@@ -51,14 +51,17 @@ def child_environment(threads: int | None) -> dict[str, str]:
     return env
 
 
-def run_job(folder: Path, job: Mapping[str, Any]) -> JobOutcome:
-    """Run one job in ``folder`` (created); the child's progress goes to our stderr."""
+def run_in_child(
+    module: str, folder: Path, job: Mapping[str, Any], threads: int | None
+) -> dict[str, Any] | int:
+    """Write ``job`` into ``folder`` (created) and run ``python -m MODULE folder/job.json``
+    in a fresh process pinned to ``threads``; its ``result.json``, or its exit code when it
+    wrote none. The child's progress goes to our stderr; an interrupt stops it too."""
     folder.mkdir(parents=True)
     job_path = folder / "job.json"
     job_path.write_text(json.dumps(job))
     process = subprocess.Popen(
-        [sys.executable, "-m", "harness.child", str(job_path)],
-        env=child_environment(job.get("threads")),
+        [sys.executable, "-m", module, str(job_path)], env=child_environment(threads)
     )
     try:
         code = process.wait()
@@ -71,7 +74,14 @@ def run_job(folder: Path, job: Mapping[str, Any]) -> JobOutcome:
         raise
     result_path = folder / "result.json"
     if result_path.exists():
-        result = json.loads(result_path.read_text())
-    else:
-        result = {"variant": job["variant"], "error": f"the measuring process exited with {code}"}
+        result: dict[str, Any] = json.loads(result_path.read_text())
+        return result
+    return code
+
+
+def run_job(folder: Path, job: Mapping[str, Any]) -> JobOutcome:
+    """Run one job of ``harness.child`` in ``folder`` (created)."""
+    result = run_in_child("harness.child", folder, job, job.get("threads"))
+    if isinstance(result, int):
+        result = {"variant": job["variant"], "error": f"the measuring process exited with {result}"}
     return JobOutcome(folder, result)

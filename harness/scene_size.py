@@ -37,7 +37,6 @@ import json
 import math
 import os
 import statistics
-import subprocess
 import sys
 import time
 from collections.abc import Callable
@@ -145,28 +144,12 @@ def predicted_render(points: list[dict[str, Any]], triangles: int) -> float | No
 
 def _run_job(folder: Path, job: dict[str, Any], threads: int | None) -> dict[str, Any]:
     """Run one job in a fresh process (``python -m harness.scene_size JOB``); its result."""
-    from harness.jobs import child_environment
+    from harness.jobs import run_in_child
 
-    folder.mkdir(parents=True)
-    (folder / "job.json").write_text(json.dumps(job))
-    process = subprocess.Popen(
-        [sys.executable, "-m", "harness.scene_size", str(folder / "job.json")],
-        env=child_environment(threads),
-    )
-    try:
-        code = process.wait()
-    except BaseException:
-        process.terminate()
-        try:
-            process.wait(timeout=5)
-        except subprocess.TimeoutExpired:
-            process.kill()
-        raise
-    result_path = folder / "result.json"
-    if result_path.exists():
-        result: dict[str, Any] = json.loads(result_path.read_text())
-        return result
-    return {"error": f"the measuring process exited with {code}"}
+    result = run_in_child("harness.scene_size", folder, job, threads)
+    if isinstance(result, int):
+        return {"error": f"the measuring process exited with {result}"}
+    return result
 
 
 def run(
