@@ -273,3 +273,14 @@ def test_the_cached_variant_checks_the_faces_through_its_hooks(tmp_path: Path) -
     scene = scene_with(tmp_path, b"v 0 0 0\n")
     with pytest.raises(SceneError, match="no faces"):
         load_scene(scene, load_variant("cached").api)
+
+
+def test_degenerate_triangles_in_a_scene_are_skipped_and_counted_in_the_notes(
+    tmp_path: Path,
+) -> None:
+    obj = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\nf 2 2 3\n"
+    scene = load_scene(scene_with(tmp_path, obj), load_variant("naive").api)
+    model = scene.world.objects[0]
+    assert sum(len(getattr(c, "children", [c])) for c in model.children) == 1
+    path = (tmp_path / "model.obj").resolve()
+    assert f"{path}: 2 degenerate triangles (zero area) skipped, the first at line 6" in scene.notes

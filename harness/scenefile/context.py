@@ -35,7 +35,8 @@ class Context:
 
     reader: the scene file's YAML reader; api: the variant's book API; variant: its name
     (for errors); scope: the names defined so far, in file order; depth: how deep the shape
-    being read is nested in groups and CSGs.
+    being read is nested in groups and CSGs; notes: what the load did that ``--explain``
+    reports (triangles skipped ...).
     """
 
     reader: Reader
@@ -43,6 +44,7 @@ class Context:
     variant: str
     scope: dict[str, Definition] = field(default_factory=dict)
     depth: int = 0
+    notes: list[str] = field(default_factory=list)
 
     def need(self, name: str, node: Node, purpose: str) -> Any:
         """The variant's ``name``; a ``SceneError`` at ``node`` if the variant lacks it."""

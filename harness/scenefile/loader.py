@@ -130,7 +130,7 @@ def load_scene_text(
     return Scene(
         path, state.camera, state.world, variant, api,
         state.camera_line, state.light_line, tuple(state.obj_files), tuple(state.warnings),
-        notes,
+        (*ctx.notes, *notes),
     )  # fmt: skip
 
 

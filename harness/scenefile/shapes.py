@@ -272,6 +272,13 @@ def _build_obj(ctx: Context, spec: ShapeSpec) -> Any:
         parser = parse(text, **_accepted(parse, factories))
     except ValueError as error:
         ctx.reader.fail(spec.line, f"the OBJ file of {spec.label} is broken: {error}")
+    skipped = getattr(parser, "degenerate_triangles", 0)
+    if skipped:
+        first = getattr(parser, "first_degenerate_line", 0)
+        ctx.notes.append(
+            f"{spec.obj_file}: {skipped} degenerate triangle{'s' if skipped > 1 else ''} "
+            f"(zero area) skipped, the first at line {first}"
+        )
     return to_group(parser, **_accepted(to_group, {"make_group": api.get("group")}))
 
 
