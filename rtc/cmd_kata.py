@@ -26,7 +26,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         action="append",
         default=None,
         metavar="NAME",
-        help="the variant to run (repeatable; 'all' = every available one; default: naive)",
+        help="the variant to run (repeatable; 'all' = the project's own available ones, a "
+        "learner's tracer runs when named; default: naive)",
     )
     parser.add_argument(
         "--chapter",

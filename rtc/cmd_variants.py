@@ -96,7 +96,7 @@ def describe(entry_name: str, v: Variant) -> list[str]:
 
 def run(args: argparse.Namespace) -> int:
     del args
-    for entry in registry():
+    for entry in registry(everything=True):
         if entry.variant is None:
             print(f"{entry.name:<12} unavailable {entry.reason}")
             continue

@@ -1,8 +1,9 @@
 """The pytest plugin: ``--variant``, the ``variant`` and ``book`` fixtures, the catch-all steps.
 
-- ``--variant NAME`` (repeatable, ``all`` = every available variant, default ``naive``) picks
-  the tracers, named in the grammar of ``variants.registry`` (``pooled[workers=2]:cached``);
-  every pytest-bdd scenario runs once per variant (``test_x[naive]``), other tests run once.
+- ``--variant NAME`` (repeatable, ``all`` = the project's own available variants, default
+  ``naive``) picks the tracers, named in the grammar of ``variants.registry``
+  (``pooled[workers=2]:cached``); every pytest-bdd scenario runs once per variant
+  (``test_x[naive]``), other tests run once.
 - ``book`` is a fresh namespace per scenario, bound to the variant's API.
 - One catch-all step for Given/When and one for Then hand the text to ``steps.phrases``,
   which dispatches over an ordered table of forms (so no two patterns compete).
@@ -53,14 +54,14 @@ def pytest_addoption(parser: pytest.Parser) -> None:
         default=None,
         metavar="NAME",
         help="run the book's scenarios against variant NAME (repeatable; NAME, "
-        "NAME[opt=value,flag] or NAME[...]:INNER, e.g. pooled:cached; 'all' = every "
-        "available variant; default: naive)",
+        "NAME[opt=value,flag] or NAME[...]:INNER, e.g. pooled:cached; 'all' = the "
+        "project's own available variants; default: naive)",
     )
 
 
 def select_variants(names: list[str] | None) -> tuple[list[Variant], list[str]]:
-    """The variants named (``all`` = every available one with default options), each once
-    by canonical name, and notes on the unavailable ones that ``all`` skipped.
+    """The variants named (``all`` = the project's own available ones with default
+    options), each once by canonical name, and notes on the unavailable ones ``all`` skipped.
 
     names: variant names in the grammar of ``variants.registry`` (``pooled[workers=2]:cached``).
     A malformed, unknown or unavailable name raises ``LookupError`` with a clear message.

@@ -339,3 +339,26 @@ def test_watch_runs_again_when_the_learner_saves_and_stops_cleanly_on_ctrl_c(
     time.sleep(0.2)  # the reading thread takes what was left in the pipe
     printed = "".join(errors.get() for _ in range(errors.qsize()))
     assert "Traceback" not in printed
+
+
+def test_all_leaves_a_half_written_tracer_out_and_runs_it_when_named(learner: Learner) -> None:
+    """With a fresh scaffold installed (every book name a stub), ``--variant all`` is still
+    the project's own variants, so ``python3 run.py test`` stays green; the learner's
+    tracer is listed by ``rtc variants`` and runs when named."""
+    root = Path(__file__).resolve().parent.parent
+    features = subprocess.run(
+        [sys.executable, "-m", "pytest", "-q", "-p", "no:randomly", "-p", "no:cacheprovider",
+         "tests/test_features.py", "--variant", "all", "-k", "tuple and point"],
+        cwd=root, env=learner.env, capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    assert features.returncode == 0, features.stdout[-2000:] + features.stderr[-2000:]
+    assert f"[{NAME}]" not in features.stdout and "passed" in features.stdout
+    listed = learner.rtc("variants")
+    assert (
+        listed.returncode == 0
+        and listed.stdout.count(f"\n{NAME} ") + (listed.stdout.startswith(f"{NAME} ")) == 1
+    ), listed.stdout
+    everyone = learner.rtc("kata", "--variant", "all", "--json", "--chapter", "1")
+    assert everyone.returncode in (0, 1), everyone.stderr
+    assert NAME not in json.loads(everyone.stdout)["variants"]
+    assert kata_json(learner, "--chapter", "1")["variants"] == [NAME]

@@ -8,7 +8,8 @@ composition")::
 
 ``naive``, ``numba[float32,fastmath,threads=1]``, ``pooled[workers=2]:cached`` and
 ``pooled:pooled:naive`` are names; ``all`` (only at the top) means every available variant
-with its default options.
+of the project's own with its default options (a learner's tracer, or another project's
+plugin, runs only when named).
 
 An entry point names a factory ``variant(inner: Variant | None = None, **options: str)
 -> Variant``. Option values reach it as strings (a bare ``FLAG`` as ``"true"``); the inner
@@ -400,12 +401,22 @@ def _load_entry(name: str, ep: Any) -> VariantEntry:
         return VariantEntry(name, None, f"{type(error).__name__}: {error}")
 
 
-def registry() -> list[VariantEntry]:
-    """Every registered variant with its default options; broken ones are reported, not
-    raised."""
-    return [_load_entry(name, ep) for name, ep in _entry_points().items()]
+def is_own(ep: Any) -> bool:
+    """True for the project's own variants (an entry point into this ``variants`` package);
+    False for a learner's tracer (``rtc new``) or another project's plugin."""
+    return str(ep.value).split(":")[0].split(".")[0] == __name__.split(".")[0]
+
+
+def registry(everything: bool = False) -> list[VariantEntry]:
+    """The project's own variants with their default options (what ``all`` means), or with
+    ``everything`` every registered one, a learner's and other plugins' too (``rtc
+    variants``); broken ones are reported, not raised. A variant left out of ``all`` still
+    loads by name (``--variant mine``)."""
+    return [
+        _load_entry(name, ep) for name, ep in _entry_points().items() if everything or is_own(ep)
+    ]
 
 
 def available_variants() -> list[Variant]:
-    """Every available variant with its default options (what ``all`` means)."""
+    """The project's own available variants with their default options (``all``)."""
     return [entry.variant for entry in registry() if entry.variant is not None]
