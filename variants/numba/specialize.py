@@ -46,6 +46,7 @@ import subprocess
 import sys
 import tempfile
 import threading
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from types import ModuleType
@@ -225,37 +226,55 @@ def library_path(config: KernelConfig) -> Path:
     return kernel_folder() / f"{PREFIX}{digest}.so"
 
 
-def load_renderer(config: KernelConfig) -> Renderer:
-    """The render entry point for ``config``: from its shared library (built first if
-    missing), else from numba's cached ``cfunc``. Once per process and config."""
-    path = library_path(config)
+def _load_once(
+    cache: dict[str, Any],
+    path: Path,
+    build: Callable[[], None],
+    from_library: Callable[[ctypes.CDLL], Any],
+    fallback: Callable[[str], Any],
+) -> Any:
+    """What ``path``'s shared library holds, once per process: built first if missing
+    (``build``), read by ``from_library``; without it (a ``BuildError``), ``fallback(why)``."""
     key = str(path)
     with _lock:
-        found = _renderers.get(key)
+        found = cache.get(key)
         if found is not None:
             return found
         problem = ""
         if not path.is_file():
             try:
-                _build_library(config, path)
+                build()
             except BuildError as error:
                 problem = str(error)
-        if path.is_file():
-            library = ctypes.CDLL(str(path))
-            function = getattr(library, ENTRY_NAME)
-            function.restype = ctypes.c_int64
-            function.argtypes = _argument_types()
-            found = Renderer(function, f"shared library {path}", library)
-        else:
-            entry = load_kernels(config).make_render_entry(True)
-            prototype = ctypes.CFUNCTYPE(ctypes.c_int64, *_argument_types())
-            found = Renderer(
-                prototype(entry.address),
-                f"numba cfunc with numba's disk cache (no shared library: {problem})",
-                entry,
-            )
-        _renderers[key] = found
+        found = from_library(ctypes.CDLL(str(path))) if path.is_file() else fallback(problem)
+        cache[key] = found
         return found
+
+
+def load_renderer(config: KernelConfig) -> Renderer:
+    """The render entry point for ``config``: from its shared library (built first if
+    missing), else from numba's cached ``cfunc``. Once per process and config."""
+    path = library_path(config)
+
+    def from_library(library: ctypes.CDLL) -> Renderer:
+        function = getattr(library, ENTRY_NAME)
+        function.restype = ctypes.c_int64
+        function.argtypes = _argument_types()
+        return Renderer(function, f"shared library {path}", library)
+
+    def fallback(problem: str) -> Renderer:
+        entry = load_kernels(config).make_render_entry(True)
+        prototype = ctypes.CFUNCTYPE(ctypes.c_int64, *_argument_types())
+        return Renderer(
+            prototype(entry.address),
+            f"numba cfunc with numba's disk cache (no shared library: {problem})",
+            entry,
+        )
+
+    renderer: Renderer = _load_once(
+        _renderers, path, lambda: _build_library(config, path), from_library, fallback
+    )
+    return renderer
 
 
 class BuildError(RuntimeError):
@@ -399,41 +418,35 @@ def load_bvh_builder() -> Builder:
     """The hierarchy's builder: from its shared library (built first if missing), else
     numba's ``njit`` function with its disk cache. Once per process."""
     path = bvh_library_path()
-    key = str(path)
-    with _lock:
-        found = _bvh_builders.get(key)
-        if found is not None:
-            return found
-        problem = ""
-        if not path.is_file():
-            try:
-                _compiler()
-                from variants.numba import bvh_kernel
 
-                stub = BVH_STUB.replace("BVH_ENTRY_NAME", BVH_ENTRY_NAME)
-                _link(bvh_kernel.make_entry(False), stub, path, "hierarchy builder")
-            except BuildError as error:
-                problem = str(error)
-        if path.is_file():
-            library = ctypes.CDLL(str(path))
-            entry = getattr(library, BVH_ENTRY_NAME)
-            entry.restype = ctypes.c_int64
-            p, i64 = ctypes.c_void_p, ctypes.c_int64
-            entry.argtypes = [i64, p, p, p, p, p, p, p, i64, i64, ctypes.c_double, p]
+    def build() -> None:
+        _compiler()
+        from variants.numba import bvh_kernel
 
-            def through_ctypes(n: int, *arrays_and_values: Any) -> int:
-                passed = [a.ctypes.data if hasattr(a, "ctypes") else a for a in arrays_and_values]
-                return int(entry(n, *passed))
+        stub = BVH_STUB.replace("BVH_ENTRY_NAME", BVH_ENTRY_NAME)
+        _link(bvh_kernel.make_entry(False), stub, path, "hierarchy builder")
 
-            found = Builder(through_ctypes, f"shared library {path}", library)
-        else:
-            from variants.numba import bvh_kernel
+    def from_library(library: ctypes.CDLL) -> Builder:
+        entry = getattr(library, BVH_ENTRY_NAME)
+        entry.restype = ctypes.c_int64
+        p, i64 = ctypes.c_void_p, ctypes.c_int64
+        entry.argtypes = [i64, p, p, p, p, p, p, p, i64, i64, ctypes.c_double, p]
 
-            found = Builder(
-                bvh_kernel.build, f"numba with its disk cache (no shared library: {problem})"
-            )
-        _bvh_builders[key] = found
-        return found
+        def through_ctypes(n: int, *arrays_and_values: Any) -> int:
+            passed = [a.ctypes.data if hasattr(a, "ctypes") else a for a in arrays_and_values]
+            return int(entry(n, *passed))
+
+        return Builder(through_ctypes, f"shared library {path}", library)
+
+    def fallback(problem: str) -> Builder:
+        from variants.numba import bvh_kernel
+
+        return Builder(
+            bvh_kernel.build, f"numba with its disk cache (no shared library: {problem})"
+        )
+
+    builder: Builder = _load_once(_bvh_builders, path, build, from_library, fallback)
+    return builder
 
 
 def _object_code(entry: Any) -> tuple[bytes, list[str]]:
