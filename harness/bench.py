@@ -15,6 +15,7 @@ Sections (``--sections``, all by default):
 - ``preset``: the C++ report's workload (``cpp-spheres``: 500x500, 8 samples, depth 5) for
   each variant's default, in MRay/s.
 - ``kata``: the chapter progress of every variant (``rtc kata --variant all --json``).
+- ``profile`` (only when asked for): where the time goes (``harness.profiling``).
 
 Every measurement runs in a fresh process (``harness.jobs``, ``harness.child``). Pictures are
 kept as PNG beside the run file, with heat maps of their difference from naive.
@@ -400,6 +401,29 @@ class Bench:
         )  # fmt: skip
         jobs = self.writer.staging / "jobs" / "scene-size"
         self.series.extend(scene_size.run(plan, jobs, self.log, self._save_image))
+
+    def light_samples(self) -> None:
+        """Soft shadows (``harness.light_samples``): light cells and jitter against samples
+        per pixel, each priced in time and in error from a ground truth."""
+        from harness import light_samples
+
+        s = self.settings
+        plan = light_samples.Plan(
+            variant=s.light_variant, size=s.size, depth=s.depth, seed=s.seed,
+            threads=s.threads, budget=s.budget,
+        )  # fmt: skip
+        jobs = self.writer.staging / "jobs" / "light-samples"
+        self.series.extend(light_samples.run(plan, jobs, self.log, self._save_image))
+
+    def profile(self) -> None:
+        """Where the time goes (``harness.profiling``): the stages, the top functions and a
+        flame graph of naive, cached, prealloc and numba at a small size."""
+        from harness import profiling
+
+        plan = profiling.plan_for(self.settings)
+        jobs = self.writer.staging / "jobs" / "profile"
+        staging, stem = self.writer.staging, self.writer.stem
+        self.series.extend(profiling.run(plan, jobs, self.log, staging, stem))
 
     def kata(self) -> dict[str, Any] | None:
         self.log("kata: rtc kata --variant all --json")

@@ -1,6 +1,7 @@
 """A tiny document model written out as Markdown and as one self-contained HTML page.
 
-Text uses two inline marks, the same in both outputs: ```code``` and ``**bold**``. Images are
+Text uses three inline marks, the same in both outputs: ```code```, ``**bold**`` and
+``[text](path)``, a link (a path relative to the results folder). Images are
 paths relative to the results folder: linked from the Markdown, inlined (base64) in the HTML.
 """
 
@@ -100,6 +101,7 @@ def to_markdown(blocks: list[Block]) -> str:
 def _inline_html(text: str) -> str:
     escaped = html.escape(text, quote=False)
     escaped = re.sub(r"`([^`]+)`", r"<code>\1</code>", escaped)
+    escaped = re.sub(r'\[([^\]]+)\]\(([^)\s"]+)\)', r'<a href="\2">\1</a>', escaped)
     return re.sub(r"\*\*([^*]+)\*\*", r"<strong>\1</strong>", escaped)
 
 

@@ -6,9 +6,15 @@ sizes (the budget rule) are compared per pixel; ``speedup`` says which basis it 
 
 from __future__ import annotations
 
+import math
 import statistics
 from collections.abc import Mapping
 from typing import Any
+
+from variants.registry import VariantError, parse_variant_name
+
+# a row whose CPU share is below this fraction of the cores it asked for did not get them
+BUSY_SHARE = 0.8
 
 
 def pixels(row: Mapping[str, Any]) -> int:
@@ -23,6 +29,39 @@ def median_wall(row: Mapping[str, Any]) -> float:
 def cpu_share(row: Mapping[str, Any]) -> float:
     """CPU seconds per wall second over the repeats: about 1 for one busy core, 2 for two."""
     return float(sum(row["cpu"]) / sum(row["wall"]))
+
+
+def cores_asked(name: str, available: int) -> int:
+    """The cores a variant asks for, by its name: N for ``pooled[workers=N]`` (its inner
+    variant runs inside those workers) and ``numba[threads=N]``, every available core for
+    plain ``numba`` and ``pooled``, 1 for a single-threaded variant; never more than
+    ``available`` (a row cannot get cores the machine does not have)."""
+    try:
+        spec = parse_variant_name(name)
+    except VariantError:
+        return 1
+    options = dict(spec.options)
+    key = {"pooled": "workers", "numba": "threads"}.get(spec.name)
+    if key is None:
+        return 1
+    try:
+        asked = int(options[key]) if key in options else available
+    except ValueError:
+        asked = available
+    return max(1, min(asked, available))
+
+
+def is_busy(row: Mapping[str, Any]) -> bool:
+    """True when the row's CPU share is below ``BUSY_SHARE`` of the cores it asked for: the
+    machine was busy (or the render left cores idle), so its time understates the variant."""
+    if row.get("status") != "ok" or not row.get("wall"):
+        return False
+    return share_busy(str(row["name"]), cpu_share(row), int(row.get("cores") or 1))
+
+
+def share_busy(name: str, share: float, available: int) -> bool:
+    """True when ``share`` (cores busy) is below ``BUSY_SHARE`` of what ``name`` asks for."""
+    return share < BUSY_SHARE * cores_asked(name, available)
 
 
 def samples_per_second(row: Mapping[str, Any]) -> float:
@@ -60,6 +99,32 @@ def pareto_front(points: list[tuple[float, float]]) -> list[int]:
         if not dominated:
             front.append(i)
     return front
+
+
+def significant_text(value: float, digits: int = 3) -> str:
+    """``value`` to ``digits`` significant digits, never in exponent form, with thousands
+    separators and no trailing zeros: ``36,900``, ``198``, ``37.3``, ``1.6``, ``0.636``."""
+    if value == 0 or not math.isfinite(value):
+        return f"{value:g}"
+    decimals = digits - 1 - math.floor(math.log10(abs(value)))
+    rounded = round(value, decimals)
+    if decimals <= 0:
+        return f"{rounded:,.0f}"
+    return f"{rounded:,.{decimals}f}".rstrip("0").rstrip(".")
+
+
+def speedup_text(value: float) -> str:
+    """A speed-up as the report prints it: ``36,900x``, ``125x``, ``1.6x``, ``0.64x``."""
+    return significant_text(value) + "x"
+
+
+def per_pixel_text(seconds: float) -> str:
+    """A time per pixel to 3 significant digits in the unit that fits: ``13.4 ms``,
+    ``365 ns``."""
+    for limit, unit in ((1.0, "s"), (1e-3, "ms"), (1e-6, "µs")):
+        if seconds >= limit:
+            return f"{significant_text(seconds / limit)} {unit}"
+    return f"{significant_text(seconds / 1e-9)} ns"
 
 
 def seconds_text(value: float) -> str:

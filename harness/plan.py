@@ -17,11 +17,16 @@ from harness.presets import PRESETS, SceneRef
 from harness.sizes import Size, smaller_sizes
 
 BASELINE = "naive"
-SECTIONS = ("table", "sweep", "scaling", "preset", "kata", "scene-size")
+SECTIONS = (
+    "table", "sweep", "scaling", "preset", "kata", "scene-size", "light-samples", "profile",
+)  # fmt: skip
 DEFAULT_SECTIONS = ("table", "sweep", "scaling", "preset", "kata")
 """What ``rtc bench`` runs without ``--sections``: ``scene-size`` (``harness.scene_size``)
 loads and packs meshes of up to a million triangles, minutes on its own, so it runs only
-when asked for."""
+when asked for; ``light-samples`` (``harness.light_samples``) renders a soft-shadow scene 24
+times and needs numba's area-light kernels compiled, so it too runs when asked for;
+``profile`` (``harness.profiling``) profiles naive, cached, prealloc and numba at 32x24, about
+a minute, most of it naive under cProfile."""
 PARALLEL_OPTIONS = ("workers", "threads")  # options whose value is a worker or thread count
 BENCH_CONFIGS: dict[str, tuple[str, ...]] = {
     "pooled": (
@@ -83,7 +88,8 @@ class BenchSettings:
     seconds the renders of one row may take (None: no limit); variants: canonical names,
     naive first; sections: which parts to run (``SECTIONS``); mode: quick or full (its
     defaults); epsilon: ``RenderSettings.epsilon`` (None: the book's EPSILON);
-    mesh_variants, meshes: the ``scene-size`` section's (``harness.scene_size``).
+    mesh_variants, meshes: the ``scene-size`` section's (``harness.scene_size``);
+    light_variant: the ``light-samples`` section's (``harness.light_samples``).
     """
 
     scene: SceneRef
@@ -103,6 +109,7 @@ class BenchSettings:
     epsilon: float | None = None
     mesh_variants: tuple[str, ...] = ("numba", "numba[bvh=off]")
     meshes: tuple[str, ...] = SCALE_MESHES
+    light_variant: str = "numba"
 
     def as_dict(self) -> dict[str, Any]:
         data = asdict(self)

@@ -15,7 +15,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 from matplotlib.figure import Figure
 
-from harness import figures
+from harness import figures, summary
 
 
 def _save(figure: Figure, path: Path) -> Path:
@@ -100,17 +100,27 @@ def pixels_plot(run: Mapping[str, Any], path: Path) -> Path | None:
     """Render time against pixel count, one line per variant (log-log)."""
     entries = [e for e in run["series"] if e["section"] == "sizes" and e["status"] == "ok"]
     figure, axes = plt.subplots(figsize=(7.5, 5))
-    drawn = False
+    drawn = any_busy = False
     for entry in entries:
         measured = [p for p in entry["points"] if "wall" in p]
         if not measured:
             continue
         xs = [p["size"][0] * p["size"][1] for p in measured]
-        axes.plot(xs, [p["wall"] for p in measured], marker="o", label=entry["name"])
+        ys = [p["wall"] for p in measured]
+        (line,) = axes.plot(xs, ys, marker="o", label=entry["name"])
+        for x, y, p in zip(xs, ys, measured, strict=True):
+            if summary.point_busy(entry, p):  # hollow, drawn over the filled marker
+                any_busy = True
+                axes.plot([x], [y], marker="o", markersize=8, color=line.get_color(),
+                          markerfacecolor="white")  # fmt: skip
         drawn = True
     if not drawn:
         plt.close(figure)
         return None
+    if any_busy:
+        note = f"hollow: busy (CPU under {figures.BUSY_SHARE:.0%} of the cores asked)"
+        axes.plot([], [], marker="o", linestyle="none", color="gray", markerfacecolor="white",
+                  label=note)  # fmt: skip
     axes.set_xscale("log")
     axes.set_yscale("log")
     axes.set_xlabel("pixels")
@@ -136,15 +146,25 @@ def threads_plot(run: Mapping[str, Any], path: Path) -> Path | None:
     figure, axes = plt.subplots(figsize=(7.5, 5))
     counts = sorted({r["count"] for r in rows})
     axes.plot(counts, counts, linestyle=":", color="gray", label="linear (ideal)")
+    any_busy = False
     for label, members in groups.items():
         members.sort(key=lambda r: r["count"])
         one = figures.mrays(next(r for r in members if r["count"] == 1))
-        axes.plot(
-            [r["count"] for r in members],
-            [figures.mrays(r) / one for r in members],
-            marker="o",
-            label=f"{label}: {one:.3g} MRay/s with 1",
-        )
+        xs = [r["count"] for r in members]
+        ys = [figures.mrays(r) / one for r in members]
+        (line,) = axes.plot(xs, ys, marker="o", label=f"{label}: {one:.3g} MRay/s with 1")
+        busy = [figures.is_busy(r) for r in members]
+        any_busy = any_busy or any(busy)
+        for x, y, hollow in zip(xs, ys, busy, strict=True):
+            if hollow:  # drawn over the filled marker
+                axes.plot([x], [y], marker="o", markersize=8, color=line.get_color(),
+                          markerfacecolor="white")  # fmt: skip
+                axes.annotate("busy", (x, y), textcoords="offset points", xytext=(6, -10),
+                              fontsize=7, color=line.get_color())  # fmt: skip
+    if any_busy:
+        note = f"hollow: busy (CPU under {figures.BUSY_SHARE:.0%} of the count)"
+        axes.plot([], [], marker="o", linestyle="none", color="gray", markerfacecolor="white",
+                  label=note)  # fmt: skip
     axes.set_xlabel("workers / threads")
     axes.set_ylabel("throughput relative to 1 worker / thread")
     axes.set_xticks(counts)
@@ -162,25 +182,35 @@ def speedup_plot(run: Mapping[str, Any], path: Path) -> Path | None:
     rows = [r for r in run["rows"] if r["section"] == "table" and r.get("speedup")]
     if not rows:
         return None
+    rows.sort(key=lambda r: -r["speedup"]["value"])  # fastest first (at the top)
     figure, axes = plt.subplots(figsize=(7.5, 0.4 * len(rows) + 1.2))
     names = [r["name"] for r in rows]
     values = [r["speedup"]["value"] for r in rows]
-    axes.barh(names, values, color="#4477aa")
+    busy = [figures.is_busy(r) for r in rows]
+    axes.barh(
+        names, values, color=["white" if b else "#4477aa" for b in busy],
+        edgecolor="#4477aa", hatch=["//" if b else "" for b in busy],
+    )  # fmt: skip
     axes.set_xscale("log")
     axes.invert_yaxis()
     axes.set_xlabel("speed-up over naive (throughput ratio, log scale)")
-    for i, (row, value) in enumerate(zip(rows, values, strict=True)):
+    for i, (row, value, hollow) in enumerate(zip(rows, values, busy, strict=True)):
         mark = "" if row["speedup"]["basis"] == "same size" else " *"
         axes.annotate(
-            f"{value:.3g}x{mark}",
+            f"{figures.speedup_text(value)}{mark}{' busy' if hollow else ''}",
             (value, i),
             xytext=(3, -3),
             textcoords="offset points",
             fontsize=7,
         )
+    hollow_note = (
+        f"\nhollow bars: busy (CPU under {figures.BUSY_SHARE:.0%} of the cores asked)"
+        if any(busy)
+        else ""
+    )
     axes.set_title(
-        "Speed-up over naive, same run (* measured at another size than naive: per pixel)\n"
-        + _caption(run),
+        "Speed-up over naive, same run (* measured at another size than naive: per pixel)"
+        f"{hollow_note}\n" + _caption(run),
         fontsize=9,
     )
     axes.grid(True, axis="x", which="both", alpha=0.3)
@@ -215,6 +245,56 @@ def scene_size_plot(run: Mapping[str, Any], path: Path) -> Path | None:
         f"(points over the budget skipped)\n{_caption(run)}",
         fontsize=9,
     )
+    axes.grid(True, which="both", alpha=0.3)
+    axes.legend(fontsize=7)
+    return _save(figure, path)
+
+
+def light_samples_plot(run: Mapping[str, Any], path: Path) -> Path | None:
+    """Soft shadows: RMSE against render time, one line per light sampling (cells, jitter)
+    through its samples per pixel, the Pareto front circled (log-log)."""
+    from harness import light_samples_report as lsr
+
+    entries = [(e, lsr.measured(e)) for e in lsr.entries(run)]
+    entries = [(e, points) for e, points in entries if points]
+    if not entries:
+        return None
+    on_front = lsr.front(run)
+    figure, axes = plt.subplots(figsize=(7.5, 5))
+    front_points: list[tuple[float, float]] = []
+    for entry, points in entries:
+        xs = [p["wall"] for p in points]
+        ys = [max(p["error"]["rmse"], 1e-7) for p in points]
+        style = "-" if entry.get("jitter") else "--"
+        axes.plot(xs, ys, marker="o", linestyle=style, label=entry["name"])
+        for p, x, y in zip(points, xs, ys, strict=True):
+            axes.annotate(
+                str(p["samples"]), (x, y), textcoords="offset points", xytext=(4, 3), fontsize=7
+            )
+            if (entry["name"], p["samples"]) in on_front:
+                front_points.append((x, y))
+    front_points.sort()
+    axes.plot(
+        [x for x, _ in front_points], [y for _, y in front_points], color="black",
+        linestyle=":", linewidth=1.2, label="Pareto front", zorder=0,
+    )  # fmt: skip
+    axes.scatter(
+        [x for x, _ in front_points], [y for _, y in front_points], s=120,
+        facecolors="none", edgecolors="black", zorder=3,
+    )  # fmt: skip
+    axes.set_xscale("log")
+    axes.set_yscale("log")
+    axes.set_xlabel("render time (s)")
+    axes.set_ylabel("RMSE against the ground truth")
+    truth = lsr.truth_entry(run)
+    if truth is not None and truth.get("points"):
+        t = truth["points"][0]
+        axes.set_title(
+            f"Soft shadows: light cells (dashed: centred, solid: jittered) against samples per "
+            f"pixel (labels), {t['size'][0]}x{t['size'][1]}\nground truth {truth['name']} at "
+            f"{t['samples']} spp through {truth['variant']}; {_caption(run)}",
+            fontsize=9,
+        )
     axes.grid(True, which="both", alpha=0.3)
     axes.legend(fontsize=7)
     return _save(figure, path)

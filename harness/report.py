@@ -16,7 +16,14 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from harness import figures, plots, scene_size_report
+from harness import (
+    figures,
+    light_samples_report,
+    plots,
+    profiling_report,
+    scene_size_report,
+    summary,
+)
 from harness.alloccount import FREE_LIST_NOTE, METHOD_NOTES
 from harness.document import (
     Block,
@@ -149,7 +156,7 @@ def _speedup_cell(row: Mapping[str, Any]) -> str:
     if not found:
         return "-"
     mark = "" if found["basis"] == "same size" else " (per pixel)"
-    return f"{found['value']:.3g}x{mark}"
+    return f"{figures.speedup_text(found['value'])}{mark}"
 
 
 def _rays_cells(row: Mapping[str, Any]) -> list[str]:
@@ -193,7 +200,7 @@ def time_table(rows: list[Mapping[str, Any]]) -> Table:
                 figures.seconds_text(figures.median_wall(row)),
                 figures.seconds_text(min(w)),
                 figures.seconds_text(max(w)),
-                f"{figures.cpu_share(row):.2f} of {row['cores']}",
+                summary.cpu_text(row),
                 _speedup_cell(row),
                 f"{figures.mrays(row):.3g}",
                 _peak_cell(row),
@@ -206,7 +213,7 @@ def time_table(rows: list[Mapping[str, Any]]) -> Table:
         "median",
         "min",
         "max",
-        "CPU (cores busy)",
+        "CPU: cores used of asked",
         "speed-up",
         "MRay/s",
         "peak memory (RSS)",
@@ -242,34 +249,67 @@ def cost_table(rows: list[Mapping[str, Any]]) -> Table:
 # ----------------------------------------------------------------- sections
 
 
-def _gallery(rows: list[Mapping[str, Any]], full_scale: float) -> list[Block]:
+def heat_visible(max_abs: float, full_scale: float) -> bool:
+    """Whether a heat map of a difference at most ``max_abs`` shows anything: its colour map
+    (``imagediff.heat_map``) gives the darkest of its N colours to differences below
+    ``full_scale / N``, so a smaller one draws an all-black map."""
+    from matplotlib import colormaps
+
+    return max_abs > 0 and max_abs * colormaps["inferno"].N >= full_scale
+
+
+def _picture_of(row: Mapping[str, Any]) -> tuple[str, str] | None:
+    """The row's largest picture (measured or comparison size) as (path, size)."""
+    found = []
+    if row.get("image"):
+        found.append((str(row["image"]), list(row["size"])))
+    compare = row.get("compare_image")
+    if compare and str(compare).endswith(".png") and row.get("compare_size"):
+        found.append((str(compare), list(row["compare_size"])))
+    if not found:
+        return None
+    path, size = max(found, key=lambda item: item[1][0] * item[1][1])
+    return path, "x".join(map(str, size))
+
+
+def _gallery(rows: list[Mapping[str, Any]], full_scale: float, compare: str) -> list[Block]:
     entries = []
     for row in rows:
-        if row["status"] != "ok" or not row.get("image"):
+        picture = _picture_of(row) if row["status"] == "ok" else None
+        if picture is None:
             continue
-        picture = Picture(f"runs/{row['image']}", row["name"], 240)
-        compare = row.get("compare_image")
-        compare_pic = (
-            Picture(f"runs/{compare}", f"{row['name']} at comparison size", 240)
-            if compare
-            else None
-        )
+        path, size = picture
+        error = row.get("error_vs_naive")
         heat = row.get("heatmap")
+        if row["name"] == "naive":
+            note = "the reference"
+        elif not error:
+            note = "not compared"
+        elif error["max_abs"] == 0:
+            note = f"identical to naive's at {compare}"
+        elif not heat_visible(error["max_abs"], full_scale):
+            note = f"within {error['max_abs']:.2g} of naive's at {compare}: no visible map"
+        else:
+            note = (
+                f"differs from naive's at {compare}: max {error['max_abs']:.3g} "
+                f"({error['max_abs'] * 255:.2g}/255)"
+            )
+        show_heat = bool(heat) and error and heat_visible(error["max_abs"], full_scale)
         heat_pic = (
-            Picture(f"runs/{heat}", f"difference {row['name']} - naive", 240) if heat else None
+            Picture(f"runs/{heat}", f"difference {row['name']} - naive", 160) if show_heat else None
         )
-        caption = f"`{row['name']}` ({_size(row)})"
-        entries.append((caption, [picture, compare_pic, heat_pic]))
+        caption = f"`{row['name']}` ({size}): {note}"
+        entries.append((caption, [Picture(f"runs/{path}", row["name"], 160), heat_pic]))
     if not entries:
         return []
     return [
         Para(
-            "Each variant's picture at its measured size, the picture at the comparison size "
-            "where that differs, and a heat map of its difference from naive's picture at the "
-            f"comparison size (black: identical; brightest: {full_scale * 255:.0f}/255 or "
-            "more in some channel)."
+            "Each variant's picture once, at the larger of its measured and comparison sizes, "
+            f"and a heat map of its difference from naive's picture at {compare} only where "
+            f"the map is not all black (black: identical; brightest: {full_scale * 255:.0f}/255 "
+            "or more in some channel)."
         ),
-        Gallery(["variant", "picture", "at comparison size", "difference from naive"], entries),
+        Gallery(["variant", "picture", "difference from naive"], entries),
     ]
 
 
@@ -354,17 +394,23 @@ def _scaling_blocks(run: Run, pixels_png: Path | None, threads_png: Path | None)
                         f"`{entry['name']}`",
                         f"{w}x{h}",
                         figures.seconds_text(p["wall"]),
-                        f"{per_pixel * 1e6:.3g}",
+                        figures.per_pixel_text(per_pixel),
+                        summary.point_cpu_text(entry, p),
                     ]
                 )
         skipped = [p for p in entry.get("points", []) if p.get("skipped")]
         if skipped:
             sizes_text = ", ".join("x".join(map(str, p["size"])) for p in skipped)
             body.append(
-                [f"`{entry['name']}`", sizes_text, "skipped: " + _skip_reason(skipped), "-"]
+                [f"`{entry['name']}`", sizes_text, "skipped: " + _skip_reason(skipped), "-", "-"]
             )
     if body:
-        blocks.append(Table(["variant", "size", "time", "µs per pixel"], body, right={2, 3}))
+        header = ["variant", "size", "time", "time per pixel", "CPU: cores used of asked"]
+        blocks.append(Table(header, body, right={2, 3, 4}))
+        busy_points = [f"`{e['name']}` at {'x'.join(map(str, p['size']))}" for e in sizes
+                       for p in e.get("points", []) if summary.point_busy(e, p)]  # fmt: skip
+        if busy_points:
+            blocks.append(Para(summary.busy_points_text(run, busy_points)))
     if threads_png is not None:
         blocks.append(Picture(f"{REPORT_DIR}/{threads_png.name}", "throughput against workers"))
     if threads:
@@ -386,7 +432,7 @@ def _scaling_blocks(run: Run, pixels_png: Path | None, threads_png: Path | None)
                     _size(row),
                     f"{figures.mrays(row):.3g}",
                     gain,
-                    f"{figures.cpu_share(row):.2f}",
+                    summary.cpu_text(row),
                 ]
             )
         blocks.append(
@@ -398,12 +444,15 @@ def _scaling_blocks(run: Run, pixels_png: Path | None, threads_png: Path | None)
                     "size",
                     "MRay/s",
                     "over 1",
-                    "CPU (cores busy)",
+                    "CPU: cores used of asked",
                 ],
                 body,
                 right={1, 4, 5, 6},
             )
         )
+        busy_threads = summary.busy_text(run, threads)
+        if busy_threads:
+            blocks.append(Para(busy_threads + " On the plot: hollow markers."))
     return blocks
 
 
@@ -491,7 +540,9 @@ def _history_blocks(runs: list[Run]) -> list[Block]:
                 f"{figures.median_wall(naive) / figures.pixels(naive) * 1e3:.3g} ms"
                 if naive
                 else "-",
-                f"`{best['name']}` {best['speedup']['value']:.3g}x" if best else "-",
+                f"`{best['name']}` {figures.speedup_text(best['speedup']['value'])}"
+                if best
+                else "-",
             ]
         )
     return [
@@ -536,7 +587,7 @@ def pick_runs(runs: list[Run]) -> dict[str, Run]:
 def build_blocks(runs: list[Run], plot_files: Mapping[str, Path | None]) -> list[Block]:
     chosen = pick_runs(runs)
     latest = chosen["table"]
-    table_rows = list(_rows(latest, "table"))
+    table_rows = summary.fastest_first(_rows(latest, "table"))
     blocks: list[Block] = [
         Heading(1, "Benchmark results"),
         Para(
@@ -548,6 +599,10 @@ def build_blocks(runs: list[Run], plot_files: Mapping[str, Path | None]) -> list
         ),
         Para(machine_line(latest)),
     ]
+    speedup_png = plot_files.get("speedup")
+    blocks += summary.blocks(
+        latest, runs, None if speedup_png is None else f"{REPORT_DIR}/{speedup_png.name}"
+    )
     if table_rows:
         _, notes = _notes(table_rows)
         methods = sorted(
@@ -556,12 +611,12 @@ def build_blocks(runs: list[Run], plot_files: Mapping[str, Path | None]) -> list
         compare = "x".join(str(v) for v in latest["compare_size"])
         blocks += [
             Heading(2, "Time"),
-            Para(settings_line(latest)),
+            Para(settings_line(latest) + " Fastest first."),
             time_table(table_rows),
         ]
-        speedup_png = plot_files.get("speedup")
-        if speedup_png is not None:
-            blocks.append(Picture(f"{REPORT_DIR}/{speedup_png.name}", "speed-ups"))
+        busy = summary.busy_text(latest, table_rows)
+        if busy:
+            blocks.append(Para(busy))
         blocks += [
             Heading(2, "Cost and accuracy"),
             Para(
@@ -582,8 +637,9 @@ def build_blocks(runs: list[Run], plot_files: Mapping[str, Path | None]) -> list
                     "counted in a separate untimed render where the variant can be counted "
                     "(its tracer's own count_rays, or a counting subclass of its tracer when "
                     "its render goes through the pipeline's steps); '-' where it cannot.",
-                    "CPU (cores busy): CPU seconds of the process and its workers per wall second "
-                    "of the timed renders; below the core count means the run did not get them.",
+                    "CPU: cores used (CPU seconds of the process and its workers per wall second "
+                    "of the timed renders) of the cores the variant asks for; **busy** where "
+                    f"under {figures.BUSY_SHARE:.0%} of them: it did not get them.",
                     "First-call extra: first tiny render minus the second (JIT compilation and "
                     "first-use costs), excluded from the timings.",
                     *[f"Allocations counted by {m}: {METHOD_NOTES.get(m, m)}." for m in methods],
@@ -597,7 +653,7 @@ def build_blocks(runs: list[Run], plot_files: Mapping[str, Path | None]) -> list
             ),
         ]
         blocks += [Heading(2, "Pictures")]
-        blocks += _gallery(table_rows, float(latest.get("heat_full_scale", 16 / 255)))
+        blocks += _gallery(table_rows, float(latest.get("heat_full_scale", 16 / 255)), compare)
     unavailable = latest.get("unavailable") or {}
     if unavailable:
         blocks += [
@@ -614,6 +670,14 @@ def build_blocks(runs: list[Run], plot_files: Mapping[str, Path | None]) -> list
         mesh_png = plot_files.get("scene-size")
         plot = None if mesh_png is None else f"{REPORT_DIR}/{mesh_png.name}"
         blocks += scene_size_report.blocks(meshes, plot, context_line(meshes))
+    soft = light_samples_report.newest(runs)
+    if soft is not None:
+        soft_png = plot_files.get("light-samples")
+        plot = None if soft_png is None else f"{REPORT_DIR}/{soft_png.name}"
+        blocks += light_samples_report.blocks(soft, plot, context_line(soft))
+    profiled = profiling_report.newest(runs)
+    if profiled is not None:
+        blocks += profiling_report.blocks(profiled, context_line(profiled))
     blocks += _kata_blocks(chosen["kata"])
     if latest.get("notes"):
         blocks += [Heading(2, "Notes"), Bullets(list(latest["notes"]))]
@@ -672,6 +736,11 @@ def build_report(results: Path) -> tuple[Path, Path, list[str]]:
             plot_files["scene-size"] = plots.scene_size_plot(
                 meshes, folder / "time-vs-triangles.png"
             )
+        soft = light_samples_report.newest(runs)
+        if soft is not None:
+            plot_files["light-samples"] = plots.light_samples_plot(
+                soft, folder / "soft-shadows-error-vs-time.png"
+            )
         blocks = build_blocks(runs, plot_files)
     else:
         blocks = [Heading(1, "Benchmark results"), Para("No bench run yet (`rtc bench`).")]
@@ -713,6 +782,8 @@ def console_table(run: Run) -> str:
                 f"{figures.mrays(row):>8.3g}"
             )
     lines += scene_size_report.console_lines(run)
+    lines += light_samples_report.console_lines(run)
+    lines += profiling_report.console_lines(run)
     if math.isfinite(run["seconds"]):
         lines.append(f"(the run took {run['seconds']:.0f} s)")
     return "\n".join(lines)

@@ -28,6 +28,8 @@ CHAPTER_TITLES: dict[int, str] = {
     15: "Triangles",
     16: "Constructive Solid Geometry",
     17: "Bounding Boxes and Hierarchies (bonus chapter)",
+    18: "Rendering Soft Shadows (bonus chapter)",
+    19: "Texture Mapping (bonus chapter)",
 }
 
 # name -> chapter that introduces it. Constants are listed too (EPSILON, identity_matrix).
@@ -77,11 +79,20 @@ BOOK_API: dict[str, int] = {
     "bounding_box": 17, "add_point": 17, "add_box": 17, "box_contains_point": 17,
     "box_contains_box": 17, "bounds_of": 17, "parent_space_bounds_of": 17, "intersects": 17,
     "split_bounds": 17, "partition_children": 17, "make_subgroup": 17, "divide": 17,
+    # chapter 18: the bonus chapter "Rendering soft shadows" (lighting: 6, is_shadowed: 8)
+    "area_light": 18, "point_on_light": 18, "intensity_at": 18, "sequence": 18, "next": 18,
+    # chapter 19: the bonus chapter "Texture mapping"
+    "uv_checkers": 19, "uv_pattern_at": 19, "spherical_map": 19, "planar_map": 19,
+    "cylindrical_map": 19, "texture_map": 19, "uv_align_check": 19, "face_from_point": 19,
+    "cube_uv_front": 19, "cube_uv_back": 19, "cube_uv_left": 19, "cube_uv_right": 19,
+    "cube_uv_up": 19, "cube_uv_down": 19, "cube_map": 19, "uv_image": 19,
+    "canvas_from_ppm": 19,
 }  # fmt: skip
 
 
 def book_name(python_name: str) -> str:
-    """The book's name for a Python name: ``tuple_`` is the book's ``tuple``."""
+    """The book's name for a Python name: ``tuple_`` is the book's ``tuple``, ``next_``
+    the soft shadows chapter's ``next``."""
     return python_name.removesuffix("_")
 
 

@@ -1,5 +1,24 @@
 """Materials and the Phong reflection model (chapter 6), with shadows (chapter 8), patterns
-(chapter 10), and reflection and refraction properties (chapter 11).
+(chapter 10), reflection and refraction properties (chapter 11), and area lights (the bonus
+chapter "Rendering soft shadows", 18 here).
+
+``lighting``'s seventh argument is the book's ``in_shadow`` (True: the light is blocked)
+or, since the soft shadows chapter, ``intensity``: the fraction of the light that reaches
+the point (``Tracer.intensity_at``). The arithmetic, which every variant reproduces:
+
+- effective = surface color * light.intensity; ambient = effective * material.ambient
+  (black when ``ambient`` is False);
+- a point light: intensity 0 gives ``ambient``; otherwise, with lightv towards the light,
+  ``diffuse = effective * diffuse * (lightv . normalv)`` (black, and no specular, when
+  that dot product is negative) and ``specular = light.intensity * specular * (reflectv .
+  eyev) ** shininess`` (black when that dot product is not positive); each multiplied by
+  the intensity unless it is 1; the result ``ambient + diffuse + specular``;
+- an area light: the same diffuse and specular for every cell (v outer, u inner; lightv
+  towards ``point_on_light(light, u, v)``), summed separately from black, and the result
+  ``ambient + diffuse_sum * (intensity / samples) + specular_sum * (intensity /
+  samples)``. Every cell is walked whatever the intensity, so ``lighting`` takes exactly
+  ``2 * samples`` values from the light's ``jitter_by``. A 1x1 light at a point shades
+  exactly as a point light there.
 """
 
 from __future__ import annotations
@@ -8,7 +27,7 @@ from dataclasses import dataclass, fields
 from typing import TYPE_CHECKING, Any
 
 from raytracer.colors import BLACK, WHITE, Color
-from raytracer.lights import PointLight
+from raytracer.lights import AreaLight, Light, point_on_light
 from raytracer.patterns import Pattern, pattern_at_shape
 from raytracer.tuples import Tuple, dot, normalize, reflect
 
@@ -54,24 +73,41 @@ def material(**overrides: Any) -> Material:
     return Material(**overrides)
 
 
+def light_fraction(in_shadow: bool | float) -> float:
+    """``lighting``'s seventh argument as the fraction of the light that arrives: the
+    book's ``in_shadow`` (True: 0.0, False: 1.0) or a number from 0 to 1 (the soft shadows
+    chapter's ``intensity``)."""
+    if isinstance(in_shadow, bool):
+        return 0.0 if in_shadow else 1.0
+    if isinstance(in_shadow, int | float) and 0 <= in_shadow <= 1:
+        return float(in_shadow)
+    raise ValueError(
+        "lighting: in_shadow must be true or false, or the light's intensity a number from "
+        f"0 to 1, got {in_shadow!r}"
+    )
+
+
 def lighting(
     material: Material,
     object: Shape | None,
-    light: PointLight,
+    light: Light,
     point: Tuple,
     eyev: Tuple,
     normalv: Tuple,
-    in_shadow: bool = False,
+    in_shadow: bool | float = False,
     ambient: bool = True,
 ) -> Color:
-    """Chapters 6, 8 and 10: the Phong color of one point lit by one light.
+    """Chapters 6, 8 and 10, and soft shadows: the Phong color of one point lit by one
+    light (the module docstring gives the arithmetic).
 
     material: the surface's material; object: the shape (for its pattern's object space);
-    light: the light; point: the world-space point being lit; eyev: towards the eye;
-    normalv: the surface normal; in_shadow: True when the light is blocked (ambient only);
-    ambient: False leaves the ambient term out (a world's second and later lights: the
-    ambient light is counted once, with the first).
+    light: a point light or an area light; point: the world-space point being lit; eyev:
+    towards the eye; normalv: the surface normal; in_shadow: True when the light is blocked
+    (ambient only), False when not, or the fraction of the light that arrives (0 to 1,
+    ``intensity_at``); ambient: False leaves the ambient term out (a world's second and
+    later lights: the ambient light is counted once, with the first).
     """
+    intensity = light_fraction(in_shadow)
     if material.pattern is not None:
         if object is None:  # the chapter 6 form had no object: treat world space as object space
             surface = material.pattern.local_pattern_at(material.pattern.inverse_transform * point)
@@ -81,7 +117,11 @@ def lighting(
         surface = material.color
     effective_color = surface * light.intensity
     ambient_part = effective_color * material.ambient if ambient else BLACK
-    if in_shadow:
+    if isinstance(light, AreaLight):
+        return _area_lighting(
+            material, light, effective_color, ambient_part, point, eyev, normalv, intensity
+        )
+    if intensity == 0.0:
         return ambient_part
     lightv = normalize(light.position - point)
     light_dot_normal = dot(lightv, normalv)
@@ -95,4 +135,36 @@ def lighting(
     else:
         factor = reflect_dot_eye**material.shininess
         specular = light.intensity * material.specular * factor
+    if intensity != 1.0:  # part of the light arrives (1.0: the book's unshadowed point)
+        diffuse = diffuse * intensity
+        specular = specular * intensity
     return ambient_part + diffuse + specular
+
+
+def _area_lighting(
+    material: Material,
+    light: AreaLight,
+    effective_color: Color,
+    ambient_part: Color,
+    point: Tuple,
+    eyev: Tuple,
+    normalv: Tuple,
+    intensity: float,
+) -> Color:
+    """Soft shadows: ``lighting`` with an area light: diffuse and specular averaged over
+    its cells (each towards its own ``point_on_light``), times ``intensity``."""
+    diffuse_sum = BLACK
+    specular_sum = BLACK
+    for v in range(light.vsteps):
+        for u in range(light.usteps):
+            lightv = normalize(point_on_light(light, u, v) - point)
+            light_dot_normal = dot(lightv, normalv)
+            if light_dot_normal < 0:
+                continue  # this cell is on the other side of the surface
+            diffuse_sum = diffuse_sum + effective_color * material.diffuse * light_dot_normal
+            reflect_dot_eye = dot(reflect(-lightv, normalv), eyev)
+            if reflect_dot_eye > 0:
+                factor = reflect_dot_eye**material.shininess
+                specular_sum = specular_sum + light.intensity * material.specular * factor
+    weight = intensity / light.samples
+    return ambient_part + diffuse_sum * weight + specular_sum * weight

@@ -9,6 +9,12 @@ and a compiled implementation produce the same offsets bit for bit:
     dy    = the same for output 2
 
 where splitmix64 output k is ``mix(key + k * GAMMA mod 2**64)``.
+
+The same key drives the random jitter of area lights (the bonus chapter "Rendering soft
+shadows", ``light_jitter``): outputs 1 and 2 are the pixel offset; the cell (u, v) of light
+number k takes outputs ``3 + 2 n`` and ``4 + 2 n`` with ``n = k << 32 | v << 16 | u``. So
+where a light's cells are sampled depends on (seed, pixel, sample, light index, cell) only,
+never on the order in which rays are traced, and a compiled variant reproduces it.
 """
 
 from __future__ import annotations
@@ -17,6 +23,8 @@ MASK64 = (1 << 64) - 1
 GAMMA = 0x9E3779B97F4A7C15  # splitmix64's increment (the golden ratio in 64 bits)
 MAX_COORDINATE = 1 << 14  # 16384, the largest canvas side: x and y take 14 bits of the key
 MAX_SAMPLES = 1 << 20  # sample indices take the low 20 bits of the key
+MAX_LIGHT_STEPS = 1 << 16  # an area light's cells per side: u and v take 16 bits of a stream
+MAX_LIGHTS = 1 << 31  # light indices: the stream stays below 2**64
 
 
 def mix64(z: int) -> int:
@@ -47,3 +55,52 @@ def sample_offset(seed: int, x: int, y: int, i: int) -> tuple[float, float]:
     first = mix64((key + GAMMA) & MASK64)
     second = mix64((key + 2 * GAMMA) & MASK64)
     return (first >> 11) * 2.0**-53, (second >> 11) * 2.0**-53
+
+
+def light_jitter_key(key: int, light_index: int, u: int, v: int) -> tuple[float, float]:
+    """``light_jitter`` for a sample whose ``sample_key`` is ``key`` (no checks: the caller
+    checked light_index, u and v)."""
+    stream = 3 + 2 * ((light_index << 32) | (v << 16) | u)
+    first = mix64((key + stream * GAMMA) & MASK64)
+    second = mix64((key + (stream + 1) * GAMMA) & MASK64)
+    return (first >> 11) * 2.0**-53, (second >> 11) * 2.0**-53
+
+
+def light_jitter(
+    seed: int, x: int, y: int, i: int, light_index: int, u: int, v: int
+) -> tuple[float, float]:
+    """Where in cell (u, v) of a jittered area light the point goes for sample ``i`` of
+    pixel (x, y): ``(ju, jv)``, each in [0, 1) (the bonus chapter "Rendering soft shadows").
+
+    seed, x, y, i: as ``sample_offset``; light_index: the light's place in the world's
+    lights (0 first); u, v: the cell, each below ``MAX_LIGHT_STEPS``. Two splitmix64 outputs
+    of the sample's key on the stream ``3 + 2 (light_index << 32 | v << 16 | u)`` (streams 1
+    and 2 are ``sample_offset``'s), so it is a pure function of its arguments.
+    """
+    if not 0 <= light_index < MAX_LIGHTS:
+        raise ValueError(f"light_jitter: light index {light_index} is outside 0..{MAX_LIGHTS - 1}")
+    if not (0 <= u < MAX_LIGHT_STEPS and 0 <= v < MAX_LIGHT_STEPS):
+        raise ValueError(
+            f"light_jitter: cell ({u}, {v}) is outside 0..{MAX_LIGHT_STEPS - 1} on a side"
+        )
+    return light_jitter_key(sample_key(seed, x, y, i), light_index, u, v)
+
+
+def light_jitters(
+    seed: int, x: int, y: int, i: int, light_index: int, usteps: int, vsteps: int
+) -> list[float]:
+    """``light_jitter`` of every cell of a ``usteps`` x ``vsteps`` light, flat and in cell
+    order (v outer, u inner): ``[ju(0, 0), jv(0, 0), ju(1, 0), jv(1, 0), ...]``, the
+    values a jittered light's ``jitter_by`` gives during one sample."""
+    if not (1 <= usteps <= MAX_LIGHT_STEPS and 1 <= vsteps <= MAX_LIGHT_STEPS):
+        raise ValueError(
+            f"light_jitters: {usteps}x{vsteps} cells; each side must be 1..{MAX_LIGHT_STEPS}"
+        )
+    if not 0 <= light_index < MAX_LIGHTS:
+        raise ValueError(f"light_jitters: light index {light_index} is outside 0..{MAX_LIGHTS - 1}")
+    key = sample_key(seed, x, y, i)
+    values: list[float] = []
+    for v in range(vsteps):
+        for u in range(usteps):
+            values += light_jitter_key(key, light_index, u, v)
+    return values

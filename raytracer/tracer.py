@@ -7,8 +7,29 @@ overrides only the step it changes and every other step calls the override.
     render ─> render_into ─> render_region ─> prepare (once a frame) ─> pixel_color
     pixel_color ─> ray_for_pixel, color_at
     color_at ─> intersect_world, prepare_computations, shade_hit
-    shade_hit ─> is_shadowed, lighting, reflected_color, refracted_color, schlick
+    shade_hit ─> light_for_sample, intensity_at, lighting, reflected_color,
+                 refracted_color, schlick
+    intensity_at ─> is_shadowed (once per point light, once per cell of an area light)
     reflected_color, refracted_color ─> color_at (one level deeper)
+
+Area lights (the bonus chapter "Rendering soft shadows", 18 here): ``shade_hit`` asks, for
+light number k of the world, ``light_k = light_for_sample(light, k)``, then ``intensity =
+intensity_at(light_k, over_point, w)`` and ``lighting(..., light_k, ..., intensity,
+ambient=k == 0)``. ``intensity_at`` and ``lighting`` each walk the cells v outer, u inner,
+and take two values of ``light_k.jitter_by`` per cell, so they see the same points when
+the sequence's length divides ``2 * samples``.
+
+Random jitter, the contract every variant follows (``AreaLight.jitter``, a scene file's
+``jitter: true``): the tracer keeps the sample being traced in ``_sample`` = (seed, x, y,
+i), which ``pixel_color`` sets before each sample (i = 0 with one sample per pixel) and
+which is (0, 0, 0, 0) outside a render. ``light_for_sample`` gives a jittered light a copy
+whose ``jitter_by`` is ``sequence(ju(0, 0), jv(0, 0), ju(1, 0), jv(1, 0), ...)``: the
+values of ``raytracer.sampling.light_jitter(seed, x, y, i, k, u, v)`` in cell order, a
+fresh sequence at every shaded point. So where a cell is sampled depends on the seed, the
+pixel, the sample, the light's index and the cell, never on the order rays are traced
+(reflected and refracted rays of a sample see the same points); intensity_at and lighting
+take exactly ``2 * samples`` values each, so both see the same points. Any other light is
+used as it is.
 
 The book's module-level names (``raytracer.color_at`` ...) are the bound methods of
 ``TRACER``, the default instance, so ``color_at(w, r)`` means what it always meant. The
@@ -21,6 +42,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
+from dataclasses import replace
 from typing import Any
 
 from raytracer.camera import Camera, RenderSettings
@@ -30,9 +52,10 @@ from raytracer.colors import BLACK, Color
 from raytracer.intersections import Computations, Intersection, hit, intersections
 from raytracer.intersections import prepare_computations as computations_for
 from raytracer.intersections import schlick as schlick_reflectance
+from raytracer.lights import AreaLight, CyclicSequence, Light, describe_lights, point_on_light
 from raytracer.materials import lighting as phong
 from raytracer.rays import Ray, ray
-from raytracer.sampling import sample_offset
+from raytracer.sampling import light_jitters, sample_offset
 from raytracer.shapes.shape import intersect
 from raytracer.tolerance import using_epsilon
 from raytracer.tuples import Tuple, dot, magnitude, normalize
@@ -44,15 +67,22 @@ Region = tuple[int, int, int, int]
 Progress = Callable[[int], object]
 """Called with the number of image rows just finished."""
 
+Sample = tuple[int, int, int, int]
+"""seed, x, y, i: sample i of pixel (x, y) of a render with that seed."""
+
+NO_SAMPLE: Sample = (0, 0, 0, 0)
+"""The sample outside a render."""
+
 BOOK_STEPS = (
     "lighting", "intersect_world", "prepare_computations", "shade_hit", "is_shadowed",
     "color_at", "reflected_color", "refracted_color", "schlick", "ray_for_pixel", "render",
+    "intensity_at",
 )  # fmt: skip
 """The methods that are book names (``raytracer.api.BOOK_API``)."""
 
 STEPS = (
     *BOOK_STEPS, "pixel_color", "prepare", "render_region", "render_into", "new_canvas",
-    "write_region",
+    "write_region", "light_for_sample",
 )  # fmt: skip
 """Every overridable step of the interface, book names first."""
 
@@ -78,7 +108,7 @@ class Tracer:
     """The book's tracer. Subclass it and override a step; wrap it to change where
     ``render_region`` runs (a pool, a cluster)."""
 
-    __slots__ = ("_frame",)
+    __slots__ = ("_frame", "_sample")
 
     builds_hierarchy = False
     """True for a tracer that builds its own bounding volume hierarchy over every
@@ -86,6 +116,7 @@ class Tracer:
 
     def __init__(self) -> None:
         self._frame: tuple[Camera, World, RenderSettings, Any] | None = None
+        self._sample: Sample = NO_SAMPLE
 
     # -- chapter 6
 
@@ -114,14 +145,19 @@ class Tracer:
 
         Several lights (the book's published scenes): each light adds its own diffuse and
         specular with its own shadow test; the ambient term is counted once, with the first
-        light (so a one-light world shades as in the book). No light: black surfaces."""
+        light (so a one-light world shades as in the book). No light: black surfaces.
+
+        Soft shadows: each light's share is ``lighting`` with the fraction of it that
+        reaches the point (``intensity_at``: 0 or 1 for a point light), the light being
+        ``light_for_sample``'s (a jittered area light's points for this sample)."""
         m = comps.object.material
         surface = BLACK
         for k, light in enumerate(w.lights):
-            shadowed = self.is_shadowed(w, light.position, comps.over_point)
+            light_k = self.light_for_sample(light, k)
+            intensity = self.intensity_at(light_k, comps.over_point, w)
             lit = self.lighting(
-                m, comps.object, light, comps.over_point, comps.eyev, comps.normalv, shadowed,
-                ambient=k == 0,
+                m, comps.object, light_k, comps.over_point, comps.eyev, comps.normalv,
+                intensity, ambient=k == 0,
             )  # fmt: skip
             surface = lit if k == 0 else surface + lit
         reflected = self.reflected_color(w, comps, remaining)
@@ -150,6 +186,32 @@ class Tracer:
         xs = [i for i in self.intersect_world(w, r) if i.object.casts_shadow]
         h = hit(xs)
         return h is not None and h.t < distance
+
+    # -- soft shadows (the bonus chapter, 18 here)
+
+    def intensity_at(self, light: Light, point: Tuple, w: World) -> float:
+        """Soft shadows: the fraction of ``light`` that reaches ``point``: 1.0 or 0.0 for a
+        point light (``is_shadowed`` towards its position); for an area light, the fraction
+        of its cells (v outer, u inner) whose ``point_on_light`` is not shadowed, a
+        multiple of ``1 / samples``."""
+        if not isinstance(light, AreaLight):
+            return 0.0 if self.is_shadowed(w, light.position, point) else 1.0
+        total = 0.0
+        for v in range(light.vsteps):
+            for u in range(light.usteps):
+                if not self.is_shadowed(w, point_on_light(light, u, v), point):
+                    total += 1.0
+        return total / light.samples
+
+    def light_for_sample(self, light: Light, k: int) -> Light:
+        """Soft shadows: light number ``k`` of the world as the current sample
+        (``_sample``) sees it: a jittered area light (``jitter`` True) as a copy whose
+        ``jitter_by`` is this sample's ``light_jitter`` values in cell order (v outer, u
+        inner, u's value then v's); any other light as it is."""
+        if not isinstance(light, AreaLight) or not light.jitter:
+            return light
+        values = light_jitters(*self._sample, k, light.usteps, light.vsteps)
+        return replace(light, jitter_by=CyclicSequence(values))
 
     # -- chapter 11
 
@@ -189,11 +251,13 @@ class Tracer:
     def pixel_color(self, c: Camera, w: World, x: int, y: int, settings: RenderSettings) -> Color:
         """The color of pixel (x, y): one ray through its centre (the book), or the mean of
         ``settings.samples`` rays placed by ``raytracer.sampling`` (summed in order, then
-        multiplied by 1 / samples)."""
+        multiplied by 1 / samples). Sets ``_sample`` before each (jittered area lights)."""
         if settings.samples == 1:
+            self._sample = (settings.seed, x, y, 0)
             return self.color_at(w, self.ray_for_pixel(c, x, y), settings.depth)
         total = BLACK
         for i in range(settings.samples):
+            self._sample = (settings.seed, x, y, i)
             dx, dy = sample_offset(settings.seed, x, y, i)
             sample = self.ray_for_pixel(c, x + dx - 0.5, y + dy - 0.5)
             total = total + self.color_at(w, sample, settings.depth)
@@ -221,8 +285,10 @@ class Tracer:
         return state
 
     def forget(self) -> None:
-        """Drop the prepared frame (the next region prepares anew)."""
+        """Drop the prepared frame (the next region prepares anew) and the current sample
+        (back to ``NO_SAMPLE``)."""
         self._frame = None
+        self._sample = NO_SAMPLE
 
     def render_region(
         self, c: Camera, w: World, settings: RenderSettings, region: Region
@@ -290,8 +356,7 @@ class Tracer:
         """What a render of ``w`` would run (``rtc render --explain``)."""
         return (
             f"{type(self).__name__}: the book's pipeline in Python, one pixel at a time; "
-            f"{len(w.objects)} objects at the top of the world, {len(w.lights)} "
-            f"light{'' if len(w.lights) == 1 else 's'}"
+            f"{len(w.objects)} objects at the top of the world, {describe_lights(w.lights)}"
         )
 
 
@@ -329,6 +394,7 @@ prepare_computations = TRACER.prepare_computations
 shade_hit = TRACER.shade_hit
 color_at = TRACER.color_at
 is_shadowed = TRACER.is_shadowed
+intensity_at = TRACER.intensity_at
 reflected_color = TRACER.reflected_color
 refracted_color = TRACER.refracted_color
 schlick = TRACER.schlick

@@ -3,7 +3,8 @@
 
 A world is an entity: ``w.light ← ...`` and "s is added to w" change it in place. The book's
 world has one light, ``w.light``; the published scenes light theirs with several, so a world
-holds a list, ``lights``, and ``light`` is its first.
+holds a list, ``lights``, and ``light`` is its first. A light is a point light (chapter 6)
+or an area light (the bonus chapter "Rendering soft shadows").
 """
 
 from __future__ import annotations
@@ -11,7 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from raytracer.colors import color
-from raytracer.lights import PointLight, point_light
+from raytracer.lights import Light, point_light
 from raytracer.materials import material
 from raytracer.shapes.shape import Shape
 from raytracer.shapes.sphere import Sphere
@@ -25,15 +26,15 @@ class World:
     order; empty: no light yet, and every point shades black)."""
 
     objects: list[Shape] = field(default_factory=list)
-    lights: list[PointLight] = field(default_factory=list)
+    lights: list[Light] = field(default_factory=list)
 
     @property
-    def light(self) -> PointLight | None:
+    def light(self) -> Light | None:
         """Chapter 7: the world's (first) light, or None when it has none."""
         return self.lights[0] if self.lights else None
 
     @light.setter
-    def light(self, value: PointLight | None) -> None:
+    def light(self, value: Light | None) -> None:
         """``w.light ← l`` replaces the first light (or gives the world one);
         ``w.light ← nothing`` removes every light."""
         if value is None:

@@ -21,6 +21,7 @@ COMMANDS = [
     "rtc.cmd_bench",
     "rtc.cmd_report",
     "rtc.cmd_render",
+    "rtc.cmd_profile",
     "rtc.cmd_stability",
 ]
 

@@ -77,11 +77,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=",".join(DEFAULT_SECTIONS),
         metavar="A,B",
         help=f"which parts to run, of {', '.join(SECTIONS)} (default: all but scene-size, "
-        "which takes minutes: render, load and pack time against a mesh's triangle count)",
+        "which takes minutes: render, load and pack time against a mesh's triangle count, "
+        "light-samples: soft shadows' light cells against pixel samples, and profile: where "
+        "the time goes in naive, cached, prealloc and numba, about a minute)",
     )
     parser.add_argument(
         "--mesh-variants", default="numba,numba[bvh=off]", metavar="A,B",
         help="the scene-size section's variants (default: numba,numba[bvh=off])",
+    )  # fmt: skip
+    parser.add_argument(
+        "--light-variant", default="numba", metavar="NAME",
+        help="the light-samples section's variant (default: numba)",
     )  # fmt: skip
     parser.add_argument(
         "--meshes", default="all", metavar="A,B",
@@ -156,6 +162,7 @@ def settings_from(args: argparse.Namespace) -> BenchSettings:
         epsilon=args.epsilon,
         mesh_variants=mesh_variants,
         meshes=meshes,
+        light_variant=args.light_variant,
     )
 
 
@@ -179,6 +186,10 @@ def _scene_size_options(args: argparse.Namespace) -> tuple[tuple[str, ...], tupl
             raise UserError(f"--mesh-variants: {error.args[0]}") from None
     if not names:
         raise UserError("--mesh-variants: name at least one variant, e.g. numba")
+    try:
+        parse_variant_name(args.light_variant)
+    except VariantError as error:
+        raise UserError(f"--light-variant: {error.args[0]}") from None
     return meshes, names
 
 

@@ -61,6 +61,16 @@ CHAPTER_NOTES: dict[int, str] = {
     "arguments, bounding_box(min=p max=q) with the keywords min and max. add_point and "
     "add_box may change the box or return a new one. '(left, right) ← f(...)' unpacks a "
     "tuple or list; [s1, s2] is a list.",
+    18: "The bonus chapter 'Rendering soft shadows'. An area light: light.corner light.uvec "
+    "light.vvec (one cell's edges) light.usteps light.vsteps light.samples light.position "
+    "(its centre) light.intensity light.jitter_by (a sequence); a point light is read as "
+    "light.position and light.intensity. sequence(...) cycles through its values; next(gen) "
+    "is written next_ here (Python's own next stays usable). lighting's last argument is "
+    "in_shadow (true or false) or the fraction of light that arrives (a number).",
+    19: "The bonus chapter 'Texture mapping'. Mappings return a pair (u, v); "
+    "face_from_point returns the face's name as a string ('left', 'right', 'front', "
+    "'back', 'up', 'down'). canvas_from_ppm takes the file's text and raises ValueError "
+    "for a malformed file ('should fail').",
 }
 
 
@@ -106,8 +116,9 @@ def _summary(reference: object) -> str:
 
 
 def python_name(name: str) -> str:
-    """The Python spelling of a book name in the scaffold (``tuple`` -> ``tuple_``)."""
-    return "tuple_" if name == "tuple" else name
+    """The Python spelling of a book name in the scaffold: a name that would hide a Python
+    builtin gets a trailing underscore (``tuple`` -> ``tuple_``, ``next`` -> ``next_``)."""
+    return f"{name}_" if name in ("tuple", "next") else name
 
 
 def stub_source(name: str) -> str:
@@ -151,10 +162,10 @@ raises NotImplementedYet on any use (arithmetic, comparison, indexing, attribute
 scenario that touches one is "to do" as well. Replace the placeholder with the value:
 EPSILON = 0.0001, identity_matrix = matrix([...]) (it comes after matrix() below).
 
-Names: the book's `tuple` is spelled `tuple_` here, so that Python's own tuple stays
-usable; view_transform's `from` is `from_`. You may split this file into modules of your
-own: rtc reads the book's names from this module, so import them here. A name you delete
-shows as "undefined" in the kata.
+Names: the book's `tuple` and `next` are spelled `tuple_` and `next_` here, so that
+Python's own stay usable; view_transform's `from` is `from_`. You may split this file into
+modules of your own: rtc reads the book's names from this module, so import them here. A
+name you delete shows as "undefined" in the kata.
 
 Values: return types of your own. The scenarios read the attributes and use the operators
 that each chapter's note below lists, and compare with `=` within EPSILON.

@@ -19,6 +19,8 @@ CHAPTER_BY_FILE_NAME: dict[str, int] = {
     "planes": 9, "patterns": 10, "cubes": 12, "cylinders": 13, "cones": 13, "groups": 14,
     "triangles": 15, "obj_file": 15, "smooth-triangles": 15, "csg": 16,
     "bounding-boxes": 17,  # the bonus chapter "Bounding boxes and hierarchies"
+    "soft-shadows": 18,  # the bonus chapter "Rendering soft shadows"
+    "texture-mapping": 19,  # the bonus chapter "Texture mapping"
 }  # fmt: skip
 
 

@@ -289,6 +289,21 @@ def _terminates(book: Book, m: re.Match[str], _: Table | None, __: str | None) -
         _check(False, book, "to terminate", "infinite recursion (RecursionError)")
 
 
+@phrase(r"(?P<expr>.+?) should fail")
+def _should_fail(book: Book, m: re.Match[str], _: Table | None, __: str | None) -> None:
+    """The tracer refuses bad input (``canvas_from_ppm(ppm) should fail``): a ``ValueError``,
+    as the API promises; the step library's own errors and stubs are not that."""
+    try:
+        value = book.evaluate(m["expr"])
+    except ValueError:
+        return
+    except (StepDefinitionNotFoundError, EvaluationError, NotImplementedError):
+        raise
+    except Exception as error:
+        _check(False, book, "a ValueError (bad input)", f"{type(error).__name__}: {error}")
+    _check(False, book, "a ValueError (bad input)", f"no error, the value {describe(value)}")
+
+
 @phrase(r"(?P<expr>.+?) should have ignored (?P<count>\d+) lines?")
 def _ignored_lines(book: Book, m: re.Match[str], _: Table | None, __: str | None) -> None:
     ignored = book.evaluate(f"{m['expr']}.ignored_lines")
@@ -345,7 +360,8 @@ def _comparison(book: Book, m: re.Match[str], _: Table | None, __: str | None) -
     if parts is None:
         raise UndefinedStep(f"no Then form reads {book.step!r}")
     left_text, operator, right_text = parts
-    actual, expected = book.evaluate(left_text), book.evaluate(right_text)
+    actual = book.evaluate(left_text)
+    expected = _right_side(book, right_text, actual)
     if operator == "=":
         _check(approx_equal(actual, expected), book, describe(expected), describe(actual))
     elif operator == "!=":
@@ -365,6 +381,20 @@ def _comparison(book: Book, m: re.Match[str], _: Table | None, __: str | None) -
         _check(bool(ordered()), book, f"{operator} {describe(expected)}", describe(actual))
 
 
+_WORD = re.compile(r"[A-Za-z_]\w*")
+
+
+def _right_side(book: Book, text: str, actual: Any) -> Any:
+    """The expected side of a comparison. A bare word that names nothing, compared with a
+    string, is that word: an outline's ``| left |`` in ``face = <face>``."""
+    if isinstance(actual, str) and _WORD.fullmatch(text.strip()):
+        try:
+            return book.evaluate(text)
+        except EvaluationError:
+            return text.strip()
+    return book.evaluate(text)
+
+
 THEN: list[Phrase] = [
     _is_matrix,
     _every_pixel,
@@ -375,6 +405,7 @@ THEN: list[Phrase] = [
     _contains,
     _includes,
     _terminates,
+    _should_fail,
     _ignored_lines,
     _invertible,
     _point_or_vector,

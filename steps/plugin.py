@@ -115,6 +115,15 @@ def pytest_generate_tests(metafunc: pytest.Metafunc) -> None:
         metafunc.parametrize("variant", names, ids=names, indirect=True)
 
 
+def pytest_itemcollected(item: pytest.Item) -> None:
+    """A scenario's feature file name is one of its keywords: ``-k texture_mapping``
+    selects that file's scenarios."""
+    function = getattr(item, "function", None)
+    if function is not None and is_scenario_test(function):
+        template = scenario_wrapper_template_registry[function]
+        item.extra_keyword_matches.add(Path(template.feature.filename).stem)
+
+
 @pytest.fixture(autouse=True)
 def variant(request: pytest.FixtureRequest) -> Variant:
     """The variant under test: one per ``--variant`` for scenarios, the first for others."""

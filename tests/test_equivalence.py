@@ -39,6 +39,7 @@ class Scene:
     name: str
     build: Callable[[Any], tuple[Any, Any]]
     settings: RenderSettings = field(default_factory=RenderSettings)
+    left_out: tuple[str, ...] = ()  # variants (and pools over them) not compared on it
 
 
 def _look(api: Any, c: Any, eye: tuple[float, float, float], to: tuple[float, float, float]) -> Any:
@@ -96,6 +97,20 @@ def three_lights(api: Any) -> tuple[Any, Any]:
     return c, w
 
 
+def soft_shadows(api: Any) -> tuple[Any, Any]:
+    """The bonus chapter "Rendering soft shadows": the patterns-mirrors-glass world, without
+    its glass sphere, lit by a 3x3 area light whose cells are jittered per sample, at 12x9
+    (rendered with two samples per pixel, so each sample draws its own jitter). The glass
+    is left out because its paths inside the sphere are where robust's refraction differs
+    from naive's (patterns-mirrors-glass tests them); here it is the shadows."""
+    c, w = patterns_mirrors_glass(api)
+    w.objects.pop()  # the glass sphere
+    light = api["area_light"](api["point"](-5, 5.5, -7), api["vector"](2, 0, 0), 3,
+                              api["vector"](0, 1.5, 1.5), 3, api["color"](1, 1, 1))  # fmt: skip
+    w.light = replace(light, jitter=True)
+    return replace(api["camera"](12, 9, math.pi / 3), transform=c.transform), w
+
+
 def cover_scene(api: Any) -> tuple[Any, Any]:
     """The cubes of ``harness/scenes/cover.yml`` (two lights, glass, mirror) at 16x16."""
     scene = load_scene(COVER_SCENE, api).resized(16, 16)
@@ -124,6 +139,14 @@ SCENES = [
     Scene("three-lights", three_lights),
     Scene("cover-16x16", cover_scene),
     Scene("mesh-16x10", mesh_scene),
+    # numba and wavefront refuse area lights until they implement them (issue 15): they
+    # are left out of this one scene, not skipped
+    Scene(
+        "soft-shadows-12x9-2spp",
+        soft_shadows,
+        RenderSettings(samples=2, seed=5),
+        left_out=("numba", "wavefront"),
+    ),
 ]
 
 
@@ -157,8 +180,18 @@ def test_the_scenes_are_not_blank() -> None:
         assert len(distinct) > 5, f"{scene.name}: only {len(distinct)} distinct colours"
 
 
-@pytest.mark.parametrize("scene", SCENES, ids=[scene.name for scene in SCENES])
-@pytest.mark.parametrize("name", _variants())
+def _left_out(name: str, scene: Scene) -> bool:
+    """Whether ``scene`` leaves out the variant ``name`` (or the one a pool wraps)."""
+    base = name.rsplit(":", 1)[-1].split("[", 1)[0]
+    return base in scene.left_out
+
+
+PAIRS = [(name, scene) for scene in SCENES for name in _variants() if not _left_out(name, scene)]
+
+
+@pytest.mark.parametrize(
+    ("name", "scene"), PAIRS, ids=[f"{name}-{scene.name}" for name, scene in PAIRS]
+)
 def test_every_variant_renders_what_naive_renders(name: str, scene: Scene) -> None:
     variant = load_variant(name)
     expected = _naive_pixels(scene)

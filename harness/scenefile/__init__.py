@@ -5,7 +5,9 @@ The format, as this loader reads it (top level: a list of items, read in order):
 
 - ``- add: camera`` (width, height, field-of-view, from, to, up): exactly one;
   ``- add: light`` (at, intensity): any number, each one shading on its own (ambient once);
-  none renders black with a warning.
+  ``- add: area_light`` (corner, uvec, usteps, vvec, vsteps, intensity, and jitter: true
+  for random points in the cells; uvec and vvec are the full edges): the soft shadows
+  chapter's light, also any number. None of either renders black with a warning.
 - ``- add: sphere | plane | cube | cylinder | cone | group | obj | csg`` with ``transform``,
   ``material``, ``shadow`` (false: casts no shadow); ``min``, ``max``, ``closed``
   (cylinders, cones); ``children`` (groups); ``file`` (obj: relative to the scene file);
@@ -18,10 +20,16 @@ The format, as this loader reads it (top level: a list of items, read in order):
 - A transform list is applied entry by entry: ``[A, B]`` is ``B * A``.
 - A material or ``shadow: false`` on a group, OBJ model or CSG applies to every shape inside
   it that does not set its own.
+- A material's ``pattern:`` is ``type: stripes | gradient | rings | checkers`` with
+  ``colors`` (two), or ``type: map`` (the bonus chapter "Texture mapping") with ``mapping:
+  spherical | planar | cylindrical`` and a ``uv_pattern`` (``checkers`` with width, height,
+  colors; ``align_check`` with colors main, ul, ur, bl, br; ``image`` with a ``file``, PPM
+  or PNG, relative to the scene file), or ``mapping: cube`` with a UV pattern for each of
+  ``left front right back up down``; every pattern takes a ``transform``.
 
 Every mistake in a scene file is one ``SceneError``: ``file:line: what is wrong, what was
-expected``. Modules: ``reader`` (YAML with lines), ``transforms``, ``materials``, ``shapes``,
-``loader`` (the top level).
+expected``. Modules: ``reader`` (YAML with lines), ``transforms``, ``materials``,
+``textures`` (map patterns), ``images`` (image files), ``shapes``, ``loader`` (the top level).
 """
 
 from harness.scenefile.errors import SceneError

@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any, Literal
 
 from yaml.nodes import Node
@@ -36,7 +37,8 @@ class Context:
     reader: the scene file's YAML reader; api: the variant's book API; variant: its name
     (for errors); scope: the names defined so far, in file order; depth: how deep the shape
     being read is nested in groups and CSGs; notes: what the load did that ``--explain``
-    reports (triangles skipped ...).
+    reports (triangles skipped ...); images: the image textures decoded so far, by path
+    (a scene may put one image on many faces).
     """
 
     reader: Reader
@@ -45,6 +47,7 @@ class Context:
     scope: dict[str, Definition] = field(default_factory=dict)
     depth: int = 0
     notes: list[str] = field(default_factory=list)
+    images: dict[Path, Any] = field(default_factory=dict)
 
     def need(self, name: str, node: Node, purpose: str) -> Any:
         """The variant's ``name``; a ``SceneError`` at ``node`` if the variant lacks it."""

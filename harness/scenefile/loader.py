@@ -1,8 +1,9 @@
 """The top level of a scene file: a list of ``- add:`` and ``- define:`` items, read in order.
 
-``- add: camera`` (one), ``- add: light`` (any number: published scenes use several), shapes
-added to the world as they come, and ``- define: NAME`` for materials, transforms and shapes
-used further down (``extend: OTHER`` builds on an earlier definition).
+``- add: camera`` (one), ``- add: light`` and ``- add: area_light`` (any number: published
+scenes use several), shapes added to the world as they come, and ``- define: NAME`` for
+materials, transforms and shapes used further down (``extend: OTHER`` builds on an earlier
+definition).
 """
 
 from __future__ import annotations
@@ -21,10 +22,13 @@ from harness.scenefile.materials import read_color, read_material_properties
 from harness.scenefile.reader import Entry, Reader, compose, describe, line_of
 from harness.scenefile.shapes import SHAPES, ShapeSpec, build_shape, read_shape
 from harness.scenefile.transforms import read_transform
+from raytracer.sampling import MAX_LIGHT_STEPS
 from variants.learner import is_stub
 
 CAMERA_KEYS = ("add", "width", "height", "field-of-view", "from", "to", "up")
 LIGHT_KEYS = ("add", "at", "intensity")
+AREA_LIGHT_KEYS = ("add", "corner", "uvec", "usteps", "vvec", "vsteps", "intensity", "jitter")
+AREA_LIGHT_REQUIRED = AREA_LIGHT_KEYS[1:-1]  # all but add and jitter
 DEFINE_KEYS = ("define", "value", "extend")
 MAX_SIDE = 16384  # as the canvas allows
 # After loading, every top-level group, OBJ model and CSG shape is divided (the bonus chapter
@@ -195,6 +199,8 @@ def _item(state: _Loading, node: Node) -> None:
         _camera(state, node, entries)
     elif isinstance(kind, ScalarNode) and kind.value == "light":
         _light(state, node, entries)
+    elif isinstance(kind, ScalarNode) and kind.value == "area_light":
+        _area_light(state, node, entries)
     else:
         spec = read_shape(state.ctx, node)
         for obj_file in _obj_files(spec):
@@ -251,13 +257,6 @@ def _light(state: _Loading, node: Node, entries: dict[str, Entry]) -> None:
     """``- add: light``: chapter 6's point light, added to the world's lights (a variant
     whose world has a single ``light`` takes one)."""
     ctx, reader = state.ctx, state.ctx.reader
-    lights = getattr(state.world, "lights", None)
-    if lights is None and state.light_line:
-        reader.fail(
-            node,
-            f"a second light (the first is at line {state.light_line}): {ctx.variant}'s world "
-            "has one light (no 'lights' list); expected a single '- add: light'",
-        )
     reader.check_keys(entries, LIGHT_KEYS, "the light")
     at = reader.numbers(reader.require(entries, "at", node, "the light"), "the light's at", 3)
     intensity = read_color(
@@ -265,14 +264,76 @@ def _light(state: _Loading, node: Node, entries: dict[str, Entry]) -> None:
     )
     position = ctx.need("point", node, "the light")(*at)
     light = ctx.need("point_light", node, "the light")(position, intensity)
+    _add_light(state, node, light)
+
+
+def _add_light(state: _Loading, node: Node, light: Any) -> None:
+    """Add a light to the world's lights (or set a one-light variant's ``light``)."""
+    lights = getattr(state.world, "lights", None)
     if lights is None:
+        if state.light_line:
+            state.ctx.reader.fail(
+                node,
+                f"a second light (the first is at line {state.light_line}): "
+                f"{state.ctx.variant}'s world has one light (no 'lights' list); expected a "
+                "single light",
+            )
         state.world.light = light
     else:
         lights.append(light)
     state.light_line = state.light_line or line_of(node)
 
 
-RESERVED = ("camera", "light", *SHAPES)
+def _area_light(state: _Loading, node: Node, entries: dict[str, Entry]) -> None:
+    """``- add: area_light``: the soft shadows chapter's light over a parallelogram:
+    ``corner`` (a point), ``uvec`` and ``vvec`` (its full edges, as the book's
+    ``area_light`` takes them), ``usteps`` and ``vsteps`` (cells along each), ``intensity``,
+    and ``jitter`` (true: each cell's point placed at random per pixel sample, reproducibly;
+    default false: cell centres)."""
+    ctx, reader = state.ctx, state.ctx.reader
+    what = "the area light"
+    reader.check_keys(entries, AREA_LIGHT_KEYS, what)
+    value = {key: reader.require(entries, key, node, what) for key in AREA_LIGHT_REQUIRED}
+    corner = reader.numbers(value["corner"], f"{what}'s corner", 3)
+    edges = {}
+    for key in ("uvec", "vvec"):
+        edge = reader.numbers(value[key], f"{what}'s {key}", 3)
+        if not math.hypot(*edge) > 0:
+            reader.fail(
+                value[key],
+                f"{what}'s {key} has zero length; expected the edge of the light along "
+                f"which its {key[0]}steps cells lie, e.g. [2, 0, 0]",
+            )
+        edges[key] = edge
+    steps = {
+        key: reader.whole(value[key], f"{what}'s {key}", 1, MAX_LIGHT_STEPS)
+        for key in ("usteps", "vsteps")
+    }
+    intensity = read_color(ctx, value["intensity"], f"{what}'s intensity")
+    jitter = "jitter" in entries and reader.boolean(entries["jitter"].value, f"{what}'s jitter")
+    point = ctx.need("point", node, what)
+    vector = ctx.need("vector", node, what)
+    make = ctx.need("area_light", node, what)
+    try:
+        light = make(
+            point(*corner), vector(*edges["uvec"]), steps["usteps"], vector(*edges["vvec"]),
+            steps["vsteps"], intensity,
+        )  # fmt: skip
+        if jitter:
+            light = updated(light, jitter=True)
+    except ValueError as error:  # checked above; a variant may be stricter
+        reader.fail(node, f"{what}: {error}")
+    _add_light(state, node, light)
+    cells = steps["usteps"] * steps["vsteps"]
+    ctx.notes.append(
+        f"area light at line {line_of(node)}: {steps['usteps']}x{steps['vsteps']} = {cells} "
+        f"cell{'' if cells == 1 else 's'}, {cells} shadow ray{'' if cells == 1 else 's'} per "
+        "shaded point, "
+        + ("jittered at random per pixel sample" if jitter else "each cell sampled at its centre")
+    )
+
+
+RESERVED = ("camera", "light", "area_light", *SHAPES)
 
 
 def _define(ctx: Context, node: Node, entries: dict[str, Entry]) -> None:

@@ -1,4 +1,5 @@
-"""Materials (chapters 6, 10 and 11) and their patterns, as the scene format writes them.
+"""Materials (chapters 6, 10 and 11) and their patterns, as the scene format writes them
+(the texture maps of the bonus chapter "Texture mapping": ``textures``).
 
 A material is read into a dict of the book's property names (``refractive_index`` for the
 format's ``refractive-index``), so that ``define ... extend`` can merge them; ``make_material``
@@ -12,7 +13,7 @@ from typing import Any
 from yaml.nodes import Node, ScalarNode
 
 from harness.scenefile.context import Context, updated
-from harness.scenefile.reader import line_of
+from harness.scenefile.reader import Entry, line_of
 from harness.scenefile.transforms import is_invertible, read_transform
 
 # the format's key -> the book's material property
@@ -42,23 +43,24 @@ def read_color(ctx: Context, node: Node, what: str) -> Any:
 
 
 def read_pattern(ctx: Context, node: Node) -> Any:
-    """``{type: checkers, colors: [[1, 1, 1], [0, 0, 0]], transform: [...]}`` as a pattern."""
+    """``{type: checkers, colors: [[1, 1, 1], [0, 0, 0]], transform: [...]}`` as a pattern;
+    ``type: map`` is a texture map (``harness.scenefile.textures``)."""
     reader = ctx.reader
     entries = reader.mapping(node, "a pattern")
-    reader.check_keys(entries, PATTERN_KEYS, "a pattern")
     type_node = reader.require(entries, "type", node, "the pattern")
     kind = reader.string(type_node, "the pattern's type")
-    if kind not in PATTERNS:
-        reader.fail(type_node, f"unknown pattern type {kind!r}; known: {', '.join(PATTERNS)}")
-    colors_node = reader.require(entries, "colors", node, f"the {kind} pattern")
-    colors = reader.sequence(colors_node, f"the {kind} pattern's colors")
-    if len(colors) != 2:
-        reader.fail(
-            colors_node,
-            f"the {kind} pattern takes 2 colors ([[r, g, b], [r, g, b]]), got {len(colors)}",
-        )
-    a, b = (read_color(ctx, c, f"the {kind} pattern's color") for c in colors)
-    pattern = ctx.need(PATTERNS[kind], type_node, f"a {kind} pattern")(a, b)
+    if kind == "map":
+        from harness.scenefile.textures import MAP_KEYS, read_map_pattern  # it reads colors
+
+        reader.check_keys(entries, MAP_KEYS, "a map pattern")
+        pattern = read_map_pattern(ctx, node, entries)
+    else:
+        reader.check_keys(entries, PATTERN_KEYS, "a pattern")
+        if kind not in PATTERNS:
+            reader.fail(
+                type_node, f"unknown pattern type {kind!r}; known: {', '.join(PATTERNS)}, map"
+            )
+        pattern = _two_color_pattern(ctx, node, entries, kind, type_node)
     if "transform" in entries:
         transform_node = entries["transform"].value
         m = read_transform(ctx, transform_node, f"the {kind} pattern's transform")
@@ -70,6 +72,22 @@ def read_pattern(ctx: Context, node: Node) -> Any:
             )
         ctx.need("set_pattern_transform", transform_node, "a pattern transform")(pattern, m)
     return pattern
+
+
+def _two_color_pattern(
+    ctx: Context, node: Node, entries: dict[str, Entry], kind: str, type_node: Node
+) -> Any:
+    """Chapter 10's patterns: stripes, gradient, rings, checkers of two colors."""
+    reader = ctx.reader
+    colors_node = reader.require(entries, "colors", node, f"the {kind} pattern")
+    colors = reader.sequence(colors_node, f"the {kind} pattern's colors")
+    if len(colors) != 2:
+        reader.fail(
+            colors_node,
+            f"the {kind} pattern takes 2 colors ([[r, g, b], [r, g, b]]), got {len(colors)}",
+        )
+    a, b = (read_color(ctx, c, f"the {kind} pattern's color") for c in colors)
+    return ctx.need(PATTERNS[kind], type_node, f"a {kind} pattern")(a, b)
 
 
 def read_material_properties(ctx: Context, node: Node, what: str) -> dict[str, Any]:

@@ -2,7 +2,8 @@
 builds once and then reuses for every ray.
 
 - a record per shape (flat inverse and inverse transpose, material, parent), made once,
-- the lights as buffers, the offset epsilon,
+- the lights as buffers (an area light's cells' points too), the offset epsilon,
+- the sample being traced (``sample``: seed, x, y, i), for jittered area lights,
 - per-depth scratch for the recursion of chapter 11 (``levels[remaining]``),
 - the shadow ray and its intersection buffer (chapter 8), and small point buffers.
 
@@ -14,11 +15,12 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from raytracer.lights import PointLight
+from raytracer.lights import Light
 from raytracer.materials import Material
 from raytracer.shapes.csg import CSG
 from raytracer.shapes.group import Group
 from raytracer.shapes.shape import Shape
+from raytracer.tracer import NO_SAMPLE, Sample
 from raytracer.world import World
 from variants.prealloc.buffers import (
     DepthScratch,
@@ -41,8 +43,10 @@ def material_record(m: Material) -> MaterialRecord:
 class TraceContext:
     """Buffers and records reused by every ray of one render.
 
-    eps: the offset epsilon (``RenderSettings.epsilon``); lights: ``LightRecord``s, in order;
-    objects: the records of the world's objects, in order.
+    eps: the offset epsilon (``RenderSettings.epsilon``); lights: ``LightRecord``s, in order
+    (each knows its index, for the jitter); objects: the records of the world's objects, in
+    order; sample: (seed, x, y, i) of the sample being traced (``NO_SAMPLE`` outside a
+    render), which the pixel loop sets before each sample.
     """
 
     __slots__ = (
@@ -53,14 +57,16 @@ class TraceContext:
         "lights",
         "local_point",
         "objects",
+        "sample",
         "shadow_ray",
         "shadow_xs",
         "surface",
     )
 
-    def __init__(self, eps: float, lights: Sequence[PointLight] = (), depth: int = 0) -> None:
+    def __init__(self, eps: float, lights: Sequence[Light] = (), depth: int = 0) -> None:
         self.eps = float(eps)
-        self.lights = [LightRecord(light) for light in lights]
+        self.lights = [LightRecord(light, k) for k, light in enumerate(lights)]
+        self.sample: Sample = NO_SAMPLE
         self._records: dict[int, ShapeRecord] = {}
         self.objects: list[ShapeRecord] = []
         self.levels: list[DepthScratch] = []

@@ -73,14 +73,17 @@ def pixel_color_into(
 ) -> None:
     """The colour of pixel (x, y) into ``out``: one ray through its centre, or the mean of
     the samples, summed in order then scaled by 1 / samples (naive twin:
-    ``raytracer.camera.pixel_color``). ``ray``, ``sample``: scratch buffers."""
+    ``raytracer.tracer.Tracer.pixel_color``). ``ray``, ``sample``: scratch buffers. Sets
+    ``ctx.sample`` before each sample (the jitter of area lights)."""
     depth = settings.depth
     if settings.samples == 1:
+        ctx.sample = (settings.seed, x, y, 0)
         ray_for_pixel_into(cam, x, y, ray)
         color_at_into(ctx, ray, depth, out)
         return
     r = g = b = 0.0
     for i in range(settings.samples):
+        ctx.sample = (settings.seed, x, y, i)
         dx, dy = sample_offset(settings.seed, x, y, i)
         ray_for_pixel_into(cam, x + dx - 0.5, y + dy - 0.5, ray)
         color_at_into(ctx, ray, depth, sample)

@@ -1,17 +1,25 @@
-"""Shading without allocation (chapters 6, 7, 8, 10 and 11): the world's intersections, the
-precomputed state of a hit, Phong lighting, shadows, reflection and refraction, each
-writing into a buffer its caller owns.
+"""Shading without allocation (chapters 6, 7, 8, 10 and 11, and the soft shadows bonus
+chapter): the world's intersections, the precomputed state of a hit, Phong lighting,
+shadows (the fraction of each light that arrives), reflection and refraction, each writing
+into a buffer its caller owns.
 
 Each function names its naive twin in ``raytracer``; the arithmetic is the twin's, in the
 same order (``w`` components included, a black colour still added as zeros), so the floats
 are the same. The recursion of chapter 11 uses the scratch of ``ctx.level(remaining)``:
 each level has its own intersections, computations, spawned ray and colours.
+
+Area lights follow ``raytracer.tracer``'s contract: ``intensity_at`` and ``lighting_into``
+each take the points of the light's cells from ``light_points``, which for a jittered light
+of a render computes them once per sample (``ctx.sample``, set by the pixel loop; reflected
+and refracted rays of the sample reuse them), for a light with fixed points returns the
+ones its record computed, and otherwise takes the next values of the light's sequence.
 """
 
 from __future__ import annotations
 
 import math
 
+from raytracer.sampling import light_jitters
 from variants.prealloc.buffers import (
     ComputationsBuffer,
     IntersectionBuffer,
@@ -60,6 +68,27 @@ def pattern_at_shape_into(
     pattern.pattern_at_into(local, out)
 
 
+def light_points(ctx: TraceContext, light: LightRecord) -> list[Vec]:
+    """Soft shadows: the points of an area light's cells, in cell order, for one use by
+    ``intensity_at`` or ``lighting_into`` (naive twin: ``raytracer.lights.point_on_light``
+    for every cell, with ``Tracer.light_for_sample``'s jitter when the light is sampled).
+    A sampled light's points are this sample's (computed when the sample changes); a fixed
+    light's are its record's; any other takes the next ``2 * samples`` sequence values."""
+    if light.fixed:
+        return light.points
+    if light.sampled:
+        sample = ctx.sample
+        if light.points_for is not sample:
+            seed, x, y, i = sample
+            index = light.index if light.index is not None else 0
+            light.fill_points(light_jitters(seed, x, y, i, index, light.usteps, light.vsteps))
+            light.points_for = sample
+        return light.points
+    assert light.jitter_by is not None
+    light.fill_points(light.jitter_by)
+    return light.points
+
+
 def lighting_into(
     ctx: TraceContext,
     m: MaterialRecord,
@@ -68,12 +97,14 @@ def lighting_into(
     point: Vec,
     eyev: Vec,
     normalv: Vec,
-    in_shadow: bool,
+    intensity: float,
     out: Vec,
     ambient: bool = True,
 ) -> None:
-    """Chapters 6, 8, 10: the Phong colour of one point, written into ``out`` (naive twin:
-    ``raytracer.materials.lighting``; ambient: False for a world's later lights)."""
+    """Chapters 6, 8, 10 and soft shadows: the Phong colour of one point, written into
+    ``out`` (naive twin: ``raytracer.materials.lighting``). intensity: the fraction of the
+    light that arrives (0.0: in shadow, 1.0: the book's unshadowed point); ambient: False
+    for a world's later lights."""
     if m.pattern is not None:
         surface = ctx.surface
         pattern_at_shape_into(ctx, m.pattern, obj, point, surface)
@@ -83,7 +114,12 @@ def lighting_into(
     er, eg, eb = surface[0] * ir, surface[1] * ig, surface[2] * ib  # effective_color
     k = m.ambient
     ar, ag, ab = (er * k, eg * k, eb * k) if ambient else (0.0, 0.0, 0.0)
-    if in_shadow:
+    if light.area:
+        effective, ambient_part = (er, eg, eb), (ar, ag, ab)
+        _area_lighting_into(ctx, m, light, effective, ambient_part, point, eyev, normalv,
+                            intensity, out)  # fmt: skip
+        return
+    if intensity == 0.0:
         out[0], out[1], out[2] = ar, ag, ab
         return
     px, py, pz, pw = point
@@ -112,9 +148,62 @@ def lighting_into(
         factor = reflect_dot_eye**m.shininess
         specular = m.specular
         sr, sg, sb = ir * specular * factor, ig * specular * factor, ib * specular * factor
+    if intensity != 1.0:  # part of the light arrives
+        dr, dg, db = dr * intensity, dg * intensity, db * intensity
+        sr, sg, sb = sr * intensity, sg * intensity, sb * intensity
     out[0] = ar + dr + sr
     out[1] = ag + dg + sg
     out[2] = ab + db + sb
+
+
+def _area_lighting_into(
+    ctx: TraceContext,
+    m: MaterialRecord,
+    light: LightRecord,
+    effective: tuple[float, float, float],
+    ambient_part: tuple[float, float, float],
+    point: Vec,
+    eyev: Vec,
+    normalv: Vec,
+    intensity: float,
+    out: Vec,
+) -> None:
+    """Soft shadows: the ambient term plus an area light's diffuse and specular terms, each
+    summed over its cells from zero (each cell towards its own point) and times
+    ``intensity / samples``, written into ``out`` (naive twin:
+    ``raytracer.materials._area_lighting``)."""
+    er, eg, eb = effective
+    ir, ig, ib = light.intensity
+    diffuse, specular, shininess = m.diffuse, m.specular, m.shininess
+    px, py, pz, pw = point
+    nx, ny, nz, nw = normalv
+    ex, ey, ez, ew = eyev
+    dr = dg = db = 0.0  # the diffuse sum
+    sr = sg = sb = 0.0  # the specular sum
+    for cell in light_points(ctx, light):
+        lx, ly, lz, lw = cell[0] - px, cell[1] - py, cell[2] - pz, cell[3] - pw
+        length = math.sqrt(lx * lx + ly * ly + lz * lz + lw * lw)
+        lx, ly, lz, lw = lx / length, ly / length, lz / length, lw / length  # lightv
+        light_dot_normal = lx * nx + ly * ny + lz * nz + lw * nw
+        if light_dot_normal < 0:
+            continue  # this cell is on the other side
+        dr = dr + er * diffuse * light_dot_normal
+        dg = dg + eg * diffuse * light_dot_normal
+        db = db + eb * diffuse * light_dot_normal
+        vx, vy, vz, vw = -lx, -ly, -lz, -lw
+        d = vx * nx + vy * ny + vz * nz + vw * nw
+        rx, ry, rz, rw = vx - nx * 2 * d, vy - ny * 2 * d, vz - nz * 2 * d, vw - nw * 2 * d
+        reflect_dot_eye = rx * ex + ry * ey + rz * ez + rw * ew
+        if reflect_dot_eye > 0:
+            factor = reflect_dot_eye**shininess
+            sr = sr + ir * specular * factor
+            sg = sg + ig * specular * factor
+            sb = sb + ib * specular * factor
+    weight = intensity / light.samples
+    ar, ag, ab = ambient_part
+    out[0] = ar + dr * weight + sr * weight
+    out[1] = ag + dg * weight + sg * weight
+    out[2] = ab + db * weight + sb * weight
 
 
 def is_shadowed(ctx: TraceContext, light_position: Vec, point: Vec) -> bool:
@@ -137,6 +226,19 @@ def is_shadowed(ctx: TraceContext, light_position: Vec, point: Vec) -> bool:
         if objects[i].casts_shadow and t >= 0 and (best < 0 or t < ts[best]):
             best = i
     return best >= 0 and ts[best] < distance
+
+
+def intensity_at(ctx: TraceContext, light: LightRecord, point: Vec) -> float:
+    """Soft shadows: the fraction of ``light`` that reaches ``point``: 1.0 or 0.0 for a
+    point light, the fraction of unshadowed cells for an area light (naive twin:
+    ``Tracer.intensity_at``)."""
+    if not light.area:
+        return 0.0 if is_shadowed(ctx, light.position, point) else 1.0
+    total = 0.0
+    for cell in light_points(ctx, light):
+        if not is_shadowed(ctx, cell, point):
+            total += 1.0
+    return total / light.samples
 
 
 def refractive_indices_into(
@@ -242,12 +344,12 @@ def shade_hit_into(ctx: TraceContext, comps: ComputationsBuffer, remaining: int,
     if not lights:
         _black(surface)
     for k, light in enumerate(lights):  # the ambient term once, with the first light
-        shadowed = is_shadowed(ctx, light.position, point)
+        intensity = intensity_at(ctx, light, point)
         if k == 0:
-            lighting_into(ctx, m, rec, light, point, eyev, normalv, shadowed, surface)
+            lighting_into(ctx, m, rec, light, point, eyev, normalv, intensity, surface)
             continue
         lit = level.lit
-        lighting_into(ctx, m, rec, light, point, eyev, normalv, shadowed, lit, False)
+        lighting_into(ctx, m, rec, light, point, eyev, normalv, intensity, lit, False)
         surface[0], surface[1], surface[2] = (
             surface[0] + lit[0], surface[1] + lit[1], surface[2] + lit[2]
         )  # fmt: skip

@@ -1,4 +1,5 @@
-"""``PreallocTracer``: the book's pipeline (chapters 6, 7, 8, 11) on the ``prealloc`` hot path.
+"""``PreallocTracer``: the book's pipeline (chapters 6, 7, 8, 11, and the soft shadows bonus
+chapter's ``intensity_at``) on the ``prealloc`` hot path.
 
 Each step the book's scenarios call converts the reference's values into buffers, runs its
 ``..._into`` twin (``shading``, ``render``) on a small context of its own, and converts the
@@ -14,8 +15,8 @@ from collections.abc import Callable, Sequence
 from raytracer.camera import Camera, RenderSettings
 from raytracer.colors import Color
 from raytracer.intersections import Computations, Intersection
-from raytracer.lights import PointLight
-from raytracer.materials import Material
+from raytracer.lights import Light, describe_lights
+from raytracer.materials import Material, light_fraction
 from raytracer.rays import Ray
 from raytracer.shapes.shape import Shape
 from raytracer.tracer import Tracer, light_and_point
@@ -46,15 +47,24 @@ from variants.prealloc.render import CameraRecord, PixelTracer, ray_for_pixel_in
 
 
 def _shade(
+    tracer: Tracer,
     step: Callable[[TraceContext, ComputationsBuffer, int, Vec], None],
     w: World,
     comps: Computations,
     remaining: int,
 ) -> Color:
-    ctx = call_context(w, remaining)
+    ctx = _world_context(tracer, w, remaining)
     out = new_color()
     step(ctx, comps_in(ctx, comps), remaining, out)
     return color_out(out)
+
+
+def _world_context(tracer: Tracer, w: World, depth: int = 0) -> TraceContext:
+    """A call's context for ``w``, at the tracer's current sample (the reference's
+    ``light_for_sample`` jitters area lights by it)."""
+    ctx = call_context(w, depth)
+    ctx.sample = tracer._sample
+    return ctx
 
 
 class PreallocTracer(Tracer):
@@ -66,14 +76,16 @@ class PreallocTracer(Tracer):
         self,
         material: Material,
         object: Shape | None,
-        light: PointLight,
+        light: Light,
         point: Tuple,
         eyev: Tuple,
         normalv: Tuple,
-        in_shadow: bool = False,
+        in_shadow: bool | float = False,
         ambient: bool = True,
     ) -> Color:
-        """Chapters 6, 8, 10: ``lighting_into`` on a new buffer."""
+        """Chapters 6, 8, 10 and soft shadows: ``lighting_into`` on a new buffer (in_shadow:
+        the book's true or false, or the fraction of the light that arrives)."""
+        intensity = light_fraction(in_shadow)
         ctx = call_context()
         obj = None if object is None else ctx.record(object)
         out = new_color()
@@ -85,7 +97,7 @@ class PreallocTracer(Tracer):
             tuple_in(point),
             tuple_in(eyev),
             tuple_in(normalv),
-            bool(in_shadow),
+            intensity,
             out,
             bool(ambient),
         )
@@ -116,12 +128,12 @@ class PreallocTracer(Tracer):
 
     def shade_hit(self, w: World, comps: Computations, remaining: int = 5) -> Color:
         """Chapters 7, 8, 11: ``shade_hit_into`` on a new buffer."""
-        return _shade(shading.shade_hit_into, w, comps, remaining)
+        return _shade(self, shading.shade_hit_into, w, comps, remaining)
 
     def color_at(self, w: World, r: Ray, remaining: int = 5) -> Color:
         """Chapter 7: ``color_at_into`` on a new buffer."""
         out = new_color()
-        shading.color_at_into(call_context(w, remaining), ray_in(r), remaining, out)
+        shading.color_at_into(_world_context(self, w, remaining), ray_in(r), remaining, out)
         return color_out(out)
 
     def is_shadowed(self, w: World, first: Tuple, second: Tuple | None = None) -> bool:
@@ -130,13 +142,18 @@ class PreallocTracer(Tracer):
         light_position, point = light_and_point(w, first, second, "is_shadowed")
         return shading.is_shadowed(call_context(w), tuple_in(light_position), tuple_in(point))
 
+    def intensity_at(self, light: Light, point: Tuple, w: World) -> float:
+        """Soft shadows: ``intensity_at`` with the context's shadow buffers; the light as
+        given (its own ``jitter_by``, as the reference's)."""
+        return shading.intensity_at(call_context(w), LightRecord(light), tuple_in(point))
+
     def reflected_color(self, w: World, comps: Computations, remaining: int = 5) -> Color:
         """Chapter 11: ``reflected_color_into`` on a new buffer."""
-        return _shade(shading.reflected_color_into, w, comps, remaining)
+        return _shade(self, shading.reflected_color_into, w, comps, remaining)
 
     def refracted_color(self, w: World, comps: Computations, remaining: int = 5) -> Color:
         """Chapter 11: ``refracted_color_into`` on a new buffer."""
-        return _shade(shading.refracted_color_into, w, comps, remaining)
+        return _shade(self, shading.refracted_color_into, w, comps, remaining)
 
     def schlick(self, comps: Computations) -> float:
         """Chapter 11: ``schlick`` of the buffered computations."""
@@ -156,5 +173,5 @@ class PreallocTracer(Tracer):
         return (
             f"{type(self).__name__}: cached's shapes traced through per-frame records and "
             f"reused buffers (one PixelTracer per frame); {len(w.objects)} objects at the top "
-            "of the world"
+            f"of the world, {describe_lights(w.lights)}"
         )

@@ -1,0 +1,114 @@
+"""``rtc profile SCENE.yml --variant NAME``: where a render's time goes (issue 18): the
+stages timed, the top functions by own and cumulative time (cProfile), a flame graph
+(py-spy); for a compiled variant (numba), the stages: load, pack, compile or cache load,
+trace, encode. The render of chapter 7, through ``harness.profiling``."""
+
+from __future__ import annotations
+
+import argparse
+import shutil
+import sys
+import tempfile
+from pathlib import Path
+
+from rtc.cli import UserError
+from rtc.cmd_demo import parse_size
+
+NAME = "profile"
+HELP = (
+    "profile a render of a scene file through a variant: the top functions by own and "
+    "cumulative time, a flame graph, and (numba) the time of each stage"
+)
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("scene", type=Path, metavar="SCENE.yml", help="the scene file")
+    parser.add_argument(
+        "--variant", required=True, metavar="NAME",
+        help="the tracer to profile: naive, cached, prealloc, numba, pooled:prealloc ...",
+    )  # fmt: skip
+    parser.add_argument(
+        "--size", metavar="WxH",
+        help="image size in pixels (default: the camera's, scaled down to about 768 pixels, "
+        "e.g. 32x24, where a naive render of the reference scene takes about 10 s, and two "
+        "to three times that under cProfile)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--spp", type=int, default=1, metavar="N", help="samples per pixel (default: 1)"
+    )
+    parser.add_argument(
+        "--top", type=int, default=15, metavar="N",
+        help="functions in each table (default: 15)",
+    )  # fmt: skip
+    parser.add_argument(
+        "-o", "--output-dir", type=Path, default=Path("."), metavar="DIR",
+        help="where the flame graph (.svg), the cProfile statistics (.pstats) and the "
+        "picture (.png) go, named profile-SCENE-VARIANT (default: the current folder)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--no-flame", action="store_true",
+        help="skip the flame graph (py-spy's sampling run); the stages are still timed",
+    )  # fmt: skip
+
+
+def _folder(path: Path) -> Path:
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise UserError(f"-o {str(path)!r}: cannot make the folder: {error.strerror}") from None
+    if not path.is_dir():
+        raise UserError(f"-o {str(path)!r}: not a folder")
+    return path
+
+
+def run(args: argparse.Namespace) -> int:
+    from harness.profiling import Request, is_compiled, profile, profile_size, slug
+    from harness.profiling_report import text
+    from harness.scenefile import SceneError, divides, load_scene
+    from harness.sizes import Size
+    from variants.registry import load_variant
+
+    size = Size(*parse_size(args.size)) if args.size else None
+    if args.spp < 1:
+        raise UserError(f"--spp {args.spp}: expected 1 or more samples per pixel")
+    if args.top < 1:
+        raise UserError(f"--top {args.top}: expected 1 or more functions")
+    try:
+        variant = load_variant(args.variant)
+    except LookupError as error:
+        raise UserError(f"--variant: {error.args[0] if error.args else error}") from None
+    try:
+        scene = load_scene(args.scene, variant.api, variant=variant.name, divide=divides(variant))
+    except SceneError as error:
+        raise UserError(str(error)) from None
+    for warning in scene.warnings:
+        print(f"rtc profile: warning: {warning}", file=sys.stderr, flush=True)
+    if size is None:
+        size = profile_size(Size(scene.camera.hsize, scene.camera.vsize))
+    folder = _folder(args.output_dir)
+    request = Request(
+        variant=variant.name, scene=args.scene.resolve(), size=size, folder=folder,
+        stem=f"profile-{slug(args.scene.stem)}-{slug(variant.name)}", samples=args.spp,
+        top=args.top, flame=not args.no_flame, compiled=is_compiled(variant),
+    )  # fmt: skip
+    print(
+        f"profiling {args.scene} at {size} with {variant.name} ({args.spp} sample"
+        f"{'s' if args.spp > 1 else ''} per pixel, depth {request.depth})",
+        flush=True,
+    )
+
+    def log(message: str) -> None:
+        print(f"rtc profile: {message}", file=sys.stderr, flush=True)
+
+    jobs = Path(tempfile.mkdtemp(prefix="rtc-profile-"))
+    try:
+        entry = profile(request, jobs, log)
+    finally:
+        shutil.rmtree(jobs, ignore_errors=True)
+    if entry.get("status") != "ok":
+        raise UserError(f"{variant.name} could not render {args.scene}: {entry.get('error')}")
+    picture = folder / f"{request.stem}.png"
+    if picture.is_file():
+        entry["image"] = str(picture)
+    print("\n".join(text(entry, args.top)))
+    return 0
