@@ -497,7 +497,7 @@ def test_the_book_api_is_answered_by_compiled_code() -> None:
     assert variant.overrides == EXTRA | {
         "lighting", "intersect_world", "prepare_computations", "shade_hit", "color_at",
         "is_shadowed", "reflected_color", "refracted_color", "schlick", "ray_for_pixel",
-        "render",
+        "render", "intensity_at",
     }  # fmt: skip
     assert {"prepare", "render_region", "render_into"} <= set(variant.steps)
     assert variant.api["color_at"] == variant.tracer.color_at

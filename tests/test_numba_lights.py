@@ -17,6 +17,7 @@ import pytest
 
 from raytracer.camera import RenderSettings
 from raytracer.materials import material
+from variants.numba import layout as L
 from variants.numba.features import analyse
 from variants.numba.pack import pack_world
 from variants.registry import load_variant
@@ -191,8 +192,9 @@ def test_every_light_is_packed_and_explained() -> None:
     for lights in (0, 1, 2, 3):
         _, w = lit_scene(api, lights)
         packed = pack_world(w)
-        assert packed.lights.shape == (lights, 6)
+        assert packed.lights.shape == (lights, L.NLIGHT)
         assert packed.lights[:, 3:6].tolist() == [list(rgb) for _, rgb in LIGHTS[:lights]]
+        assert not packed.lights[:, L.LIGHT_USTEPS].any(), "point lights: no cells"
         flags.add(analyse(packed).flags)
     assert len(flags) == 1
     _, w = lit_scene(api, 2)
@@ -206,5 +208,5 @@ def test_a_light_that_is_not_a_point_light_is_refused_naming_it() -> None:
     api = load_variant("numba").api
     _, w = lit_scene(api, 1)
     w.lights.append("a lamp")
-    with pytest.raises(ValueError, match="numba: light 1 of the world is a str"):
+    with pytest.raises(ValueError, match="numba: light 1 of the world is a str; the kernels"):
         api["render"](api["camera"](4, 4, 1.0), w)

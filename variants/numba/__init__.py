@@ -1,5 +1,6 @@
 """``numba``: the book's tracer compiled with numba: packed arrays, a render with no
-allocation in compiled code, one kernel per scene feature set (chapters 1-16).
+allocation in compiled code, one kernel per scene feature set (chapters 1-16, and the
+bonus chapters on bounding boxes, soft shadows and texture mapping).
 
 Options (all off by default; the name spells the ones given, sorted):
 
@@ -12,7 +13,8 @@ Options (all off by default; the name spells the ones given, sorted):
   bounding-volume hierarchy built by the surface area heuristic (the default), the scene's
   own group boxes, or none (every ray visits every primitive).
 
-The package: ``layout`` (array columns), ``pack`` (world -> arrays), ``bvh`` and
+The package: ``layout`` (array columns), ``pack`` (world -> arrays; ``lights`` and
+``textures`` pack the light table and the texture patterns' records), ``bvh`` and
 ``bvh_kernel`` (the hierarchy over the packed items, and its compiled builder),
 ``features`` (what a scene needs), ``specialize`` (one generated kernel module per feature
 set; its render compiled once into a shared library, loaded without numba; the
@@ -34,7 +36,13 @@ The ``bvh`` structures change which primitives a ray visits and in what order, n
 hit it keeps (ties go to the earlier primitive, as in the reference's sorted list) nor a
 shadow: their pictures are the same bits (``tests/test_numba_bvh.py``). Several lights
 shade as the reference does: each light's diffuse and specular with its own shadow test,
-the ambient term once, from the first (``tests/test_numba_lights.py``).
+the ambient term once, from the first (``tests/test_numba_lights.py``). An area light
+casts a shadow ray per cell at every shaded point, its cells' points jittered by the
+reference's ``light_jitter`` (the same uint64 arithmetic, bit for bit) or placed by its
+sequence; texture maps (spherical, planar, cylindrical, cube; checkers, align check and
+images, an image a block of floats in the texture table) color surfaces as the reference's
+patterns do (``tests/test_numba_soft_textures.py``). A scene without them runs a kernel
+without their code.
 """
 
 from __future__ import annotations

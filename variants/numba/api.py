@@ -27,10 +27,11 @@ from raytracer.camera import Camera, RenderSettings
 from raytracer.canvas import Canvas
 from raytracer.colors import Color
 from raytracer.intersections import Computations, Intersection
-from raytracer.lights import PointLight
-from raytracer.materials import Material
+from raytracer.lights import AreaLight, Light
+from raytracer.materials import Material, light_fraction
 from raytracer.patterns import Pattern
 from raytracer.rays import Ray
+from raytracer.sampling import sample_key
 from raytracer.shapes.csg import CSG, OPERATIONS
 from raytracer.shapes.group import Group
 from raytracer.shapes.shape import Shape
@@ -42,6 +43,7 @@ from raytracer.tuples import Tuple
 from raytracer.world import World
 from variants.numba import layout as L
 from variants.numba.canvas import ArrayCanvas
+from variants.numba.lights import light_rows, move_on
 from variants.numba.pack import (
     Packed,
     pack_camera,
@@ -51,6 +53,7 @@ from variants.numba.pack import (
 )
 from variants.numba.render import Frame, Options, explain, prepare_frame, run_region, traversals
 from variants.numba.specialize import load_kernels
+from variants.numba.textures import TextureTable
 
 # the book names answered with compiled code that are not ``Tracer`` steps (extra ``api``
 # entries; the steps' names come from the tracer)
@@ -91,11 +94,11 @@ def _color(rgb: Any) -> Color:
     return Color(float(r), float(g), float(b))
 
 
-def _light(light: PointLight | None, dtype: Any) -> np.ndarray:
-    if light is None:
-        return np.zeros(6, dtype=dtype)
-    p, i = light.position, light.intensity
-    return np.array([p.x, p.y, p.z, i.red, i.green, i.blue], dtype=dtype)
+def _light_table(light: Light, dtype: Any) -> np.ndarray:
+    """One light as a light table (``layout``) for one ``lighting`` or ``intensity_at``
+    call: an area light's sequence as that call takes it (``lights.light_rows``)."""
+    rows, values = light_rows([light], dtype, for_one_call=True)
+    return np.concatenate([rows.reshape(-1), values])
 
 
 def _no_surface(shape: Shape, caller: str) -> None:
@@ -236,31 +239,41 @@ class NumbaTracer(Tracer):
         self,
         material: Material,
         object: Shape | None,
-        light: PointLight,
+        light: Light,
         point: Tuple,
         eyev: Tuple,
         normalv: Tuple,
-        in_shadow: bool = False,
+        in_shadow: bool | float = False,
         ambient: bool = True,
     ) -> Color:
-        """Chapters 6, 8, 10: the Phong color at one point (``ambient`` False: without the
-        ambient term, as a world's second and later lights add theirs)."""
-        pf, pi = pack_surface(object, self.dtype, material=material)
+        """Chapters 6, 8, 10 and the bonus chapter on soft shadows: the Phong color at one
+        point lit by a point light or an area light; ``in_shadow``: True, False, or the
+        fraction of the light that arrives (``intensity_at``); ``ambient`` False: without
+        the ambient term, as a world's second and later lights add theirs. An area light's
+        sequence moves on by the values the call takes, as the reference's does."""
+        intensity = light_fraction(in_shadow)
+        textures = TextureTable()
+        pf, pi = pack_surface(object, self.dtype, material=material, textures=textures)
         rgb = self.k.api_lighting(
-            pf, pi, 0, _light(light, self.dtype), _xyz(point), _xyz(eyev), _xyz(normalv),
-            bool(in_shadow), bool(ambient),
+            pf, pi, *textures.arrays(self.dtype), 0, _light_table(light, self.dtype), 1, 0,
+            np.uint64(0), _xyz(point), _xyz(eyev), _xyz(normalv), intensity, bool(ambient),
         )  # fmt: skip
+        move_on(light)
         return _color(rgb)
 
     def pattern_at(self, pattern: Pattern, p: Tuple) -> Color:
         """Chapter 10: the color at a pattern-space point."""
-        pf, pi = pack_surface(None, self.dtype, pattern=pattern)
-        return _color(self.k.api_pattern(pf, pi, 0, p.x, p.y, p.z, False))
+        textures = TextureTable()
+        pf, pi = pack_surface(None, self.dtype, pattern=pattern, textures=textures)
+        ti, tf = textures.arrays(self.dtype)
+        return _color(self.k.api_pattern(pf, pi, ti, tf, 0, p.x, p.y, p.z, False))
 
     def pattern_at_shape(self, pattern: Pattern, shape: Shape, p: Tuple) -> Color:
         """Chapters 10, 14: the color on ``shape`` at a world-space point."""
-        pf, pi = pack_surface(shape, self.dtype, pattern=pattern, leaf=False)
-        return _color(self.k.api_pattern(pf, pi, 0, p.x, p.y, p.z, True))
+        textures = TextureTable()
+        pf, pi = pack_surface(shape, self.dtype, pattern=pattern, leaf=False, textures=textures)
+        ti, tf = textures.arrays(self.dtype)
+        return _color(self.k.api_pattern(pf, pi, ti, tf, 0, p.x, p.y, p.z, True))
 
     # -- chapters 7, 8, 11: shading
 
@@ -302,7 +315,7 @@ class NumbaTracer(Tracer):
         row = packed.row_of(shape)
         if row < 0:
             _no_surface(shape, caller)
-            pf, pi = pack_surface(shape, self.dtype)
+            pf, pi = pack_surface(shape, self.dtype, textures=packed.textures)
             packed.pf = np.vstack([packed.pf, pf.reshape(1, L.NF)])
             packed.pi = np.vstack([packed.pi, pi.reshape(1, L.NI)])
             row = len(packed.pf) - 1
@@ -323,11 +336,15 @@ class NumbaTracer(Tracer):
             dtype=np.float64,
         )  # fmt: skip
         rgb = self.k.api_shade(
-            *packed.flat(), *packed.light_table(), row, values, mode,
-            int(remaining), epsilon(),
-            packed.cs_size, packed.cs_prims,
+            *packed.flat(), *packed.light_table(), *packed.texture_table(), row, values, mode,
+            int(remaining), epsilon(), packed.cs_size, packed.cs_prims, self._key(),
         )  # fmt: skip
         return _color(rgb)
+
+    def _key(self) -> np.uint64:
+        """The key of the sample being traced (``Tracer._sample``: set by ``pixel_color``;
+        (0, 0, 0, 0) outside a render): where jittered area lights sample their cells."""
+        return np.uint64(sample_key(*self._sample))
 
     def shade_hit(self, w: World, comps: Computations, remaining: int = 5) -> Color:
         """Chapters 7, 8, 11: the color at a prepared hit."""
@@ -341,12 +358,17 @@ class NumbaTracer(Tracer):
         """Chapter 11: the refracted color at a prepared hit."""
         return self._shade(2, w, comps, remaining, "refracted_color")
 
-    def _trace(self, mode: int, w: World, values: list[float], remaining: int) -> Any:
+    def _trace(
+        self, mode: int, w: World, values: list[float], remaining: int, light: Light | None = None
+    ) -> Any:
+        """``api_shade`` in ``mode`` over ``w`` packed (with its lights, or ``light`` alone:
+        ``intensity_at``)."""
         packed = pack_world(w, self.dtype, allow_test_shape=True, structure=self.options.bvh)
+        lights = packed.light_table() if light is None else (_light_table(light, self.dtype), 1)
         return self.k.api_shade(
-            *packed.flat(), *packed.light_table(), 0,
+            *packed.flat(), *lights, *packed.texture_table(), 0,
             np.array(values, dtype=np.float64), mode, int(remaining), epsilon(),
-            packed.cs_size, packed.cs_prims,
+            packed.cs_size, packed.cs_prims, self._key(),
         )  # fmt: skip
 
     def color_at(self, w: World, r: Ray, remaining: int = 5) -> Color:
@@ -360,6 +382,18 @@ class NumbaTracer(Tracer):
         light, p = light_and_point(w, first, second, "is_shadowed")
         red, _, _ = self._trace(4, w, [p.x, p.y, p.z, light.x, light.y, light.z], 0)
         return bool(red > 0.5)
+
+    def intensity_at(self, light: Light, point: Tuple, w: World) -> float:
+        """The bonus chapter on soft shadows: the fraction of ``light`` that reaches
+        ``point``: 1.0 or 0.0 for a point light (``is_shadowed``); for an area light, the
+        fraction of its cells whose point no shadow-casting object hides (its sequence moves
+        on by the values the call takes, as the reference's does)."""
+        if not isinstance(light, AreaLight):
+            return 0.0 if self.is_shadowed(w, light.position, point) else 1.0
+        p = point
+        red, _, _ = self._trace(5, w, [p.x, p.y, p.z], 0, light)
+        move_on(light)
+        return float(red)
 
     def schlick(self, comps: Computations) -> float:
         """Chapter 11: Schlick's reflectance at a prepared hit."""

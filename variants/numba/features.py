@@ -1,9 +1,11 @@
 """What a scene needs from the kernels: its feature set, found once from the packed arrays.
 
 The feature set is the set of ``kernel_flags`` switches that are on: the shape kinds and
-pattern kinds present, bounding boxes (a hierarchy's or groups'), CSG, shadows (some
-object casts one), reflection, refraction, and Schlick (some material is both reflective
-and transparent).
+pattern kinds present (the texture patterns of the bonus chapter "Texture mapping" among
+them, and image textures), bounding boxes (a hierarchy's or groups'), CSG, shadows (some
+object casts one), reflection, refraction, Schlick (some material is both reflective
+and transparent), and area lights (the bonus chapter "Rendering soft shadows"), jittered
+or not.
 A render compiles (or loads from the disk cache) one kernel module per feature set, so an
 opaque-spheres scene runs a kernel with no refraction, Schlick, cylinder or pattern code.
 """
@@ -37,12 +39,16 @@ PATTERN_FLAGS = {
     L.P_RING: "HAS_RING",
     L.P_CHECKERS: "HAS_CHECKERS",
     L.P_TEST: "HAS_TEST_PATTERN",
+    L.P_MAP: "HAS_TEXTURE_MAP",
+    L.P_CUBE_MAP: "HAS_CUBE_MAP",
 }
 SHADING_FLAGS = {
     "HAS_SHADOWS": "shadows",
     "HAS_REFLECTION": "reflection",
     "HAS_REFRACTION": "refraction",
     "HAS_SCHLICK": "schlick",
+    "HAS_AREA_LIGHTS": "area lights (a shadow ray per cell)",
+    "HAS_JITTER": "jittered area lights",
 }
 
 
@@ -67,6 +73,8 @@ class FeatureSet:
         """Lines for ``explain``: the shapes, structure, patterns and shading stages."""
         kinds = [KIND_NAMES[k] for k, flag in KIND_FLAGS.items() if flag in self.flags]
         patterns = [PATTERN_NAMES[k] for k, flag in PATTERN_FLAGS.items() if flag in self.flags]
+        if "HAS_UV_IMAGE" in self.flags:
+            patterns.append("image textures")
         shading = [word for flag, word in SHADING_FLAGS.items() if flag in self.flags]
         structure = [
             word
@@ -114,4 +122,11 @@ def analyse(packed: Packed) -> FeatureSet:
     both = (packed.pf[:, L.REFLECTIVE] > 0) & (packed.pf[:, L.TRANSPARENCY] > 0)
     if both.any():
         flags.add("HAS_SCHLICK")
+    if L.UV_IMAGE in packed.textures.uv_kinds:
+        flags.add("HAS_UV_IMAGE")
+    area = packed.lights[:, L.LIGHT_USTEPS] > 0 if len(packed.lights) else np.zeros(0, bool)
+    if area.any():
+        flags.add("HAS_AREA_LIGHTS")
+        if (packed.lights[area, L.LIGHT_JITTER] != 0).any():
+            flags.add("HAS_JITTER")
     return FeatureSet(frozenset(flags))

@@ -30,8 +30,13 @@ HAS_GRADIENT = True
 HAS_RING = True
 HAS_CHECKERS = True
 HAS_TEST_PATTERN = True
+HAS_TEXTURE_MAP = True  # texture_map patterns: spherical, planar, cylindrical mappings
+HAS_CUBE_MAP = True  # cube_map patterns
+HAS_UV_IMAGE = True  # image textures (uv_image) among the texture patterns' uv patterns
 
 HAS_SHADOWS = True  # some object casts a shadow
 HAS_REFLECTION = True  # some material is reflective
 HAS_REFRACTION = True  # some material is transparent
 HAS_SCHLICK = True  # some material is both
+HAS_AREA_LIGHTS = True  # some light is an area light (soft shadows, a shadow ray per cell)
+HAS_JITTER = True  # ... whose cells' points are jittered at random

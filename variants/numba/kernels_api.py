@@ -24,6 +24,7 @@ from variants.numba.kernels_geometry import (
     world_normal,
 )
 from variants.numba.kernels_shading import (
+    light_jitter,
     lighting_at,
     local_pattern,
     pattern_point,
@@ -37,6 +38,7 @@ from variants.numba.kernels_trace import (
     csg_allowed,
     csg_collect,
     drain,
+    light_intensity,
     prepare,
     push,
     scratch,
@@ -87,7 +89,8 @@ def api_intersections(
     reached = np.zeros(max(pf.shape[0] // NF, 1), np.int8)
     s = scratch(cs_size, cs_prims, n_balls)
     sf, si, _ = s
-    w = (pf, pi, items, n_items, boxes, csg, balls, n_balls, np.zeros(NLIGHT, F), 0)
+    tex = (np.zeros(1, np.int64), np.zeros(1, F))
+    w = (pf, pi, items, n_items, boxes, csg, balls, n_balls, np.zeros(NLIGHT, F), 0, tex)
     ox, oy, oz, dx, dy, dz = F(ray[0]), F(ray[1]), F(ray[2]), F(ray[3]), F(ray[4]), F(ray[5])
     n = 0
     i = 0
@@ -186,16 +189,21 @@ def api_normal_to_world(pf, p, x, y, z):
 
 
 @njit(**ENTRY)
-def api_lighting(pf, pi, p, light, point, eyev, normalv, in_shadow, ambient_on):
-    """Chapters 6, 8, 10: ``lighting`` (``ambient_on`` False: without the ambient term)."""
+def api_lighting(pf, pi, ti, tf, p, lights, n_lights, k, key, point, eyev, normalv, intensity,
+                 ambient_on):  # fmt: skip
+    """Chapters 6, 8, 10 and the bonus chapter on soft shadows: ``lighting`` with light k
+    of the packed ``lights`` and the fraction ``intensity`` of it that arrives (1: lit, 0:
+    in shadow; ``ambient_on`` False: without the ambient term); ``key``: the sample's, for
+    a jittered area light."""
     return lighting_at(
-        pf, pi, p, light, F(point[0]), F(point[1]), F(point[2]), F(eyev[0]), F(eyev[1]),
-        F(eyev[2]), F(normalv[0]), F(normalv[1]), F(normalv[2]), in_shadow, ambient_on,
+        pf, pi, (ti, tf), p, lights, k * NLIGHT, n_lights * NLIGHT, k, key, F(point[0]),
+        F(point[1]), F(point[2]), F(eyev[0]), F(eyev[1]), F(eyev[2]), F(normalv[0]),
+        F(normalv[1]), F(normalv[2]), F(intensity), ambient_on,
     )  # fmt: skip
 
 
 @njit(**ENTRY)
-def api_pattern(pf, pi, p, x, y, z, on_shape):
+def api_pattern(pf, pi, ti, tf, p, x, y, z, on_shape):
     """Chapter 10: ``pattern_at`` (a pattern-space point), or ``pattern_at_shape`` (a
     world-space point, through the shape's and the pattern's transforms) when
     ``on_shape``."""
@@ -205,7 +213,7 @@ def api_pattern(pf, pi, p, x, y, z, on_shape):
     if on_shape:
         ox, oy, oz = to_object_point(pf, p, x, y, z)
         x, y, z = pattern_point(pf, p, ox, oy, oz)
-    return local_pattern(pf, pi, p, x, y, z)
+    return local_pattern(pf, pi, (ti, tf), p, x, y, z)
 
 
 @njit(**ENTRY)
@@ -228,20 +236,22 @@ def api_schlick(eyev, normalv, n1, n2):
 
 @njit(**ENTRY)
 def api_shade(
-    pf, pi, items, n_items, boxes, csg, balls, n_balls, lights, n_lights, p, comps, mode,
-    remaining, eps, cs_size, cs_prims,
+    pf, pi, items, n_items, boxes, csg, balls, n_balls, lights, n_lights, ti, tf, p, comps,
+    mode, remaining, eps, cs_size, cs_prims, key,
 ):  # fmt: skip
     """Chapters 7, 8, 11, with a prepared hit ``comps`` (eyev, normalv, over_point,
     under_point, reflectv, n1, n2 of the hit on primitive p):
 
     mode 0: ``shade_hit``; 1: ``reflected_color``; 2: ``refracted_color``;
     3: ``color_at`` (comps holds the ray's origin and direction); 4: ``is_shadowed`` (comps
-    holds the point and the light's position; the result is 1 or 0 in red).
+    holds the point and the light's position; the result is 1 or 0 in red); 5: the bonus
+    chapter's ``intensity_at`` (comps holds the point; p is the light's index; the result
+    in red). ``key``: the sample's (``sample_key``), for jittered area lights.
     """
     eps = F(eps)
     stack = np.empty((max(remaining, 0) + 3) * STACK_WIDTH, F)
     s = scratch(cs_size, cs_prims, n_balls)
-    w = (pf, pi, items, n_items, boxes, csg, balls, n_balls, lights, n_lights)
+    w = (pf, pi, items, n_items, boxes, csg, balls, n_balls, lights, n_lights, (ti, tf))
     c = np.empty(comps.shape[0], F)
     for j in range(comps.shape[0]):
         c[j] = F(comps[j])
@@ -253,7 +263,7 @@ def api_shade(
         r, g, b, top = shade_and_push(
             w, s, p, (c[0], c[1], c[2]), (c[3], c[4], c[5]), (c[6], c[7], c[8]),
             (c[9], c[10], c[11]), (c[12], c[13], c[14]), c[15], c[16], ONE, remaining, eps,
-            stack, top,
+            stack, top, key,
         )  # fmt: skip
     elif mode == 1:
         reflective = pf[p * NF + REFLECTIVE]
@@ -267,11 +277,13 @@ def api_shade(
                 top = push(stack, top, c[9], c[10], c[11], tx, ty, tz, transparency, remaining - 1)
     elif mode == 3:
         top = push(stack, top, c[0], c[1], c[2], c[3], c[4], c[5], ONE, remaining)
-    else:
-        lx, ly, lz, distance = towards_light(c[3:6], c[0], c[1], c[2])
+    elif mode == 4:
+        lx, ly, lz, distance = towards_light(c, 3, c[0], c[1], c[2])
         hit = shadowed(w, s, c[0], c[1], c[2], lx, ly, lz, distance, eps, 0)
         return ONE if hit else ZERO, ZERO, ZERO
-    return drain(w, s, eps, stack, top, r, g, b)
+    else:
+        return light_intensity(w, s, p, c[0], c[1], c[2], eps, key), ZERO, ZERO
+    return drain(w, s, eps, stack, top, r, g, b, key)
 
 
 @njit(**ENTRY)
@@ -301,3 +313,16 @@ def api_filter(op, lhits):
 def api_allowed(op, lhit, inl, inr):
     """Chapter 16: ``intersection_allowed``."""
     return csg_allowed(op, lhit, inl, inr)
+
+
+@njit(**ENTRY)
+def api_light_jitter(keys, lights, us, vs):
+    """The bonus chapter on soft shadows: ``light_jitter`` as the render computes it, for
+    each (sample key, light index, u, v): an n x 2 array of (ju, jv)."""
+    n = keys.shape[0]
+    out = np.empty((n, 2), np.float64)
+    for j in range(n):
+        ju, jv = light_jitter(keys[j], lights[j], us[j], vs[j])
+        out[j, 0] = ju
+        out[j, 1] = jv
+    return out

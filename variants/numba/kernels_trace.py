@@ -26,8 +26,14 @@ explicit stack that replaces the book's recursion, camera rays and samples, and 
   shared library and ``render`` calls from T Python threads through ctypes (which lets go
   of the GIL).
 
+- ``light_intensity`` is the soft shadows chapter's ``intensity_at`` for an area light: a
+  shadow ray to every cell's point (jittered by the sample's key, which ``render_rows``
+  computes once per sample and every bounce of it shares, or placed by the light's
+  sequence); ``shade_and_push`` then lights the point from every cell (``area_phong``).
+
 A world travels as one tuple ``w`` = (pf, pi, items, n_items, boxes, csg, balls, n_balls,
-lights, n_lights) and a thread's scratch as ``s`` = (sf, si, tb) (see ``layout``): one CSG
+lights, n_lights, (ti, tf)) and a thread's scratch as ``s`` = (sf, si, tb) (see
+``layout``): one CSG
 tree's intersection list and per primitive of the tree where its entries start and, for
 n1/n2, how many come before the hit; the shadow memos (one per light) and ray counters;
 the hit ray's stack of item ranges; one value per ball.
@@ -46,6 +52,7 @@ from numba import njit
 from variants.numba.kernel_flags import (
     COUNT_RAYS,
     FASTMATH,
+    HAS_AREA_LIGHTS,
     HAS_BOXES,
     HAS_CSG,
     HAS_REFLECTION,
@@ -69,7 +76,17 @@ from variants.numba.kernels_geometry import (
     nth,
     starts_after,
 )
-from variants.numba.kernels_shading import phong, refraction, schlick_at, surface_color
+from variants.numba.kernels_shading import (
+    GAMMA,
+    UNIT53,
+    area_phong,
+    cell_point,
+    mix64,
+    phong,
+    refraction,
+    schlick_at,
+    surface_color,
+)
 from variants.numba.layout import (
     B_PRIM,
     B_R2,
@@ -105,6 +122,8 @@ from variants.numba.layout import (
     ITEM_C,
     ITEM_D,
     ITEM_TYPE,
+    LIGHT_USTEPS,
+    LIGHT_VSTEPS,
     MEMO,
     MIN_SCRATCH,
     NCSG,
@@ -127,11 +146,7 @@ from variants.numba.layout import (
 # ---- kernel template ----
 
 ENTRY: dict[str, Any] = {"fastmath": FASTMATH, "error_model": "numpy", "cache": True}
-GAMMA = np.uint64(0x9E3779B97F4A7C15)  # raytracer.sampling.GAMMA
 GAMMA2 = np.uint64((2 * 0x9E3779B97F4A7C15) & 0xFFFFFFFFFFFFFFFF)
-MIX1 = np.uint64(0xBF58476D1CE4E5B9)
-MIX2 = np.uint64(0x94D049BB133111EB)
-UNIT53 = 2.0**-53
 
 
 @njit(inline="always", fastmath=FASTMATH, error_model="numpy")
@@ -172,7 +187,7 @@ def csg_collect(w, s, i, ox, oy, oz, dx, dy, dz, eps):
     """Chapter 16: the intersection list of CSG item i, sorted and filtered, in cs_*; returns
     its length. Operations are applied in post-order, each to the stretch of the list its
     primitives occupy, so nested CSG trees need no recursion."""
-    pf, pi, items, _, _, csg, _, _, _, _ = w
+    pf, pi, items, _, _, csg, _, _, _, _, _ = w
     sf, si, _ = s
     node = items[i * NITEM + ITEM_A]
     last_node = items[i * NITEM + ITEM_B]
@@ -255,7 +270,7 @@ def nearest_hit(w, s, ox, oy, oz, dx, dy, dz, eps):
     past its contents; at a hierarchy's node split along an axis the ray travels down,
     the second child is visited first (the first child and what follows the node wait
     on the range stack in ``si``), so that near hits come early and cut boxes short."""
-    pf, pi, items, n_items, boxes, _, balls, n_balls, _, _ = w
+    pf, pi, items, n_items, boxes, _, balls, n_balls, _, _, _ = w
     sf, si, tb = s
     a = dx * dx + dy * dy + dz * dz
     ix = ONE / dx
@@ -352,7 +367,7 @@ def shadowed(w, s, ox, oy, oz, dx, dy, dz, distance, eps, slot):
     Every ball at once first; then the primitive that answered yes last time (on this
     thread, for this light: memo ``slot``), since neighbouring pixels usually share their
     occluder; then the items. (Any occluder gives the same answer.)"""
-    pf, pi, items, n_items, boxes, _, balls, n_balls, _, _ = w
+    pf, pi, items, n_items, boxes, _, balls, n_balls, _, _, _ = w
     sf, si, _ = s
     a = dx * dx + dy * dy + dz * dz
     ix = ONE / dx
@@ -460,7 +475,7 @@ def tally(p, n, t0, t1, t2, t3, t_hit, p_hit, l_hit, state):
 def refractive_indices(w, s, ox, oy, oz, dx, dy, dz, eps, t_hit, p_hit, l_hit):
     """Chapter 11: (n1, n2) at the hit (t_hit, p_hit, l_hit), from every intersection along
     the ray (negative t included, as in the reference's list)."""
-    pf, pi, items, n_items, boxes, _, balls, n_balls, _, _ = w
+    pf, pi, items, n_items, boxes, _, balls, n_balls, _, _, _ = w
     sf, si, _ = s
     # the latest-entered container other than the hit's object (t, p, local); is the hit's
     # object a container just before the hit, and its latest entry (t, local)
@@ -558,13 +573,43 @@ def push(stack, top, ox, oy, oz, dx, dy, dz, weight, remaining):
 
 
 @njit(**INLINE)
+def light_intensity(w, s, k, x, y, z, eps, key):
+    """The bonus chapter on soft shadows: ``intensity_at`` for area light k at (x, y, z):
+    the fraction of its cells (v outer, u inner) whose point no shadow-casting object
+    hides, one shadow ray each (along the unnormalized vector, meeting the point at t =
+    1, as for point lights); ``key``: the sample's (``sample_key``), for the jitter."""
+    _, _, _, _, _, _, _, _, light, n_lights, _ = w
+    _, si, _ = s
+    lm = k * NLIGHT
+    seq0 = n_lights * NLIGHT
+    usteps = int(light[lm + LIGHT_USTEPS])
+    vsteps = int(light[lm + LIGHT_VSTEPS])
+    slot = k % MIN_SCRATCH
+    lit = 0
+    cell = 0
+    for v in range(vsteps):
+        for u in range(usteps):
+            if HAS_SHADOWS:
+                qx, qy, qz = cell_point(light, lm, seq0, k, u, v, cell, key)
+                if COUNT_RAYS:
+                    si[1 * NSI + RAYS] += 1
+                if not shadowed(w, s, x, y, z, qx - x, qy - y, qz - z, ONE, eps, slot):
+                    lit += 1
+            else:
+                lit += 1
+            cell += 1
+    return F(lit) / F(usteps * vsteps)
+
+
+@njit(**INLINE)
 def shade_and_push(w, s, p, eyev, normalv, over, under, reflectv, n1, n2, weight, remaining,
-                   eps, stack, top):  # fmt: skip
+                   eps, stack, top, key):  # fmt: skip
     """Chapters 7, 8 and 11 (``shade_hit``): the surface color at a prepared hit (every
-    light's, each with its own shadow ray; the ambient term once), times ``weight``; the
-    reflected and refracted rays it spawns are pushed on the stack with their weights.
-    Returns (r, g, b, new top)."""
-    pf, pi, _, _, _, _, _, _, light, n_lights = w
+    light's, each with its own shadow ray, an area light's with one per cell; the ambient
+    term once), times ``weight``; the reflected and refracted rays it spawns are pushed
+    on the stack with their weights. ``key``: the sample's (``sample_key``: an area
+    light's jitter). Returns (r, g, b, new top)."""
+    pf, pi, _, _, _, _, _, _, light, n_lights, tex = w
     _, si, _ = s
     ex, ey, ez = eyev
     nx, ny, nz = normalv
@@ -581,9 +626,19 @@ def shade_and_push(w, s, p, eyev, normalv, over, under, reflectv, n1, n2, weight
     cg = ZERO
     cb = ZERO
     if n_lights > 0:
-        cr, cg, cb = surface_color(pf, pi, p, over_x, over_y, over_z)
+        cr, cg, cb = surface_color(pf, pi, tex, p, over_x, over_y, over_z)
     for k in range(n_lights):
         lm = k * NLIGHT
+        if HAS_AREA_LIGHTS and light[lm + LIGHT_USTEPS] > ZERO:
+            intensity = light_intensity(w, s, k, over_x, over_y, over_z, eps, key)
+            lr, lg, lb = area_phong(
+                pf, p, cr, cg, cb, light, lm, n_lights * NLIGHT, k, key, ex, ey, ez, nx, ny,
+                nz, over_x, over_y, over_z, intensity, k == 0,
+            )  # fmt: skip
+            sr += lr
+            sg += lg
+            sb += lb
+            continue
         # towards the light, not normalized: a shadow ray along it meets the light at t = 1
         vx = light[lm] - over_x
         vy = light[lm + 1] - over_y
@@ -663,10 +718,11 @@ def prepare(pf, pi, p, ox, oy, oz, dx, dy, dz, t, u, v, eps):
 
 
 @njit(**INLINE)
-def drain(w, s, eps, stack, top, r, g, b):
+def drain(w, s, eps, stack, top, r, g, b, key):
     """Chapter 7 (``color_at``, iteratively): trace every ray on the stack and everything it
-    spawns; returns the sum of their weighted surface colors added to (r, g, b)."""
-    pf, pi, _, _, _, _, _, _, _, _ = w
+    spawns; returns the sum of their weighted surface colors added to (r, g, b). ``key``:
+    the sample's (``sample_key``), the same at every bounce."""
+    pf, pi, _, _, _, _, _, _, _, _, _ = w
     _, si, _ = s
     while top > 0:
         top -= 1
@@ -695,7 +751,7 @@ def drain(w, s, eps, stack, top, r, g, b):
         sr, sg, sb, top = shade_and_push(
             w, s, p, (ex, ey, ez), (nx, ny, nz), (over_x, over_y, over_z),
             (under_x, under_y, under_z), (rx, ry, rz), n1, n2, weight, remaining, eps, stack,
-            top,
+            top, key,
         )  # fmt: skip
         r += sr
         g += sg
@@ -725,20 +781,18 @@ def camera_ray(cam, px, py):
 
 
 @njit(**INLINE)
-def mix64(z):
-    """splitmix64's output function (``raytracer.sampling.mix64``)."""
-    z = (z ^ (z >> np.uint64(30))) * MIX1
-    z = (z ^ (z >> np.uint64(27))) * MIX2
-    return z ^ (z >> np.uint64(31))
+def sample_key(seed_key, x, y, i):
+    """``raytracer.sampling.sample_key`` (without its checks); ``seed_key`` is seed *
+    GAMMA mod 2**64, computed once per render."""
+    return seed_key ^ (
+        (np.uint64(y) << np.uint64(34)) | (np.uint64(x) << np.uint64(20)) | np.uint64(i)
+    )
 
 
 @njit(**INLINE)
 def sample_offset(seed_key, x, y, i):
-    """``raytracer.sampling.sample_offset`` bit for bit; ``seed_key`` is seed * GAMMA
-    mod 2**64, computed once per render."""
-    key = seed_key ^ (
-        (np.uint64(y) << np.uint64(34)) | (np.uint64(x) << np.uint64(20)) | np.uint64(i)
-    )
+    """``raytracer.sampling.sample_offset`` bit for bit (``sample_key``)."""
+    key = sample_key(seed_key, x, y, i)
     first = mix64(key + GAMMA)
     second = mix64(key + GAMMA2)
     return np.float64(first >> np.uint64(11)) * UNIT53, np.float64(second >> np.uint64(11)) * UNIT53
@@ -793,7 +847,8 @@ def render_rows(out, x0, y0, x1, y1, k, step, cam, w, depth, samples, seed_key, 
                 cam, seed_key, samples, next_x, next_y, next_i
             )
         top = push(stack, 0, ox, oy, oz, dx, dy, dz, ONE, depth)
-        r, g, b = drain(w, s, eps, stack, top, r, g, b)
+        key = sample_key(seed_key, x, y, i) if HAS_AREA_LIGHTS else np.uint64(0)
+        r, g, b = drain(w, s, eps, stack, top, r, g, b, key)
         if next_i == 0:  # the pixel is done
             m = ((y - y0) * width + (x - x0)) * 3
             if samples == 1:
@@ -818,10 +873,10 @@ def render_rows(out, x0, y0, x1, y1, k, step, cam, w, depth, samples, seed_key, 
 
 def render_entry(
     out, x0, y0, x1, y1, k, step, cam, pf, pi, items, n_items, boxes, csg, balls, n_balls,
-    light, n_lights, depth, samples, seed_key, eps, stack, sf, si, tb,
+    light, n_lights, ti, tf, depth, samples, seed_key, eps, stack, sf, si, tb,
 ):  # fmt: skip
     """The render's entry point, compiled as a C function (``make_render_entry``)."""
-    w = (pf, pi, items, n_items, boxes, csg, balls, n_balls, light, n_lights)
+    w = (pf, pi, items, n_items, boxes, csg, balls, n_balls, light, n_lights, (ti, tf))
     return render_rows(
         out, x0, y0, x1, y1, k, step, cam, w, depth, samples, seed_key, eps, stack, (sf, si, tb)
     )
@@ -831,8 +886,8 @@ def make_render_entry(cache):
     """Compile ``render_entry`` as a C-callable function (numba's ``cfunc``) over raw
     pointers: ``int64 f(F* out, int64 x0, int64 y0, int64 x1, int64 y1, int64 k, int64
     step, F* cam, F* pf, int64* pi, int64* items, int64 n_items, F* boxes, int64* csg, F*
-    balls, int64 n_balls, F* light, int64 n_lights, int64 depth, int64 samples, uint64 seed_key, float64
-    eps, F* stack, F* sf, int64* si, F* tb)``. Without the numba runtime: it cannot
+    balls, int64 n_balls, F* light, int64 n_lights, int64* ti, F* tf, int64 depth, int64
+    samples, uint64 seed_key, float64 eps, F* stack, F* sf, int64* si, F* tb)``. Without the numba runtime: it cannot
     allocate. ``cache``: numba's disk cache (used only when the render cannot be linked as
     a shared library)."""
     from numba import cfunc, types
@@ -842,8 +897,8 @@ def make_render_entry(cache):
     ip = types.CPointer(types.int64)
     i64 = types.int64
     signature = types.int64(
-        fp, i64, i64, i64, i64, i64, i64, fp, fp, ip, ip, i64, fp, ip, fp, i64, fp, i64, i64,
-        i64, types.uint64, types.float64, fp, fp, ip, fp,
+        fp, i64, i64, i64, i64, i64, i64, fp, fp, ip, ip, i64, fp, ip, fp, i64, fp, i64, ip, fp,
+        i64, i64, types.uint64, types.float64, fp, fp, ip, fp,
     )  # fmt: skip
     flags: dict[str, Any] = {"_nrt": False, "fastmath": FASTMATH, "error_model": "numpy"}
     return cfunc(signature, cache=cache, **flags)(render_entry)

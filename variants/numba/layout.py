@@ -17,8 +17,12 @@ entry point, called through ctypes), and takes no row views (no reference counti
   column (centre, radius², casts a shadow, primitive row), so that a ray meets all of them
   in one loop that the compiler turns into vector instructions; their items are dropped;
 - ``csg[n, column]``: CSG operations in post-order, each over a range of primitives;
-- ``lights[k, column]``: light k's position and intensity (``NLIGHT`` columns), and ``cam``
-  (the inverse view transform and pixel geometry).
+- ``lights[k, column]``: light k's position and intensity, and an area light's cells
+  (``NLIGHT`` columns), then the area lights' jitter sequences; ``cam`` (the inverse view
+  transform and pixel geometry);
+- ``ti`` and ``tf``: the texture patterns' records (the bonus chapter on texture mapping):
+  a map record per ``TextureMap`` or ``CubeMap``, a uv record per uv pattern (ints), their
+  colors and images' pixels (floats); a primitive row names its map record (``PAT_TEX``).
 
 This file is also the first part of every generated kernel module (see
 ``variants.numba.specialize``), so the kernels read these names as compile-time constants.
@@ -62,7 +66,8 @@ PATTERN = 1  # one of the P_ values
 CASTS_SHADOW = 2  # 0 or 1
 CLOSED = 3  # cylinders and cones: 1 when capped
 WORLD_SPHERE = 4  # 1: a sphere tested in world space (SPH_*): its transform is a similarity
-NI = 5
+PAT_TEX = 5  # texture patterns (P_MAP, P_CUBE_MAP): where their map record starts in ``ti``
+NI = 6
 
 # shape kinds
 K_SPHERE = 0
@@ -81,6 +86,36 @@ P_GRADIENT = 2
 P_RING = 3
 P_CHECKERS = 4
 P_TEST = 5
+P_MAP = 6  # the bonus chapter on texture mapping: a uv pattern through a mapping
+P_CUBE_MAP = 7  # ... six uv patterns, one per face of the cube
+
+# ti (texture ints) and tf (texture floats): texture patterns' records (the bonus chapter
+# on texture mapping), each starting at an offset that names it. A map record in ti: the
+# mapping, then where its uv patterns' records start in ti (one for a texture map; a cube
+# map's six in ``cube_map``'s order: left, front, right, back, up, down)
+MAP_KIND = 0  # one of the M_ values
+MAP_UV = 1  # 6
+NMAP = 7
+M_SPHERICAL = 0
+M_PLANAR = 1
+M_CYLINDRICAL = 2
+M_CUBE = 3
+FACE_LEFT = 0  # face_from_point's faces, as a cube map's uv patterns are ordered
+FACE_FRONT = 1
+FACE_RIGHT = 2
+FACE_BACK = 3
+FACE_UP = 4
+FACE_DOWN = 5
+# a uv-pattern record in ti: its kind, where its floats start in tf, an image's size
+UV_KIND = 0  # one of the UV_ kinds below
+UV_AT = 1  # its floats in tf: checkers: width, height, a (3), b (3); align check: main,
+# ul, ur, bl, br (3 each); image: the canvas's pixels, row by row from the top (3 each)
+UV_WIDTH = 2  # an image's width and height in pixels
+UV_HEIGHT = 3
+NUV = 4
+UV_CHECKERS = 0
+UV_ALIGN_CHECK = 1
+UV_IMAGE = 2
 
 # items: what a ray visits, in order
 ITEM_TYPE = 0
@@ -125,10 +160,21 @@ BVH_STACK = 256  # its stack of nodes to build
 BVH_UNIT = 9  # per unit: centroid x, y, z, box lo x, y, z, hi x, y, z
 BVH_STATS = 5  # what it reports: nodes, leaves, box items, depth, items
 
-# lights: one row per light
-LIGHT_POSITION = 0  # 3
+# lights: one row per light, then the area lights' jitter sequences (the values of each,
+# in order, from lights[n_lights * NLIGHT + LIGHT_SEQ])
+LIGHT_POSITION = 0  # 3: a point light's position; an area light's centre
 LIGHT_INTENSITY = 3  # 3
-NLIGHT = 6
+LIGHT_CORNER = 6  # 3: an area light (the bonus chapter on soft shadows): its corner
+LIGHT_UVEC = 9  # 3: ... one cell's edge along u (the full edge / usteps)
+LIGHT_VVEC = 12  # 3: ... and along v
+LIGHT_USTEPS = 15  # cells along u (0: a point light)
+LIGHT_VSTEPS = 16  # ... and along v
+LIGHT_JITTER = 17  # 1: each cell's point placed at random (``raytracer.sampling``); 0: by
+# the light's sequence
+LIGHT_SEQ = 18  # where the sequence's values start, after the rows
+LIGHT_SEQ_N = 19  # how many values it has
+LIGHT_SEQ_AT = 20  # the value it gives next (the reference's cyclic generator's position)
+NLIGHT = 21
 
 # cam: the camera
 CAM_INV = 0  # 12: rows 0-2 of the inverse view transform

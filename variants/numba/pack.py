@@ -44,7 +44,7 @@ import numpy as np
 
 from raytracer.camera import Camera
 from raytracer.colors import Color
-from raytracer.lights import PointLight
+from raytracer.lights import Light
 from raytracer.materials import Material
 from raytracer.matrices import Matrix, identity_matrix, inverse
 from raytracer.patterns import (
@@ -70,6 +70,8 @@ from raytracer.tuples import Tuple
 from raytracer.world import World
 from variants.numba import layout as L
 from variants.numba.bvh import BALLS_MAX, DEFAULT, STRUCTURES, Hierarchy, build_tree
+from variants.numba.lights import light_rows
+from variants.numba.textures import TextureTable, texture_kind
 
 # leaf classes, most derived first (a smooth triangle is a triangle)
 SHAPE_KINDS: tuple[tuple[type[Shape], int], ...] = (
@@ -105,6 +107,8 @@ PATTERN_NAMES = {
     L.P_RING: "ring",
     L.P_CHECKERS: "checkers",
     L.P_TEST: "test_pattern",
+    L.P_MAP: "texture_map",
+    L.P_CUBE_MAP: "cube_map",
 }
 # how many intersections one primitive can give at most
 MAX_HITS = {
@@ -152,6 +156,9 @@ def shape_kind(shape: Shape, where: str) -> int:
 
 def pattern_kind(pattern: Pattern, where: str) -> int:
     """The kernel kind of a pattern; a ``PackError`` for anything else."""
+    texture = texture_kind(pattern)
+    if texture is not None:
+        return texture
     for cls, kind in PATTERN_KINDS:
         if isinstance(pattern, cls):
             if _unchanged(type(pattern), cls, ("local_pattern_at",)):
@@ -356,7 +363,10 @@ class Packed:
     balls: np.ndarray = field(default_factory=lambda: np.zeros((L.NBALL, 0)), repr=False)
     hierarchy: Hierarchy = field(default_factory=lambda: Hierarchy("off"))
     seconds: float = 0.0  # the time packing took, the hierarchy's build included
+    textures: TextureTable = field(default_factory=TextureTable, repr=False)
+    light_values: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)
     _rows_by_id: dict[int, int] | None = field(default=None, repr=False)
+    _texture_arrays: tuple[np.ndarray, np.ndarray] | None = field(default=None, repr=False)
 
     def row_of(self, shape: Shape) -> int:
         """The primitive row of ``shape`` (by identity), or -1."""
@@ -377,8 +387,18 @@ class Packed:
         )  # fmt: skip
 
     def light_table(self) -> tuple[np.ndarray, int]:
-        """(lights, n_lights): the lights flattened (``layout``) and their number."""
-        return _flat(self.lights), len(self.lights)
+        """(lights, n_lights): the lights flattened (``layout``), their sequences' values
+        after them, and their number."""
+        rows = np.ascontiguousarray(self.lights).reshape(-1)
+        table = np.concatenate([rows, self.light_values.astype(rows.dtype, copy=False)])
+        return (table if table.size else np.zeros(1, dtype=rows.dtype)), len(self.lights)
+
+    def texture_table(self) -> tuple[np.ndarray, np.ndarray]:
+        """(ti, tf): the texture patterns' records (``layout``, ``textures``), in the
+        primitives' precision."""
+        if self._texture_arrays is None:
+            self._texture_arrays = self.textures.arrays(self.pf.dtype)
+        return self._texture_arrays
 
 
 def _flat(table: np.ndarray) -> np.ndarray:
@@ -460,6 +480,7 @@ class _Packer:
         self.capacity = 0
         self.cs_size = 1
         self.cs_prims = 1
+        self.textures = TextureTable()
 
     # -- rows
 
@@ -501,7 +522,9 @@ class _Packer:
             i[L.PATTERN] = pattern_kind(used, where)
             pattern_inv = _inverse(used.transform, f"the pattern transform of {where}")
             f[L.PAT : L.PAT + 12] = _rows3x4(pattern_inv)
-            if i[L.PATTERN] != L.P_TEST:
+            if i[L.PATTERN] in (L.P_MAP, L.P_CUBE_MAP):
+                i[L.PAT_TEX] = self.textures.pattern(used, where)
+            elif i[L.PATTERN] != L.P_TEST:
                 f[L.PAT_A : L.PAT_A + 3] = _rgb(used.a)  # type: ignore[attr-defined]
                 f[L.PAT_B : L.PAT_B + 3] = _rgb(used.b)  # type: ignore[attr-defined]
         i[L.KIND] = kind
@@ -732,9 +755,9 @@ class _Packer:
 
     # -- result
 
-    def build(self, lights: Sequence[PointLight], started: float | None = None) -> Packed:
+    def build(self, lights: Sequence[Light], started: float | None = None) -> Packed:
         """The arrays: rows, items (the balls taken out, empty boxes dropped, and for
-        ``sah`` the hierarchy built), boxes, CSG operations, the lights."""
+        ``sah`` the hierarchy built), boxes, CSG operations, the lights, the textures."""
         dtype = self.dtype
         pf = _stack(self.rows_f, L.NF, np.float64)
         pi = _stack(self.rows_i, L.NI, np.int64)
@@ -765,19 +788,13 @@ class _Packer:
         balls[L.B_SHADOW] = pi[ball_rows, L.CASTS_SHADOW]
         balls[L.B_PRIM] = ball_rows
         csg = np.array(self.csg, dtype=np.int64).reshape(len(self.csg), L.NCSG)
-        light_rows = np.zeros((len(lights), L.NLIGHT), dtype=dtype)
-        for k, light in enumerate(lights):
-            if not isinstance(light, PointLight):
-                raise PackError(
-                    f"numba: light {k} of the world is a {type(light).__name__}; the kernels "
-                    "know point lights"
-                )
-            light_rows[k] = _xyz(light.position) + _rgb(light.intensity)
+        rows, sequences = light_rows(lights, dtype)
         seconds = time.perf_counter() - started if started is not None else 0.0
         return Packed(
             pf.astype(dtype, copy=False), pi, items, _outward(boxes, dtype), csg,
-            light_rows, self.shapes, max(self.capacity, 1), self.cs_size,
-            self.cs_prims, balls, hierarchy, seconds,
+            rows, self.shapes, max(self.capacity, 1), self.cs_size,
+            self.cs_prims, balls, hierarchy, seconds, textures=self.textures,
+            light_values=sequences,
         )  # fmt: skip
 
 
@@ -909,11 +926,15 @@ def pack_surface(
     material: Material | None = None,
     pattern: Pattern | None = None,
     leaf: bool = True,
+    textures: TextureTable | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """One primitive row (pf, pi, flat) for a single shape's surface, with world-to-object ``inv``
     (default: through its parents), optionally another material or pattern. ``leaf=False``
-    packs only the transforms (for ``world_to_object`` / ``normal_to_world`` on a group)."""
+    packs only the transforms (for ``world_to_object`` / ``normal_to_world`` on a group).
+    A texture pattern's records go to ``textures`` (a world's, or a table of its own)."""
     packer = _Packer(dtype, allow_test_shape=True, structure="off")
+    if textures is not None:
+        packer.textures = textures
     target: Shape = shape if shape is not None else Sphere()
     where = _label(target)
     if inv is None:

@@ -30,6 +30,7 @@ from raytracer.world import World
 from variants.numba import layout as L
 from variants.numba.bvh import DEFAULT
 from variants.numba.features import FeatureSet, analyse
+from variants.numba.lights import describe as describe_lights
 from variants.numba.pack import Packed, PackedCamera, pack_camera, pack_world
 from variants.numba.specialize import KernelConfig, Renderer, library_path, load_renderer
 
@@ -163,14 +164,15 @@ def prepare_frame(
     scratch = Scratch(threads, settings.depth, packed, options.dtype)
     pf, pi, items, n_items, boxes, csg, balls, n_balls = packed.flat()
     lights, n_lights = packed.light_table()
+    ti, tf = packed.texture_table()
     common = (
         camera.array.ctypes.data, pf.ctypes.data, pi.ctypes.data, items.ctypes.data, n_items,
         boxes.ctypes.data, csg.ctypes.data, balls.ctypes.data, n_balls, lights.ctypes.data,
-        n_lights, settings.depth, settings.samples, (settings.seed * GAMMA) & MASK64,
-        float(settings.epsilon),
+        n_lights, ti.ctypes.data, tf.ctypes.data, settings.depth, settings.samples,
+        (settings.seed * GAMMA) & MASK64, float(settings.epsilon),
     )  # fmt: skip
     addresses = [scratch.addresses(k) for k in range(threads)]
-    arrays = (pf, pi, items, boxes, csg, balls, lights)
+    arrays = (pf, pi, items, boxes, csg, balls, lights, ti, tf)
     return Frame(
         camera, packed, renderer, threads, scratch, common, options.dtype, addresses,
         arrays=arrays,
@@ -257,6 +259,9 @@ def explain(options: Options, w: World) -> str:
         + (" (every surface black)" if n_lights == 0 else "")
         + (" (each with its own shadow rays; the ambient term once)" if n_lights > 1 else "")
     )
+    lines.extend(f"    {line}" for line in describe_lights(packed.lights))
+    if packed.textures.uv_kinds:
+        lines.append(f"  {packed.textures.describe()}")
     lines.append(f"  {packed.hierarchy.describe()}")
     lines.append(
         f"  packed in {packed.seconds:.3g} s ({len(packed.items):,} items, "

@@ -175,8 +175,8 @@ def load_kernels(config: KernelConfig) -> ModuleType:
 class Renderer:
     """The compiled render entry point (``kernels_trace.render_entry``), callable through
     ctypes without the GIL: ``function(out, x0, y0, x1, y1, k, step, cam, pf, pi, items,
-    n_items, boxes, csg, balls, n_balls, lights, n_lights, depth, samples, seed_key, eps,
-    stack, sf, si, tb)`` with pointers as integer addresses: rows k, k + step ... of the region
+    n_items, boxes, csg, balls, n_balls, lights, n_lights, ti, tf, depth, samples, seed_key,
+    eps, stack, sf, si, tb)`` with pointers as integer addresses: rows k, k + step ... of the region
     x0 <= x < x1, y0 <= y < y1 into ``out`` ((y1 - y0) x (x1 - x0) x 3). ``origin`` says
     where it came from; ``keep`` holds what must stay alive while it is used."""
 
@@ -188,8 +188,8 @@ class Renderer:
 def _argument_types() -> list[Any]:
     p, i64 = ctypes.c_void_p, ctypes.c_int64
     return [
-        p, i64, i64, i64, i64, i64, i64, p, p, p, p, i64, p, p, p, i64, p, i64, i64, i64,
-        ctypes.c_uint64, ctypes.c_double, p, p, p, p,
+        p, i64, i64, i64, i64, i64, i64, p, p, p, p, i64, p, p, p, i64, p, i64, p, p, i64,
+        i64, ctypes.c_uint64, ctypes.c_double, p, p, p, p,
     ]  # fmt: skip
 
 
@@ -291,20 +291,20 @@ extern int64_t numba_entry(
     REAL *out, int64_t x0, int64_t y0, int64_t x1, int64_t y1, int64_t k, int64_t step,
     REAL *cam,
     REAL *pf, int64_t *pi, int64_t *items, int64_t n_items, REAL *boxes, int64_t *csg,
-    REAL *balls, int64_t n_balls, REAL *lights, int64_t n_lights, int64_t depth,
-    int64_t samples, uint64_t seed_key, double eps, REAL *stack, REAL *sf, int64_t *si,
-    REAL *tb) __asm__("ENTRY_SYMBOL");
+    REAL *balls, int64_t n_balls, REAL *lights, int64_t n_lights, int64_t *ti, REAL *tf,
+    int64_t depth, int64_t samples, uint64_t seed_key, double eps, REAL *stack, REAL *sf,
+    int64_t *si, REAL *tb) __asm__("ENTRY_SYMBOL");
 
 int64_t ENTRY_NAME(
     REAL *out, int64_t x0, int64_t y0, int64_t x1, int64_t y1, int64_t k, int64_t step,
     REAL *cam,
     REAL *pf, int64_t *pi, int64_t *items, int64_t n_items, REAL *boxes, int64_t *csg,
-    REAL *balls, int64_t n_balls, REAL *lights, int64_t n_lights, int64_t depth,
-    int64_t samples, uint64_t seed_key, double eps, REAL *stack, REAL *sf, int64_t *si,
-    REAL *tb) {
+    REAL *balls, int64_t n_balls, REAL *lights, int64_t n_lights, int64_t *ti, REAL *tf,
+    int64_t depth, int64_t samples, uint64_t seed_key, double eps, REAL *stack, REAL *sf,
+    int64_t *si, REAL *tb) {
     return numba_entry(out, x0, y0, x1, y1, k, step, cam, pf, pi, items, n_items, boxes,
-                       csg, balls, n_balls, lights, n_lights, depth, samples, seed_key, eps,
-                       stack, sf, si, tb);
+                       csg, balls, n_balls, lights, n_lights, ti, tf, depth, samples,
+                       seed_key, eps, stack, sf, si, tb);
 }
 """
 UNREACHABLE = """
