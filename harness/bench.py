@@ -19,6 +19,11 @@ Sections (``--sections``, all by default):
 
 Every measurement runs in a fresh process (``harness.jobs``, ``harness.child``). Pictures are
 kept as PNG beside the run file, with heat maps of their difference from naive.
+
+Before anything is measured the scene file is loaded once with naive: a scene that does not
+load stops the bench there (a ``SceneError`` naming the file and line; no run file), since
+every variant would fail on it alike. While it runs, ``harness.sharing`` watches the load
+average and other benches; the run file notes when the machine was shared (``"shared"``).
 """
 
 from __future__ import annotations
@@ -44,6 +49,7 @@ from harness.machine import describe_machine
 from harness.plan import BASELINE, BenchSettings, default_names, parallel_configs
 from harness.presets import PRESETS, SceneRef
 from harness.results import RunWriter, pyperf_document
+from harness.sharing import Watch
 from harness.sizes import Size, scaled
 from harness.usage import available_cores
 
@@ -83,10 +89,13 @@ def _terminate_as_interrupt() -> Iterator[None]:
 class Bench:
     """One bench run: runs the sections, collects rows and series, writes images."""
 
-    def __init__(self, settings: BenchSettings, writer: RunWriter, log: Log) -> None:
+    def __init__(
+        self, settings: BenchSettings, writer: RunWriter, log: Log, watch: Watch | None = None
+    ) -> None:
         self.settings = settings
         self.writer = writer
         self.log = log
+        self.watch = watch
         self.rows: list[dict[str, Any]] = []
         self.series: list[dict[str, Any]] = []
         self.notes: list[str] = []
@@ -104,6 +113,8 @@ class Bench:
         self, variant: str, scene: SceneRef, tasks: list[dict[str, Any]], depth: int | None = None
     ) -> JobOutcome:
         self._jobs += 1
+        if self.watch is not None:
+            self.watch.sample()
         job = {
             "variant": variant,
             "scene": scene.as_dict(),
@@ -410,10 +421,25 @@ class Bench:
         s = self.settings
         plan = light_samples.Plan(
             variant=s.light_variant, size=s.size, depth=s.depth, seed=s.seed,
-            threads=s.threads, budget=s.budget,
+            repeat=s.repeat, threads=s.threads, budget=s.budget,
         )  # fmt: skip
         jobs = self.writer.staging / "jobs" / "light-samples"
         self.series.extend(light_samples.run(plan, jobs, self.log, self._save_image))
+
+    def pass_size(self) -> None:
+        """Pass size against time and memory (``harness.pass_size``): the wavefront
+        variant's render time and peak memory at each ``max_mb``, and its memory at
+        4000x3000 with 16 samples."""
+        from harness import pass_size
+
+        s = self.settings
+        plan = pass_size.Plan(
+            variant=s.pass_variant, scene=s.scene, size=s.size, samples=s.samples,
+            depth=s.depth, seed=s.seed, epsilon=s.epsilon, threads=s.threads,
+            repeat=s.repeat, budget=s.budget,
+        )  # fmt: skip
+        jobs = self.writer.staging / "jobs" / "pass-size"
+        self.series.extend(pass_size.run(plan, jobs, self.log, self._save_image))
 
     def profile(self) -> None:
         """Where the time goes (``harness.profiling``): the stages, the top functions and a
@@ -453,10 +479,15 @@ class Bench:
         machine = describe_machine(Path.cwd())
         kata = None
         for section in self.settings.sections:
+            if self.watch is not None:
+                self.watch.sample()
             if section == "kata":
                 kata = self.kata()
             else:
                 getattr(self, section.replace("-", "_"))()
+        seen = self.watch.finish() if self.watch is not None else {"load": None, "shared": None}
+        if seen["shared"]:
+            self.log(f"the machine was shared: {seen['shared']}")
         rtc = {
             "stem": self.writer.stem,
             "started": started.isoformat(),
@@ -470,6 +501,8 @@ class Bench:
             "series": self.series,
             "kata": kata,
             "notes": self.notes,
+            "load": seen["load"],
+            "shared": seen["shared"],
         }
         return pyperf_document(self._benchmarks(machine), rtc)
 
@@ -532,12 +565,27 @@ class Bench:
         return found
 
 
+def check_scene(settings: BenchSettings) -> None:
+    """Load the bench's scene file once with naive, before anything is measured or written:
+    a ``SceneError`` (naming the file and line) when it does not load."""
+    if settings.scene.path is None:  # built in code
+        return
+    from harness.scenefile import load_scene
+    from variants.registry import load_variant
+
+    load_scene(settings.scene.path, load_variant(BASELINE).api, variant=BASELINE, divide=False)
+
+
 def run_bench(settings: BenchSettings, log: Log) -> Path:
-    """Run the bench and publish its result file; nothing is left behind if it fails."""
+    """Run the bench and publish its result file; nothing is left behind if it fails. A
+    scene file that does not load stops it before anything is written (``check_scene``)."""
+    check_scene(settings)
     writer = RunWriter(settings.results)
+    watch = None
     try:
         with _terminate_as_interrupt():
-            document = Bench(settings, writer, log).run()
+            watch = Watch(settings.results, settings.threads or available_cores())
+            document = Bench(settings, writer, log, watch).run()
             import shutil
 
             shutil.rmtree(writer.staging / "jobs", ignore_errors=True)
@@ -545,3 +593,6 @@ def run_bench(settings: BenchSettings, log: Log) -> Path:
     except BaseException:
         writer.abandon()
         raise
+    finally:
+        if watch is not None:
+            watch.abandon()

@@ -3,13 +3,19 @@
 The measuring process gets ``NUMBA_NRT_STATS=1`` (numba counts its allocations),
 ``NUMBA_NUM_THREADS`` when ``--threads`` is given, and the worker hook folder on
 ``PYTHONPATH`` (worker processes count their allocations, see ``harness.alloccount``).
+
+It runs in a session of its own, so Ctrl-C in the terminal reaches ``rtc bench`` alone: the
+parent then stops the child's whole process group (the child and any pool workers it
+started) with SIGTERM, and says once that it was interrupted; no child prints a traceback.
 """
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import shutil
+import signal
 import subprocess
 import sys
 from collections.abc import Mapping
@@ -51,27 +57,49 @@ def child_environment(threads: int | None) -> dict[str, str]:
     return env
 
 
+STOP_SECONDS = 5.0  # how long a stopped child's group gets to exit before SIGKILL
+
+
+def start_child(command: list[str], env: Mapping[str, str], **popen: Any) -> subprocess.Popen[Any]:
+    """``command`` started in a new session (its own process group; see the module)."""
+    return subprocess.Popen(command, env=dict(env), start_new_session=True, **popen)
+
+
+def stop_group(process: subprocess.Popen[Any]) -> None:
+    """Stop ``process`` and everything in its process group: SIGTERM, then SIGKILL for
+    whatever is left after ``STOP_SECONDS``."""
+    for how in (signal.SIGTERM, signal.SIGKILL):
+        with contextlib.suppress(ProcessLookupError, PermissionError):  # gone already
+            os.killpg(process.pid, how)
+        try:
+            process.wait(timeout=STOP_SECONDS)
+            return
+        except subprocess.TimeoutExpired:
+            continue
+
+
+def wait_child(process: subprocess.Popen[Any]) -> int:
+    """``process``'s exit code; if we are interrupted meanwhile (Ctrl-C, SIGTERM), its
+    process group is stopped first and the interrupt goes on."""
+    try:
+        return process.wait()
+    except BaseException:
+        stop_group(process)
+        raise
+
+
 def run_in_child(
     module: str, folder: Path, job: Mapping[str, Any], threads: int | None
 ) -> dict[str, Any] | int:
     """Write ``job`` into ``folder`` (created) and run ``python -m MODULE folder/job.json``
     in a fresh process pinned to ``threads``; its ``result.json``, or its exit code when it
-    wrote none. The child's progress goes to our stderr; an interrupt stops it too."""
+    wrote none. The child's progress goes to our stderr; an interrupt stops it (and its
+    process group) too."""
     folder.mkdir(parents=True)
     job_path = folder / "job.json"
     job_path.write_text(json.dumps(job))
-    process = subprocess.Popen(
-        [sys.executable, "-m", module, str(job_path)], env=child_environment(threads)
-    )
-    try:
-        code = process.wait()
-    except BaseException:
-        process.terminate()
-        try:
-            process.wait(timeout=5)
-        except subprocess.TimeoutExpired:
-            process.kill()
-        raise
+    process = start_child([sys.executable, "-m", module, str(job_path)], child_environment(threads))
+    code = wait_child(process)
     result_path = folder / "result.json"
     if result_path.exists():
         result: dict[str, Any] = json.loads(result_path.read_text())

@@ -12,10 +12,13 @@ compilation stays out), and compared with a ground truth: ``TRUTH_CELLS`` jitter
 ``TRUTH_SAMPLES`` samples per pixel. The time-error Pareto front (nothing both faster and
 closer to the truth) says which knob buys more quality per second.
 
-One render per point; a point whose time the previous point predicts (linear in the
-samples) to exceed the budget is skipped and says so. Everything lands in the run file's
-``series`` (sections ``light-truth`` and ``light-samples``); ``harness.light_samples_report``
-draws the report's section.
+``repeat`` timed renders per point (the median is the point's time, the first render its
+picture: the picture does not change between renders); a point whose time the previous
+point predicts (linear in the samples) to exceed the budget is skipped and says so.
+Everything lands in the run file's ``series`` (sections ``light-truth`` and
+``light-samples``); ``harness.light_samples_report`` draws the report's section. Beside
+them, the bonus chapters' other scene (``PICTURES``: the texture maps) is rendered once at
+the same size and settings (section ``bonus-picture``), so the report shows it.
 """
 
 from __future__ import annotations
@@ -23,6 +26,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import statistics
 import sys
 import time
 from collections.abc import Callable
@@ -37,11 +41,13 @@ from harness.sizes import Size
 SECTION = "light-samples"
 TRUTH_SECTION = "light-truth"
 SCENE = Path(__file__).parent / "scenes" / "soft-shadows.yml"
+PICTURES = (Path(__file__).parent / "scenes" / "textures.yml",)
+PICTURE_SECTION = "bonus-picture"
 DEFAULT_VARIANT = "numba"
 CELLS = (1, 4, 16, 64)  # cells per area light: square grids, 1x1 to 8x8
-SAMPLES = (1, 4, 16)  # samples per pixel
+SAMPLES = (1, 4, 16, 64)  # samples per pixel
 TRUTH_CELLS = 64
-TRUTH_SAMPLES = 256
+TRUTH_SAMPLES = 1024
 WARM = Size(8, 6)
 
 Log = Callable[[str], None]
@@ -86,35 +92,41 @@ def configured(text: str, config: Config, path: Path) -> str:
 @dataclass(frozen=True)
 class Plan:
     """What the section measures: ``variant`` (a registry name) renders ``scene`` at
-    ``size`` with the render's ``depth`` and ``seed``; ``threads``: CPUs per measuring
-    process (None: all); ``budget``: seconds one render may be predicted to take."""
+    ``size`` with the render's ``depth`` and ``seed``, ``repeat`` timed renders per point;
+    ``threads``: CPUs per measuring process (None: all); ``budget``: seconds one render may
+    be predicted to take."""
 
     variant: str
     size: Size
     scene: Path = SCENE
     depth: int = 5
     seed: int = 0
+    repeat: int = 3
     threads: int | None = None
     budget: float | None = None
     configs: tuple[Config, ...] = CONFIGS
     samples: tuple[int, ...] = SAMPLES
     truth: Config = Config(TRUTH_CELLS, True)
     truth_samples: int = TRUTH_SAMPLES
+    pictures: tuple[Path, ...] = PICTURES
 
 
 # ---------------------------------------------------------------------------- the parent
 
 
-def _job(plan: Plan, config: Config, samples: list[int], budget: float | None) -> dict[str, Any]:
+def _job(
+    plan: Plan, config: Config | None, samples: list[int], budget: float | None, scene: Path
+) -> dict[str, Any]:
     return {
         "variant": plan.variant,
-        "scene": str(plan.scene),
-        "cells": config.cells,
-        "jitter": config.jitter,
+        "scene": str(scene),
+        "cells": None if config is None else config.cells,
+        "jitter": None if config is None else config.jitter,
         "size": [plan.size.width, plan.size.height],
         "samples": samples,
         "depth": plan.depth,
         "seed": plan.seed,
+        "repeat": plan.repeat,
         "budget": budget,
     }
 
@@ -150,7 +162,7 @@ def run(
                  "status": "unavailable", "error": reason, "points": []}]  # fmt: skip
     log(f"{SECTION}: ground truth, {plan.truth.label} at {plan.truth_samples} spp")
     folder = jobs / "truth"
-    job = _job(plan, plan.truth, [plan.truth_samples], None)
+    job = _job(plan, plan.truth, [plan.truth_samples], None, plan.scene)
     result = _run_job(folder, job, plan.threads)
     truth: dict[str, Any] = {"section": TRUTH_SECTION, "name": plan.truth.label, **base}
     truth.update(cells=plan.truth.cells, jitter=plan.truth.jitter)
@@ -167,7 +179,8 @@ def run(
     for index, config in enumerate(plan.configs):
         log(f"{SECTION}: {config.label}, {', '.join(map(str, plan.samples))} spp")
         folder = jobs / f"config-{index:02d}"
-        result = _run_job(folder, _job(plan, config, list(plan.samples), plan.budget), plan.threads)
+        job = _job(plan, config, list(plan.samples), plan.budget, plan.scene)
+        result = _run_job(folder, job, plan.threads)
         entry: dict[str, Any] = {"section": SECTION, "name": config.label, **base}
         entry.update(cells=config.cells, jitter=config.jitter)
         if "error" in result:
@@ -184,6 +197,20 @@ def run(
             if save_image is not None and p["samples"] == plan.samples[0]:
                 slug = f"{config.steps}x{config.steps}-{'jittered' if config.jitter else 'centred'}"
                 p["image"] = save_image(image, f"light-{slug}-{p['samples']}spp.png")
+        entries.append(entry)
+    for index, scene in enumerate(plan.pictures):
+        log(f"{SECTION}: the picture of {scene.name}")
+        folder = jobs / f"picture-{index:02d}"
+        result = _run_job(folder, _job(plan, None, [1], None, scene), plan.threads)
+        entry = {"section": PICTURE_SECTION, "name": scene.stem, **base, "scene": scene.stem}
+        if "error" in result or not result.get("points"):
+            entry.update(status="failed", error=result.get("error", "no picture"), points=[])
+        else:
+            point = result["points"][0]
+            image = np.load(folder / point.pop("image"))
+            if save_image is not None:
+                point["image"] = save_image(image, f"picture-{scene.stem}.png")
+            entry.update(status="ok", warm=result.get("warm"), points=[point])
         entries.append(entry)
     return entries
 
@@ -207,7 +234,9 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
     if tracer is None:
         return {"error": f"{variant.name} has no tracer"}
     path = Path(job["scene"])
-    text = configured(path.read_text(encoding="utf-8"), Config(job["cells"], job["jitter"]), path)
+    text = path.read_text(encoding="utf-8")
+    if job["cells"] is not None:
+        text = configured(text, Config(job["cells"], job["jitter"]), path)
     scene = load_scene_text(
         text, variant.api, path=path, variant=variant.name, divide=divides(variant)
     )
@@ -231,15 +260,24 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
                 )
                 continue
         settings = RenderSettings(depth=job["depth"], samples=samples, seed=job["seed"])
-        clock = TreeCpuClock()
-        clock.start()
-        started = time.perf_counter()
-        canvas = tracer.render(scene.camera, scene.world, settings)
-        wall = time.perf_counter() - started
-        point.update(wall=wall, cpu=clock.stop() / wall if wall > 0 else 0.0)
-        name = f"image-{samples}.npy"
-        np.save(folder / name, canvas_array(canvas, variant.api.get("pixel_at")))
-        point["image"] = name
+        walls: list[float] = []
+        shares: list[float] = []
+        for attempt in range(max(1, int(job.get("repeat", 1)))):
+            clock = TreeCpuClock()
+            clock.start()
+            started = time.perf_counter()
+            canvas = tracer.render(scene.camera, scene.world, settings)
+            wall = time.perf_counter() - started
+            walls.append(wall)
+            shares.append(clock.stop() / wall if wall > 0 else 0.0)
+            if attempt == 0:
+                name = f"image-{samples}.npy"
+                np.save(folder / name, canvas_array(canvas, variant.api.get("pixel_at")))
+                point["image"] = name
+            if budget is not None and sum(walls) > budget:
+                break
+        wall = statistics.median(walls)
+        point.update(wall=wall, walls=walls, cpu=statistics.median(shares))
         previous = (samples, wall)
     return result
 

@@ -9,7 +9,7 @@ from typing import Any
 
 from harness import figures
 from harness.document import Block, Bullets, Gallery, Heading, Para, Picture, Table
-from harness.light_samples import SECTION, TRUTH_SECTION
+from harness.light_samples import PICTURE_SECTION, SECTION, TRUTH_SECTION
 
 Run = Mapping[str, Any]
 
@@ -131,7 +131,29 @@ def blocks(run: Run, plot: str | None, context: str) -> list[Block]:
                 pictures.append((caption, [Picture(f"runs/{p['image']}", caption, 240)]))
     if pictures:
         out.append(Gallery(["sampling", "picture"], pictures))
-    return out
+    return out + _picture_blocks(run)
+
+
+def _picture_blocks(run: Run) -> list[Block]:
+    """The bonus chapters' other scenes, rendered once each (the texture maps)."""
+    found = [e for e in run.get("series", []) if e["section"] == PICTURE_SECTION]
+    rows: list[tuple[str, list[Picture | None]]] = []
+    for entry in found:
+        if entry.get("status") != "ok":
+            rows.append((f"`{entry['name']}`: failed: {entry.get('error', '')}"[:200], [None]))
+            continue
+        p = entry["points"][0]
+        caption = (
+            f"`{entry['name']}` through `{entry['variant']}`, {p['size'][0]}x{p['size'][1]}, "
+            f"{figures.seconds_text(p['wall'])}"
+        )
+        rows.append((caption, [Picture(f"runs/{p['image']}", entry["name"], 320)]))
+    if not rows:
+        return []
+    return [
+        Heading(3, "The texture-mapping scene"),
+        Gallery(["scene", "picture"], rows),
+    ]
 
 
 def console_lines(run: Run) -> list[str]:

@@ -19,6 +19,7 @@ from harness.sizes import Size, smaller_sizes
 BASELINE = "naive"
 SECTIONS = (
     "table", "sweep", "scaling", "preset", "kata", "scene-size", "light-samples", "profile",
+    "pass-size",
 )  # fmt: skip
 DEFAULT_SECTIONS = ("table", "sweep", "scaling", "preset", "kata")
 """What ``rtc bench`` runs without ``--sections``: ``scene-size`` (``harness.scene_size``)
@@ -26,7 +27,9 @@ loads and packs meshes of up to a million triangles, minutes on its own, so it r
 when asked for; ``light-samples`` (``harness.light_samples``) renders a soft-shadow scene 24
 times and needs numba's area-light kernels compiled, so it too runs when asked for;
 ``profile`` (``harness.profiling``) profiles naive, cached, prealloc and numba at 32x24, about
-a minute, most of it naive under cProfile."""
+a minute, most of it naive under cProfile; ``pass-size`` (``harness.pass_size``) renders the
+scene through ``wavefront`` at four ``max_mb`` and, within the budget, once at 4000x3000 with
+16 samples (about ten minutes)."""
 PARALLEL_OPTIONS = ("workers", "threads")  # options whose value is a worker or thread count
 BENCH_CONFIGS: dict[str, tuple[str, ...]] = {
     "pooled": (
@@ -38,6 +41,7 @@ BENCH_CONFIGS: dict[str, tuple[str, ...]] = {
         "pooled[workers=2]:numba[threads=1]",
     ),
     "numba": ("numba[threads=1]", "numba[float32]", "numba[fastmath]", "numba[specialize=off]"),
+    "wavefront": ("wavefront[float32]", "wavefront[threads=2]"),
 }
 """Registry name -> what ``--variants all`` measures besides its default options."""
 
@@ -89,7 +93,8 @@ class BenchSettings:
     naive first; sections: which parts to run (``SECTIONS``); mode: quick or full (its
     defaults); epsilon: ``RenderSettings.epsilon`` (None: the book's EPSILON);
     mesh_variants, meshes: the ``scene-size`` section's (``harness.scene_size``);
-    light_variant: the ``light-samples`` section's (``harness.light_samples``).
+    light_variant: the ``light-samples`` section's (``harness.light_samples``);
+    pass_variant: the ``pass-size`` section's (``harness.pass_size``).
     """
 
     scene: SceneRef
@@ -110,6 +115,7 @@ class BenchSettings:
     mesh_variants: tuple[str, ...] = ("numba", "numba[bvh=off]")
     meshes: tuple[str, ...] = SCALE_MESHES
     light_variant: str = "numba"
+    pass_variant: str = "wavefront"
 
     def as_dict(self) -> dict[str, Any]:
         data = asdict(self)

@@ -298,3 +298,111 @@ def light_samples_plot(run: Mapping[str, Any], path: Path) -> Path | None:
     axes.grid(True, which="both", alpha=0.3)
     axes.legend(fontsize=7)
     return _save(figure, path)
+
+
+def history_plot(runs: list[Mapping[str, Any]], path: Path) -> Path | None:
+    """Each table variant's mean time per pixel across the runs (oldest left, labelled by
+    short commit), log scale; a ring where the change against the variant's previous run is
+    significant (``harness.compare``: Student's t-test, 95%, the same size in both): red and
+    solid when slower, green and dashed when faster; hollow markers: busy (the row did not
+    get the cores it asked for)."""
+    from harness import compare
+
+    series = [s for s in compare.history(runs) if s.points]
+    if not series:
+        return None
+    used = sorted({p.run for s in series for p in s.points})
+    column = {run: i for i, run in enumerate(used)}
+    figure, axes = plt.subplots(figsize=(9.5, 5.5))
+    colours = [plt.get_cmap("tab10")(k) for k in range(10)]
+    markers = "osD^v<>ph*"
+    rings: dict[str, list[tuple[float, float]]] = {"slower": [], "faster": []}
+    for i, found in enumerate(series):
+        xs = [column[p.run] for p in found.points]
+        ys = [p.measured.per_pixel for p in found.points]
+        colour = colours[i % len(colours)]
+        marker = markers[(i + 3 * (i // len(colours))) % len(markers)]
+        label = found.name + (f" ({found.scene})" if found.scene != "reference" else "")
+        axes.plot(xs, ys, linestyle="-" if i < len(colours) else "--", linewidth=1,
+                  label=label, color=colour, marker=marker, markersize=5)  # fmt: skip
+        busy = [(x, y) for x, y, p in zip(xs, ys, found.points, strict=True) if p.measured.busy]
+        if busy:
+            axes.plot([x for x, _ in busy], [y for _, y in busy], linestyle="none",
+                      markerfacecolor="white", color=colour, marker=marker,
+                      markersize=5)  # fmt: skip
+        for x, y, point in zip(xs, ys, found.points, strict=True):
+            change = point.change
+            if change is not None and change.test.significant:
+                rings[change.verdict].append((x, y))
+    for verdict, edge, line in (("slower", "#cc3311", "-"), ("faster", "#228833", "--")):
+        if rings[verdict]:
+            axes.scatter(
+                [x for x, _ in rings[verdict]], [y for _, y in rings[verdict]], s=190,
+                facecolors="none", edgecolors=edge, linewidths=1.4, linestyle=line,
+                zorder=4, label=f"significantly {verdict} than its previous run",
+            )  # fmt: skip
+    axes.set_yscale("log")
+    axes.set_xticks(range(len(used)))
+    labels = []
+    for r in used:
+        started = str(runs[r].get("started", ""))[5:16].replace("T", " ")
+        labels.append(f"{compare.commit_label(runs[r])}\n{started}")
+    axes.set_xticklabels(labels, fontsize=7)
+    axes.set_xlim(-0.5, len(used) - 0.5)
+    axes.set_xlabel("run (short commit, * dirty tree; start time UTC), oldest first")
+    axes.set_ylabel("mean time per pixel (s, log scale)")
+    axes.set_title(
+        "Time per pixel of each variant across runs; rings: a significant change from the "
+        "variant's previous run\n(Student's t-test on the timed renders, 95%, where both runs "
+        "measured it at one size); hollow markers: busy",
+        fontsize=9,
+    )
+    axes.grid(True, which="major", alpha=0.3)
+    axes.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=3)
+    return _save(figure, path)
+
+
+def pass_size_plot(run: Mapping[str, Any], path: Path) -> Path | None:
+    """The wavefront variant's render time (left) and peak memory (right: tracemalloc's
+    peak, the resident set's growth) against ``max_mb`` (log scale), the knee marked."""
+    from harness import pass_size_report as psr
+
+    found = psr.entries(run)
+    points = psr.sweep(found[-1]) if found else []
+    if not points:
+        return None
+    figure, axes = plt.subplots(figsize=(7.5, 5))
+    xs = [p["max_mb"] for p in points]
+    axes.plot(xs, [p["render_median"] for p in points], marker="o", color="C0", label="render time")
+    bend = psr.knee(points)
+    if bend is not None:
+        axes.axvline(
+            bend["max_mb"], color="gray", linestyle=":", label=f"knee: max_mb={bend['max_mb']}"
+        )
+    axes.set_xscale("log", base=2)
+    axes.set_xticks(xs, [str(x) for x in xs])
+    axes.set_xlabel("max_mb (MiB per pass)")
+    axes.set_ylabel("render time (s), median")
+    axes.set_ylim(bottom=0)
+    memory = axes.twinx()
+    for key, label, color in (
+        ("tracemalloc_peak", "tracemalloc peak", "C1"),
+        ("rss_growth", "RSS growth (canvas included)", "C2"),
+    ):
+        ys = [(p.get(key) or 0) / psr.MIB for p in points]
+        memory.plot(xs, ys, marker="s", linestyle="--", color=color, label=label)
+    memory.plot(xs, xs, linestyle=":", color="C3", label="max_mb")
+    memory.set_ylabel("MiB")
+    memory.set_yscale("log", base=2)
+    handles = axes.get_legend_handles_labels()
+    more = memory.get_legend_handles_labels()
+    axes.legend(handles[0] + more[0], handles[1] + more[1], fontsize=7, loc="upper center")
+    entry = found[-1]
+    w, h = entry["size"]
+    axes.set_title(
+        f"Pass size against time and memory: {entry['name']}, {entry['scene']} at {w}x{h}, "
+        f"{entry['samples']} spp\n{_caption(run)}",
+        fontsize=9,
+    )
+    axes.grid(True, which="both", alpha=0.3)
+    return _save(figure, path)

@@ -39,7 +39,6 @@ import os
 import pstats
 import re
 import shutil
-import subprocess
 import sys
 import sysconfig
 import time
@@ -529,7 +528,7 @@ def _run_child(
 ) -> tuple[dict[str, Any] | None, str]:
     """Run ``command`` (ending in the job file's path, added here) on ``job`` written into
     ``folder``; (its result.json or None, the last line it printed when ``quiet``)."""
-    from harness.jobs import child_environment
+    from harness.jobs import child_environment, start_child, wait_child
 
     folder.mkdir(parents=True, exist_ok=True)
     job_path = folder / "job.json"
@@ -537,18 +536,10 @@ def _run_child(
     log_path = folder / "output.txt"
     with open(log_path, "w") as output:
         sink = output if quiet else None
-        process = subprocess.Popen(
-            [*command, str(job_path)], env=child_environment(threads), stdout=sink, stderr=sink
+        process = start_child(
+            [*command, str(job_path)], child_environment(threads), stdout=sink, stderr=sink
         )
-        try:
-            process.wait()
-        except BaseException:
-            process.terminate()
-            try:
-                process.wait(timeout=5)
-            except subprocess.TimeoutExpired:
-                process.kill()
-            raise
+        wait_child(process)  # an interrupt stops its process group (harness.jobs)
     lines = [ln.strip() for ln in log_path.read_text(errors="replace").splitlines() if ln.strip()]
     last = lines[-1] if lines else f"exit code {process.returncode}"
     result_path = folder / "result.json"

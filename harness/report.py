@@ -12,16 +12,18 @@ from __future__ import annotations
 import math
 import os
 import tempfile
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
 from harness import (
     figures,
     light_samples_report,
+    pass_size_report,
     plots,
     profiling_report,
     scene_size_report,
+    sharing,
     summary,
 )
 from harness.alloccount import FREE_LIST_NOTE, METHOD_NOTES
@@ -36,7 +38,7 @@ from harness.document import (
     to_html,
     to_markdown,
 )
-from harness.results import ResultFileError, list_runs, load_run
+from harness.results import ResultFileError, check_run, list_runs, load_run
 
 REPORT_DIR = "report"
 C_PLUS_PLUS_ANCHOR = "the C++ report reached 44.9 MRay/s on this workload, on a whole lab machine"
@@ -67,6 +69,7 @@ def machine_line(run: Run) -> str:
         f"{m['cpu_count']} cores{load_text}; Python {m['python']}, numpy {m.get('numpy')}, "
         f"numba {m.get('numba')}; commit {_git(run)}; run `{run['stem']}` started "
         f"{run['started'][:19]} UTC, took {run['seconds']:.0f} s."
+        + (f" **Shared machine:** {run['shared']}" if run.get("shared") else "")
     )
 
 
@@ -80,6 +83,7 @@ def context_line(run: Run) -> str:
         f"{load_text}), Python {m['python']}, numba {m.get('numba')}, commit {_git(run)}, "
         f"run `{run['stem']}`, budget {run['settings']['budget'] or 0:g} s per row "
         f"(naive: 3x), mode {run['settings']['mode']['name']}."
+        + (f" **Shared machine** ({sharing.brief(run.get('load'))})." if run.get("shared") else "")
     )
 
 
@@ -517,9 +521,26 @@ def _kata_blocks(run: Run) -> list[Block]:
     ]
 
 
-def _history_blocks(runs: list[Run]) -> list[Block]:
+def _changes_by_run(runs: list[Run]) -> dict[int, list[Any]]:
+    """Per run index, the variants whose time changed significantly from their previous run
+    (``harness.compare.history``)."""
+    from harness import compare
+
+    found: dict[int, list[compare.HistoryPoint]] = {}
+    for series in compare.history(runs):
+        for point in series.points:
+            if point.change is not None and point.change.test.significant:
+                found.setdefault(point.run, []).append(point)
+    return found
+
+
+def _history_blocks(runs: list[Run], plot: Path | None = None) -> list[Block]:
+    from harness import compare
+
+    changes = _changes_by_run(runs)
     body = []
-    for run in reversed(runs):
+    for index in reversed(range(len(runs))):
+        run = runs[index]
         table = [r for r in _rows(run, "table") if r["status"] == "ok"]
         naive = next((r for r in table if r["name"] == "naive"), None)
         best = max(
@@ -529,13 +550,19 @@ def _history_blocks(runs: list[Run]) -> list[Block]:
         )
         s = run["settings"]
         m = run["machine"]
+        verdicts = [p.change.verdict for p in changes.get(index, []) if p.change is not None]
+        moved = (
+            f"{verdicts.count('slower')} slower, {verdicts.count('faster')} faster"
+            if verdicts
+            else "-"
+        )
         body.append(
             [
                 run["started"][:16].replace("T", " "),
                 f"`{run['stem']}`",
                 s["mode"]["name"],
                 f"{s['size'][0]}x{s['size'][1]}, {s['samples']} spp",
-                f"{m['hostname']}, {m['cores_available']} cores",
+                f"{m['hostname']}, {m.get('cpu_model', '?')}, {m['cores_available']} cores",
                 _git(run),
                 f"{figures.median_wall(naive) / figures.pixels(naive) * 1e3:.3g} ms"
                 if naive
@@ -543,11 +570,23 @@ def _history_blocks(runs: list[Run]) -> list[Block]:
                 f"`{best['name']}` {figures.speedup_text(best['speedup']['value'])}"
                 if best
                 else "-",
+                moved,
             ]
         )
-    return [
+    blocks: list[Block] = [
         Heading(2, "History"),
-        Para(f"Every run kept in `runs/` ({len(runs)}), newest first."),
+        Para(
+            f"Every run kept in `runs/` ({len(runs)}), newest first. Each variant's time is "
+            "tested against its previous run where both measured it at the same size (the "
+            "budget rule can size a slow variant differently per run: those points are not "
+            f"tested). The test: {compare.TEST_NAME}. A change between two CPUs or with a busy "
+            "row says as much about the machine as about the code. `rtc compare RUN_A RUN_B` "
+            "prints any two runs side by side."
+        ),
+    ]
+    if plot is not None:
+        blocks.append(Picture(f"{REPORT_DIR}/{plot.name}", "time per pixel across runs"))
+    blocks.append(
         Table(
             [
                 "started (UTC)",
@@ -558,10 +597,38 @@ def _history_blocks(runs: list[Run]) -> list[Block]:
                 "commit",
                 "naive per pixel",
                 "fastest (speed-up)",
+                "significant changes",
             ],
             body,
-        ),
-    ]
+        )
+    )
+    items = []
+    for index in sorted(changes, reverse=True):
+        run = runs[index]
+        cpu = run["machine"].get("cpu_model")
+        parts = []
+        other_cpus = set()
+        for point in changes[index]:
+            change = point.change
+            assert change is not None
+            marks = ", busy" if change.a.busy or change.b.busy else ""
+            before = runs[point.previous] if point.previous is not None else run
+            if before["machine"].get("cpu_model") != cpu:
+                other_cpus.add(str(before["machine"].get("cpu_model")))
+                marks += ", other CPU"
+            parts.append(
+                f"`{point.measured.key.name}` {change.ratio_text()} ({change.test_text()}{marks})"
+            )
+        where = f"commit {_git(run)}"
+        if other_cpus:
+            where += f"; on {cpu}, the runs before on {', '.join(sorted(other_cpus))}"
+        items.append(f"`{run['stem']}` ({where}): " + "; ".join(parts) + ".")
+    if items:
+        blocks += [
+            Para("Significant changes from each variant's previous run, newest first:"),
+            Bullets(items),
+        ]
+    return blocks
 
 
 SECTION_TESTS: dict[str, Any] = {
@@ -678,10 +745,15 @@ def build_blocks(runs: list[Run], plot_files: Mapping[str, Path | None]) -> list
     profiled = profiling_report.newest(runs)
     if profiled is not None:
         blocks += profiling_report.blocks(profiled, context_line(profiled))
+    passes = pass_size_report.newest(runs)
+    if passes is not None:
+        pass_png = plot_files.get("pass-size")
+        plot = None if pass_png is None else f"{REPORT_DIR}/{pass_png.name}"
+        blocks += pass_size_report.blocks(passes, plot, context_line(passes))
     blocks += _kata_blocks(chosen["kata"])
     if latest.get("notes"):
         blocks += [Heading(2, "Notes"), Bullets(list(latest["notes"]))]
-    blocks += _history_blocks(runs)
+    blocks += _history_blocks(runs, plot_files.get("history"))
     return blocks
 
 
@@ -697,29 +769,56 @@ def _write_text(path: Path, text: str) -> None:
 
 
 def load_history(results: Path) -> tuple[list[Run], list[str]]:
-    """Every readable run, oldest first, and a message for each unreadable one."""
+    """Every run the report can use, oldest first, and one line for each it cannot (the
+    file and the field: ``harness.results.check_run``, then a trial report of the run
+    alone, which names what the checks missed)."""
     runs: list[Run] = []
     problems: list[str] = []
     for path in list_runs(results):
         try:
-            runs.append(load_run(path)["rtc"])
+            run = load_run(path)["rtc"]
+            check_run(run, str(path))
         except ResultFileError as error:
-            problems.append(str(error))
+            problems.append(" ".join(str(error).split()))
+            continue
+        why = _unusable(run)
+        if why:
+            problems.append(f"{path}: {why}")
+            continue
+        runs.append(run)
     return runs, problems
 
 
-def build_report(results: Path) -> tuple[Path, Path, list[str]]:
-    """Write README.md, report.html and the plots; returns their paths and any problems."""
+def _unusable(run: Run) -> str | None:
+    """Why the report cannot be built from ``run`` alone (a field the checks do not cover),
+    or None: the run's blocks and console table are built and thrown away."""
+    try:
+        to_markdown(build_blocks([run], {}))
+        console_table(run)
+    except (LookupError, TypeError, ValueError, AttributeError, ArithmeticError) as error:
+        return " ".join(f"the report cannot use it: {type(error).__name__}: {error}".split())
+    return None
+
+
+def build_report(
+    results: Path, warn: Callable[[str], None] | None = None
+) -> tuple[Path, Path, list[str]]:
+    """Write README.md, report.html and the plots; returns their paths and any problems
+    (each also passed to ``warn`` as soon as it is found, before the report is built)."""
     from harness.stability import runfile as stability_runs
     from harness.stability import table as stability_table
 
     runs, problems = load_history(results)
     stability, stability_problems = stability_runs.latest_run(results)
     problems += stability_problems
+    for problem in problems:
+        if warn is not None:
+            warn(problem)
     if not runs and stability is None:
+        skipped = f" ({len(problems)} skipped: see above)" if problems else ""
         raise FileNotFoundError(
-            f"no bench or stability results in {results / 'runs'}; run `rtc bench` first "
-            "(or `rtc stability`)"
+            f"no usable bench or stability results in {results / 'runs'}{skipped}; run "
+            "`rtc bench` first (or `rtc stability`)"
         )
     folder = results / REPORT_DIR
     folder.mkdir(parents=True, exist_ok=True)
@@ -730,6 +829,7 @@ def build_report(results: Path) -> tuple[Path, Path, list[str]]:
             "sweep": plots.sweep_plot(chosen["sweep"], folder / "error-vs-time.png"),
             "pixels": plots.pixels_plot(chosen["scaling"], folder / "time-vs-pixels.png"),
             "threads": plots.threads_plot(chosen["scaling"], folder / "throughput-vs-workers.png"),
+            "history": plots.history_plot(runs, folder / "history.png"),
         }
         meshes = scene_size_report.newest(runs)
         if meshes is not None:
@@ -741,6 +841,9 @@ def build_report(results: Path) -> tuple[Path, Path, list[str]]:
             plot_files["light-samples"] = plots.light_samples_plot(
                 soft, folder / "soft-shadows-error-vs-time.png"
             )
+        passes = pass_size_report.newest(runs)
+        if passes is not None:
+            plot_files["pass-size"] = plots.pass_size_plot(passes, folder / "pass-size.png")
         blocks = build_blocks(runs, plot_files)
     else:
         blocks = [Heading(1, "Benchmark results"), Para("No bench run yet (`rtc bench`).")]
@@ -783,6 +886,7 @@ def console_table(run: Run) -> str:
             )
     lines += scene_size_report.console_lines(run)
     lines += light_samples_report.console_lines(run)
+    lines += pass_size_report.console_lines(run)
     lines += profiling_report.console_lines(run)
     if math.isfinite(run["seconds"]):
         lines.append(f"(the run took {run['seconds']:.0f} s)")

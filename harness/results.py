@@ -11,6 +11,10 @@ read it: one benchmark per measured row, its values the wall times of the repeat
 with one more top-level key, ``"rtc"``, holding our schema: ``schema_version``, ``machine``,
 ``settings`` and the rows, series and chapter progress (see ``harness.bench``).
 
+Reading for the report: ``check_run`` checks the fields the report uses (a missing or
+wrong-typed field, a NaN or infinite number anywhere) and names the first one wrong, so that
+one damaged file is skipped with a warning instead of stopping the report.
+
 Writing: images go to a hidden staging folder, which is renamed into place when the run
 completes, and the JSON is written to a temporary file and hard-linked to its final name (a
 link never replaces an existing file) before the temporary name is removed. A run killed at
@@ -22,6 +26,7 @@ from __future__ import annotations
 
 import io
 import json
+import math
 import os
 import secrets
 import shutil
@@ -40,7 +45,16 @@ MIGRATIONS: dict[int, Callable[[dict[str, Any]], dict[str, Any]]] = {}
 
 
 class ResultFileError(ValueError):
-    """A result file that cannot be read: the message names the file and what is wrong."""
+    """A result file that cannot be read: the message names the file and what is wrong.
+
+    One line, whatever the file holds: a line break in it (a key read from the file) is
+    written as an escape."""
+
+    def __init__(self, message: str) -> None:
+        super().__init__(message.translate({ord(c): repr(c)[1:-1] for c in _LINE_BREAKS}))
+
+
+_LINE_BREAKS = "\n\r\x0b\x0c\x1c\x1d\x1e\x85\u2028\u2029"  # where str.splitlines breaks
 
 
 def runs_dir(results: Path) -> Path:
@@ -194,13 +208,178 @@ def load_run(path: Path) -> dict[str, Any]:
     """One run file, upgraded to the current schema; ``ResultFileError`` if unreadable."""
     try:
         data = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
+    except (OSError, ValueError, RecursionError) as error:  # ValueError: JSON's, UTF-8's, and
+        # an integer of thousands of digits; RecursionError: arrays nested thousands deep
         raise ResultFileError(f"{path}: cannot read the result file: {error}") from None
     if not isinstance(data, dict):
         raise ResultFileError(f"{path}: expected a JSON object")
     data = upgrade(data, str(path))
     data["rtc"].setdefault("stem", path.stem)
     return data
+
+
+# ------------------------------------------------------------------ checking a run's fields
+
+# A spec is a dict of field specs ("?key": optional, may also be absent); a field spec is a
+# type, None (the value may be null), a tuple of alternatives, a one-item list (a list of
+# that), a dict (a nested spec), or one of the names below.
+Spec = Any
+NUMBER = "number"  # an int or float, not a bool
+SIZE = "size"  # [width, height], whole numbers of at least 1
+TIMES = "times"  # a non-empty list of numbers above 0 (seconds)
+
+MACHINE: Spec = {
+    "hostname": str, "cpu_model": str, "cpu_count": int, "cores_available": int,
+    "python": str, "?load_average": ([NUMBER], None), "?commit": (str, None),
+    "?dirty": (bool, None), "?numpy": (str, None), "?numba": (str, None),
+}  # fmt: skip
+SETTINGS: Spec = {
+    "size": SIZE, "samples": int, "depth": int, "seed": int, "repeat": int,
+    "budget": (NUMBER, None), "threads": (int, None), "?epsilon": (NUMBER, None),
+    "scene": {"name": str}, "?preset": str,
+    "mode": {"name": str, "?preset_size": SIZE, "?side_repeat": int},
+}  # fmt: skip
+ROW: Spec = {"section": str, "name": str, "status": str, "?error": str}
+ROW_OK: Spec = {
+    "size": SIZE, "samples": int, "wall": TIMES, "cpu": [NUMBER], "?cores": int,
+    "?reduced": bool, "?budget_note": (str, None), "?compare_size": SIZE,
+    "?image": (str, None), "?compare_image": (str, None), "?heatmap": (str, None),
+    "?warmup": {"?first": NUMBER, "?second": NUMBER},
+    "?speedup": ({"value": NUMBER, "basis": str}, None),
+    "?error_vs_naive": ({"max_abs": NUMBER, "mean_abs": NUMBER, "rmse": NUMBER,
+                         "psnr": (NUMBER, None), "pixels_over_one_step": int,
+                         "pixels": int}, None),
+    "?allocations": ({"count": (int, None), "bytes": (int, None), "method": str}, None),
+    "?peak_memory": ({"main": NUMBER, "?workers": (NUMBER, None)}, None),
+    "?rays": ({"total": int}, None), "?group": str, "?count": int,
+}  # fmt: skip
+POINT: Spec = {
+    "?size": SIZE, "?samples": int, "?wall": NUMBER, "?cpu": (NUMBER, [NUMBER]),
+    "?skipped": str, "?image": (str, None),
+}  # fmt: skip
+SERIES: Spec = {"section": str, "name": str, "?status": str, "?points": [POINT]}
+RUN: Spec = {
+    "stem": str, "started": str, "seconds": NUMBER, "machine": MACHINE,
+    "settings": SETTINGS, "rows": [ROW], "series": [SERIES], "compare_size": SIZE,
+    "?notes": [str], "?kata": (dict, None), "?unavailable": (dict, None),
+    "?heat_full_scale": NUMBER, "?load": (dict, None), "?shared": (str, None),
+}  # fmt: skip
+
+
+def _kind(spec: Spec) -> str:
+    """What ``spec`` expects, in words, for an error message."""
+    if spec is None:
+        return "null"
+    if isinstance(spec, tuple):
+        return " or ".join(_kind(s) for s in spec)
+    if isinstance(spec, list):
+        return f"a list of {_kind(spec[0])}s" if not isinstance(spec[0], dict) else "a list"
+    if isinstance(spec, dict):
+        return "an object"
+    words = {NUMBER: "a number", SIZE: "[width, height]", TIMES: "a list of seconds above 0"}
+    if isinstance(spec, str):
+        return words[spec]
+    return {str: "text", int: "a whole number", bool: "true or false", dict: "an object",
+            list: "a list"}.get(spec, spec.__name__)  # fmt: skip
+
+
+def _is_number(value: Any) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def _fits(value: Any, spec: Spec, where: str) -> str | None:
+    """Why ``value`` does not fit ``spec`` (naming the field ``where``), or None."""
+    if isinstance(spec, tuple):
+        reasons = [_fits(value, s, where) for s in spec]
+        if any(r is None for r in reasons):
+            return None
+        deeper = [r for r, s in zip(reasons, spec, strict=True) if _shape_matches(value, s)]
+        return deeper[0] if deeper else f"{where}: expected {_kind(spec)}, got {_got(value)}"
+    if spec is None:
+        return None if value is None else f"{where}: expected null, got {_got(value)}"
+    if isinstance(spec, dict):
+        if not isinstance(value, dict):
+            return f"{where}: expected an object, got {_got(value)}"
+        for key, field in spec.items():
+            name = key.lstrip("?")
+            inner = f"{where}.{name}" if where else name
+            if name not in value:
+                if key.startswith("?"):
+                    continue
+                return f"{inner}: missing"
+            why = _fits(value[name], field, inner)
+            if why:
+                return why
+        return None
+    if isinstance(spec, list):
+        if not isinstance(value, list):
+            return f"{where}: expected {_kind(spec)}, got {_got(value)}"
+        for i, item in enumerate(value):
+            why = _fits(item, spec[0], f"{where}[{i}]")
+            if why:
+                return why
+        return None
+    if spec == NUMBER:
+        ok = _is_number(value)
+    elif spec == SIZE:
+        ok = isinstance(value, list) and len(value) == 2
+        ok = ok and all(type(v) is int and v >= 1 for v in value)
+    elif spec == TIMES:
+        ok = isinstance(value, list) and bool(value)
+        ok = ok and all(_is_number(v) and v > 0 for v in value)
+    elif spec is int:
+        ok = isinstance(value, int) and not isinstance(value, bool)
+    else:
+        ok = isinstance(value, spec)
+    return None if ok else f"{where}: expected {_kind(spec)}, got {_got(value)}"
+
+
+def _shape_matches(value: Any, spec: Spec) -> bool:
+    """Whether ``value`` has ``spec``'s outer shape (so its deeper error is the one to
+    report among alternatives)."""
+    return (isinstance(spec, dict) and isinstance(value, dict)) or (
+        isinstance(spec, list) and isinstance(value, list)
+    )
+
+
+def _got(value: Any) -> str:
+    text = json.dumps(value, allow_nan=True)
+    return text if len(text) <= 40 else text[:37] + "..."
+
+
+def _not_finite(value: Any, where: str) -> str | None:
+    """The first NaN or infinite number in ``value`` (a JSON tree), named, or None."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return f"{where}: {value} is not a measurement"
+    if isinstance(value, dict):
+        items: Any = ((f"{where}.{k}" if where else str(k), v) for k, v in value.items())
+    elif isinstance(value, list):
+        items = ((f"{where}[{i}]", v) for i, v in enumerate(value))
+    else:
+        return None
+    for inner, item in items:
+        why = _not_finite(item, inner)
+        if why:
+            return why
+    return None
+
+
+def check_run(rtc: Any, source: str) -> None:
+    """A ``ResultFileError`` naming ``source`` and the first field the report cannot use
+    (missing, of the wrong type, or a NaN or infinite number: ``rows[2].wall[0]``); None
+    when the run's ``rtc`` section is fit for the report."""
+    try:
+        why = _fits(rtc, RUN, "") or _not_finite(rtc, "")
+    except RecursionError:  # lists or objects nested hundreds deep: no run file has them
+        why = "values nested too deep to check"
+    if why is None:
+        for i, row in enumerate(rtc["rows"]):
+            if row["status"] == "ok":
+                why = _fits(row, ROW_OK, f"rows[{i}]")
+                if why:
+                    break
+    if why:
+        raise ResultFileError(f"{source}: {why}")
 
 
 def list_runs(results: Path) -> list[Path]:

@@ -11,6 +11,8 @@ import argparse
 import importlib
 import os
 import sys
+import tempfile
+from pathlib import Path
 from types import ModuleType
 
 COMMANDS = [
@@ -20,6 +22,7 @@ COMMANDS = [
     "rtc.cmd_demo",
     "rtc.cmd_bench",
     "rtc.cmd_report",
+    "rtc.cmd_compare",
     "rtc.cmd_render",
     "rtc.cmd_profile",
     "rtc.cmd_stability",
@@ -34,12 +37,81 @@ def add_results_dir(
     parser: argparse.ArgumentParser,
     help: str = "where the run file goes (DIR/runs/; default ./results)",
 ) -> None:
-    """The ``--results-dir DIR`` option of the commands that write or read ``results/``."""
-    from pathlib import Path
-
+    """The ``--results-dir DIR`` option of the commands that write or read ``results/``
+    (``main`` refuses one that names a file; ``check_writable`` one that cannot be written)."""
     parser.add_argument(
         "--results-dir", type=Path, default=Path("results"), metavar="DIR", help=help
     )
+
+
+def check_results_dir(path: Path) -> None:
+    """A ``UserError`` when ``--results-dir`` (or its ``runs/``) exists and is not a folder."""
+    for folder in (path, path / "runs"):
+        if _exists(folder, f"--results-dir {str(path)!r}") and not folder.is_dir():
+            raise UserError(f"--results-dir {str(path)!r}: {str(folder)!r} is a file, not a folder")
+
+
+def _exists(path: Path, what: str) -> bool:
+    """Whether ``path`` exists; a ``UserError`` naming ``what`` when it cannot be looked at
+    (a folder on the way that we may not enter)."""
+    try:
+        path.stat()
+    except (FileNotFoundError, NotADirectoryError):  # NotADirectory: a file on the way
+        return False
+    except OSError as error:
+        raise UserError(f"{what}: cannot reach {str(path)!r}: {error.strerror or error}") from None
+    return True
+
+
+def check_writable(path: Path, what: str) -> None:
+    """A ``UserError`` naming ``what`` (an option and its value) unless files can be made in
+    ``path``, or in the nearest folder above it that exists (``path`` is made later): a
+    temporary file is made and removed there, so a read-only folder, a read-only file
+    system or a full disk is found before any work is done."""
+    folder = path
+    while not _exists(folder, what) and folder != folder.parent:
+        folder = folder.parent
+    if not folder.is_dir():
+        raise UserError(f"{what}: {str(folder)!r} is not a folder")
+    try:
+        with tempfile.TemporaryFile(dir=folder, prefix=".rtc-write-check-"):
+            pass
+    except OSError as error:
+        raise UserError(
+            f"{what}: cannot write in {str(folder)!r}: {error.strerror or error}"
+        ) from None
+
+
+def check_output(text: str) -> Path:
+    """``-o``'s path, checked before anything is rendered: a known image extension, not a
+    folder (nor spelled as one, ``out.png/``), in a folder that exists and takes new files,
+    and, when the file exists, one that can be written."""
+    from harness.images import FORMATS
+
+    output = Path(text)
+    what = f"cannot write {text!r}"
+    if text.endswith(("/", os.sep)):
+        raise UserError(f"{what}: it names a folder (it ends with '/')")
+    if output.suffix.lower() not in FORMATS:
+        raise UserError(
+            f"{what}: unknown image extension {output.suffix or '(none)'}; "
+            f"use {' or '.join(FORMATS)}"
+        )
+    exists = _exists(output, what)
+    if exists and output.is_dir():
+        raise UserError(f"{what}: it is a folder")
+    folder = output.parent
+    if _exists(folder, what) and not folder.is_dir():
+        raise UserError(f"{what}: {str(folder)!r} is a file, not a folder")
+    if not folder.is_dir():
+        raise UserError(f"{what}: no folder {str(folder)!r}")
+    check_writable(folder, what)
+    if exists:
+        try:
+            os.close(os.open(output, os.O_WRONLY))  # opened, not truncated: left as it is
+        except OSError as error:
+            raise UserError(f"cannot write {text!r}: {error.strerror or error}") from None
+    return output
 
 
 def _commands(argv: list[str] | None = None) -> list[ModuleType]:
@@ -64,8 +136,15 @@ def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else argv
-    args = build_parser(argv).parse_args(argv)
+    try:  # Ctrl-C while the command's modules are imported: one line too
+        args = build_parser(argv).parse_args(argv)
+    except KeyboardInterrupt:
+        named = f" {argv[0]}" if argv and f"rtc.cmd_{argv[0]}" in COMMANDS else ""
+        print(f"rtc{named}: interrupted", file=sys.stderr)
+        return 130
     try:
+        if isinstance(getattr(args, "results_dir", None), Path):
+            check_results_dir(args.results_dir)
         return int(args.run(args))
     except UserError as error:
         print(f"rtc {args.command}: {error}", file=sys.stderr)
@@ -86,5 +165,7 @@ def main(argv: list[str] | None = None) -> int:
         return 2
 
 
-if __name__ == "__main__":
-    sys.exit(main())
+if __name__ == "__main__":  # python -m rtc.cli: the commands raise rtc.cli's UserError
+    from rtc.cli import main as rtc_main
+
+    sys.exit(rtc_main())

@@ -7,10 +7,10 @@ from __future__ import annotations
 import argparse
 import sys
 import time
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from harness import numba_targets
-from rtc.cli import UserError, add_results_dir
+from rtc.cli import UserError, add_results_dir, check_writable
 
 if TYPE_CHECKING:
     from harness.plan import BenchSettings
@@ -78,7 +78,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="A,B",
         help=f"which parts to run, of {', '.join(SECTIONS)} (default: all but scene-size, "
         "which takes minutes: render, load and pack time against a mesh's triangle count, "
-        "light-samples: soft shadows' light cells against pixel samples, and profile: where "
+        "light-samples: soft shadows' light cells against pixel samples, pass-size: the "
+        "wavefront variant's time and memory against max_mb, and profile: where "
         "the time goes in naive, cached, prealloc and numba, about a minute)",
     )
     parser.add_argument(
@@ -90,10 +91,28 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="the light-samples section's variant (default: numba)",
     )  # fmt: skip
     parser.add_argument(
+        "--pass-variant", default="wavefront", metavar="NAME",
+        help="the pass-size section's variant, its max_mb set per point (default: wavefront)",
+    )  # fmt: skip
+    parser.add_argument(
         "--meshes", default="all", metavar="A,B",
         help="the scene-size section's meshes: 1k, 10k, 100k, 1m (default: all)",
     )  # fmt: skip
     add_results_dir(parser)
+    gate = parser.add_argument_group(
+        "a performance gate (opt-in; the default CI does not run it: its machine is noisy)",
+        "after the run is written, compare it with RUN as rtc compare does and exit 1 when a "
+        "variant measured at one size in both is significantly slower (Student's t-test over "
+        "the timed renders, 95%) by more than PCT",
+    )
+    gate.add_argument(
+        "--compare-to", metavar="RUN", default=None,
+        help="a run file, its name in DIR/runs/, latest or previous (resolved before the run)",
+    )  # fmt: skip
+    gate.add_argument(
+        "--fail-slower", metavar="PCT", default=None,
+        help="the slow-down allowed, e.g. 25%% (with --compare-to; without it: compare only)",
+    )  # fmt: skip
     targets = parser.add_argument_group(
         "the numba variant's targets",
         "rtc bench --numba-targets [--runs N] [--skip SECTION] ...: the numba variant's "
@@ -119,7 +138,7 @@ def settings_from(args: argparse.Namespace) -> BenchSettings:
     mode = FULL if args.full else QUICK
     try:
         scene = resolve_scene(args.scene)
-        size = parse_size(args.size) if args.size else mode.size
+        size = parse_size(args.size) if args.size is not None else mode.size
     except ValueError as error:
         raise UserError(str(error)) from None
     for flag, value, low, high in (
@@ -145,6 +164,7 @@ def settings_from(args: argparse.Namespace) -> BenchSettings:
         raise UserError(f"--variants: {error.args[0]}") from None
     budget = mode.budget if args.budget is None else (args.budget or None)
     meshes, mesh_variants = _scene_size_options(args)
+    check_writable(args.results_dir, f"--results-dir {str(args.results_dir)!r}")
     return BenchSettings(
         scene=scene,
         size=size,
@@ -163,6 +183,7 @@ def settings_from(args: argparse.Namespace) -> BenchSettings:
         mesh_variants=mesh_variants,
         meshes=meshes,
         light_variant=args.light_variant,
+        pass_variant=args.pass_variant,
     )
 
 
@@ -190,6 +211,10 @@ def _scene_size_options(args: argparse.Namespace) -> tuple[tuple[str, ...], tupl
         parse_variant_name(args.light_variant)
     except VariantError as error:
         raise UserError(f"--light-variant: {error.args[0]}") from None
+    try:
+        parse_variant_name(args.pass_variant)
+    except VariantError as error:
+        raise UserError(f"--pass-variant: {error.args[0]}") from None
     return meshes, names
 
 
@@ -199,7 +224,10 @@ def run(args: argparse.Namespace) -> int:
         for o in NUMBA_TARGET_OPTIONS
         if getattr(args, o, None) not in (None, [])
     ]
+    baseline = _gate_baseline(args)
     if args.numba_targets:
+        if baseline is not None:
+            raise UserError("--compare-to, --fail-slower: not with --numba-targets")
         try:
             numba_targets.settings(args)
         except ValueError as error:
@@ -211,6 +239,7 @@ def run(args: argparse.Namespace) -> int:
     from harness.bench import run_bench
     from harness.report import console_table
     from harness.results import load_run
+    from harness.scenefile import SceneError
 
     settings = settings_from(args)
 
@@ -220,7 +249,37 @@ def run(args: argparse.Namespace) -> int:
         elapsed = time.monotonic() - started
         print(f"rtc bench [{elapsed:5.0f} s]: {message}", file=sys.stderr, flush=True)
 
-    path = run_bench(settings, log)
+    try:
+        path = run_bench(settings, log)
+    except SceneError as error:  # checked before anything is measured or written
+        raise UserError(str(error)) from None
     print(console_table(load_run(path)["rtc"]))
     print(f"rtc bench: wrote {path}")
-    return 0
+    if baseline is None:
+        return 0
+    from harness.compare import gate
+
+    report, failures = gate(baseline[0], load_run(path)["rtc"], baseline[1])
+    print("\n".join(report))
+    for line in failures:
+        print(f"rtc bench: slower: {line}", file=sys.stderr)
+    return 1 if failures else 0
+
+
+def _gate_baseline(args: argparse.Namespace) -> tuple[dict[str, Any], float | None] | None:
+    """``--compare-to`` and ``--fail-slower`` checked before the run: (the run compared with,
+    the percentage allowed or None), or None without ``--compare-to``."""
+    from harness.compare import RunChoiceError, load, parse_percent
+
+    if args.compare_to is None:
+        if args.fail_slower is not None:
+            raise UserError("--fail-slower: give the run to compare with, --compare-to RUN")
+        return None
+    try:
+        percent = None if args.fail_slower is None else parse_percent(args.fail_slower)
+    except ValueError as error:
+        raise UserError(f"--fail-slower {error}") from None
+    try:
+        return load(args.compare_to, args.results_dir), percent
+    except RunChoiceError as error:
+        raise UserError(f"--compare-to {error}") from None

@@ -68,7 +68,7 @@ def run(args: argparse.Namespace) -> int:
     from harness.sizes import Size
     from variants.registry import load_variant
 
-    size = Size(*parse_size(args.size)) if args.size else None
+    size = Size(*parse_size(args.size)) if args.size is not None else None
     if args.spp < 1:
         raise UserError(f"--spp {args.spp}: expected 1 or more samples per pixel")
     if args.top < 1:

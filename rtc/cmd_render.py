@@ -10,10 +10,10 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from harness.images import FORMATS, write_image
+from harness.images import write_image
 from harness.scenefile import SceneError, divides, load_scene
 from raytracer.camera import RenderSettings
-from rtc.cli import UserError
+from rtc.cli import UserError, check_output
 from rtc.cmd_demo import parse_size
 
 NAME = "render"
@@ -23,8 +23,9 @@ HELP = "render a scene file (the book's YAML scene format) to a PNG or PPM image
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("scene", type=Path, metavar="SCENE.yml", help="the scene file")
     parser.add_argument(
-        "-o", "--output", required=True, type=Path, metavar="OUT.png",
-        help="the image to write: .png or .ppm",
+        "-o", "--output", required=True, metavar="OUT.png",
+        help="the image to write: .png or .ppm (checked before rendering: its folder must "
+        "exist and be writable)",
     )  # fmt: skip
     parser.add_argument(
         "--size", metavar="WxH",
@@ -69,17 +70,6 @@ def _settings(args: argparse.Namespace) -> RenderSettings:
         raise UserError(f"bad option: {message}") from None
 
 
-def _check_output(output: Path) -> None:
-    if output.suffix.lower() not in FORMATS:
-        raise UserError(
-            f"cannot write {str(output)!r}: unknown image extension {output.suffix or '(none)'}; "
-            f"use {' or '.join(FORMATS)}"
-        )
-    folder = output.parent
-    if not folder.is_dir():
-        raise UserError(f"cannot write {str(output)!r}: no folder {str(folder)!r}")
-
-
 def _progress_bar(rows: int) -> tuple[Callable[[int], object] | None, Callable[[], None]]:
     """A tqdm bar on stderr counting rows, only when stderr is a terminal; (update, close)."""
     if not sys.stderr.isatty():
@@ -94,8 +84,8 @@ def run(args: argparse.Namespace) -> int:
     from variants.registry import RenderError, load_variant
 
     settings = _settings(args)
-    size = parse_size(args.size) if args.size else None
-    _check_output(args.output)
+    size = parse_size(args.size) if args.size is not None else None
+    output = check_output(args.output)
     try:
         variant = load_variant(args.variant)
     except LookupError as error:
@@ -134,8 +124,8 @@ def run(args: argparse.Namespace) -> int:
         close()
     elapsed = time.perf_counter() - start
     try:
-        write_image(image, args.output)
+        write_image(image, output)
     except OSError as error:
-        raise UserError(f"cannot write {str(args.output)!r}: {error.strerror or error}") from None
-    print(f"rendered in {elapsed:.2f} s -> {args.output}")
+        raise UserError(f"cannot write {args.output!r}: {error.strerror or error}") from None
+    print(f"rendered in {elapsed:.2f} s -> {output}")
     return 0

@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import argparse
+import sys
 
-from rtc.cli import UserError, add_results_dir
+from rtc.cli import UserError, add_results_dir, check_writable
 
 NAME = "report"
 HELP = "write results/README.md and a self-contained results/report.html from results/runs/"
@@ -19,11 +20,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from harness.report import build_report
 
+    def warn(problem: str) -> None:  # one line per file on stderr; the report goes on
+        print(f"rtc report: warning: skipped {problem}", file=sys.stderr, flush=True)
+
+    check_writable(args.results_dir, f"--results-dir {str(args.results_dir)!r}")
     try:
-        readme, page, problems = build_report(args.results_dir)
+        readme, page, _ = build_report(args.results_dir, warn)
     except FileNotFoundError as error:
         raise UserError(str(error)) from None
-    for problem in problems:
-        print(f"rtc report: skipped {problem}")
     print(f"rtc report: wrote {readme} and {page}")
     return 0

@@ -96,8 +96,8 @@ def test_the_section_measures_a_tiny_soft_shadow_scene(tmp_path: Path) -> None:
     scene.write_text(SCENE)
     plan = Plan(
         variant="prealloc", size=Size(8, 6), scene=scene,
-        configs=(Config(1, False), Config(4, True)), samples=(1, 2),
-        truth=Config(4, True), truth_samples=8,
+        configs=(Config(1, False), Config(4, True)), samples=(1, 2), repeat=2,
+        truth=Config(4, True), truth_samples=8, pictures=(scene,),
     )  # fmt: skip
     saved: list[str] = []
 
@@ -106,15 +106,19 @@ def test_the_section_measures_a_tiny_soft_shadow_scene(tmp_path: Path) -> None:
         return f"run/{name}"
 
     entries = light_samples.run(plan, tmp_path / "jobs", lambda _: None, save)
-    assert [e["section"] for e in entries] == ["light-truth", "light-samples", "light-samples"]
+    sections = [e["section"] for e in entries]
+    assert sections == ["light-truth", "light-samples", "light-samples", "bonus-picture"]
     assert all(e["status"] == "ok" for e in entries), entries
     centred, jittered = entries[1], entries[2]
     for entry in (centred, jittered):
         assert [p["samples"] for p in entry["points"]] == [1, 2]
         assert all(p["wall"] > 0 and p["error"]["rmse"] >= 0 for p in entry["points"])
+        assert all(len(p["walls"]) == 2 for p in entry["points"])  # repeat=2, median kept
     # a single centred cell is a hard shadow: it cannot reach the soft truth
     assert centred["points"][1]["error"]["rmse"] > 0
     assert "light-truth.png" in saved and "light-2x2-jittered-1spp.png" in saved
+    assert "picture-soft.png" in saved
     gallery = [b for b in light_samples_report.blocks({"series": entries}, None, "") if
                isinstance(b, Gallery)]  # fmt: skip
     assert len(gallery[0].rows) == 3
+    assert gallery[1].rows[0][1][0] is not None  # the bonus picture

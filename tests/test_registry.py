@@ -117,7 +117,11 @@ def test_unknown_variants_and_all_in_the_wrong_place_are_clear_errors() -> None:
         ("pooled[workers=two]", "option workers='two' must be a whole number"),
         ("pooled[granularity=row]", "option granularity='row' must be one of line, pixel, tile"),
         ("pooled[tile=8]", "option tile=8 applies only with granularity=tile"),
-        ("pooled[threads=2]", "has no option 'threads'; it accepts granularity, tile, workers"),
+        (
+            "pooled[threads=2]",
+            "has no option 'threads'; it accepts granularity, tile, timeout, workers",
+        ),
+        ("pooled[timeout=0]", "option timeout='0' must be a whole number 1 to 86400"),
     ],
 )
 def test_pooled_rejects_bad_options_by_name(name: str, message: str) -> None:

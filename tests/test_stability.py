@@ -38,6 +38,8 @@ VARIANTS = (
     "numba[fastmath]",
     "numba[float32]",
     "robust",
+    "wavefront",
+    "wavefront[float32]",
 )
 
 
@@ -77,7 +79,7 @@ def clean(unit: str) -> Claim:
 
 
 # The variants that follow the book in float64 (naive, cached, prealloc, pooled over naive,
-# numba and numba[fastmath]): what the suite measures for them.
+# numba, numba[fastmath] and wavefront): what the suite measures for them.
 BOOK: dict[str, Claim] = {
     "scale/1e-6": wrong(PIXELS / 2, "px"),  # the 1e-4 offset is 100 times the scene
     "scale/1e-3": wrong(1, "px"),
@@ -153,6 +155,10 @@ ROBUST = {
     **{f"graze/{name}": EXACT for name in ("plane-1e-12", "plane-1e-20", "cylinder-axis-1e-12",
                                            "cone-parallel-1e-12")},
 }  # fmt: skip
+WAVEFRONT_FLOAT32 = {
+    **BOOK,  # its camera rays are computed in float64: most cases come out as the book's
+    "scale/moved-1e6": wrong(PIXELS / 2, "px"),  # float32 positions 1e6 away: 0.06 apart
+}
 CLAIMS: dict[str, dict[str, Claim]] = {
     "naive": BOOK,
     "cached": BOOK,
@@ -162,6 +168,8 @@ CLAIMS: dict[str, dict[str, Claim]] = {
     "numba[fastmath]": NUMBA,
     "numba[float32]": FLOAT32,
     "robust": ROBUST,
+    "wavefront": BOOK,  # the book's arithmetic over arrays
+    "wavefront[float32]": WAVEFRONT_FLOAT32,
 }
 
 

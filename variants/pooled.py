@@ -3,13 +3,15 @@ variant (the Go write-up's first step: one image line per job on a pool of worke
 
 Name and options (the grammar of ``variants.registry``)::
 
-    pooled[workers=N,granularity=line|pixel|tile,tile=S]:INNER
+    pooled[workers=N,granularity=line|pixel|tile,tile=S,timeout=T]:INNER
 
 - ``workers``: how many processes (default: the CPUs this process may use). Always spelled
   in the canonical name, since its default depends on the machine.
 - ``granularity``: what one job is: an image ``line`` (the default, the write-up's unit), one
   ``pixel`` (to measure why the write-up moved to lines: a round trip per pixel), or a
   ``tile`` of S x S pixels (``tile=S``, default 16, only with ``granularity=tile``).
+- ``timeout``: how many seconds a worker may stay silent (default 10) before the render
+  fails; see the heartbeat below.
 - ``INNER``: the variant that traces the rays (default ``naive``): ``pooled:cached``,
   ``pooled[workers=2]:prealloc``.
 
@@ -31,7 +33,18 @@ progress)``:
   0.2 to 0.5 s) is part of every render's time;
 - raises ``RenderWorkerError`` within moments when a worker dies (killed, crashed, or an
   exception in a job): the message names the worker, its pid, its exit code and the jobs it
-  held; the workers are stopped and no image is returned. A script that renders with this
+  held; the workers are stopped and no image is returned;
+- hears from every worker at least every ``HEARTBEAT_SECONDS`` (a thread in the worker sends
+  a beat between its results): a worker silent for ``timeout`` seconds (stopped by SIGSTOP,
+  frozen, or starved of CPU) fails the render the same way, within ``timeout`` plus a
+  quarter of a second, naming the worker and whether the system sees it stopped. Before its
+  first word a worker gets ``STARTUP_SECONDS`` (at least): its interpreter starts and the
+  world is unpickled then, with no beat. A job that holds the GIL for longer than
+  ``timeout`` (a compiled kernel that does not release it) silences the beat too: raise
+  ``timeout`` for such jobs;
+- leaves no traceback when its parent dies (killed, or Ctrl-C'd): a worker starts with
+  SIGINT blocked, then ignores it (Ctrl-C is the parent's to handle), and a worker whose
+  pipe closes exits quietly, within one heartbeat. A script that renders with this
   variant keeps its top-level code under ``if __name__ == "__main__":`` (``spawn`` imports
   the main module in every worker).
 """
@@ -40,9 +53,12 @@ from __future__ import annotations
 
 import os
 import signal
+import threading
+import time
 import traceback
 from collections import deque
 from collections.abc import Iterator, Mapping
+from contextlib import contextmanager
 from dataclasses import dataclass
 from multiprocessing import get_context
 from multiprocessing.connection import Connection, wait
@@ -73,9 +89,14 @@ MAX_WORKERS = 256
 START_METHOD = "spawn"
 IN_FLIGHT = 2  # jobs sent ahead to each worker, so it never waits for the parent
 STOP_SECONDS = 5.0  # how long finished workers get to exit before they are terminated
+HEARTBEAT_SECONDS = 0.25  # a worker's beat interval, and how often the parent checks
+DEFAULT_TIMEOUT = 10  # seconds a worker may stay silent before the render fails
+STARTUP_SECONDS = 60.0  # the least silence allowed before a worker's first word
+MAX_TIMEOUT = 86_400
 USAGE = (
     "workers=N (default: the CPU count), granularity=line|pixel|tile (default line), "
-    f"tile=S (tile side in pixels, default {DEFAULT_TILE}, with granularity=tile); "
+    f"tile=S (tile side in pixels, default {DEFAULT_TILE}, with granularity=tile), "
+    f"timeout=T (seconds a silent worker is waited for, default {DEFAULT_TIMEOUT}); "
     "wraps INNER (pooled:INNER, default naive)"
 )
 
@@ -123,7 +144,38 @@ def describe_job(job: Job) -> str:
 # ------------------------------------------------------------------------------ a worker
 
 
-def _serve(conn: Connection, tracer: Tracer, c: Camera, w: World, settings: RenderSettings) -> None:
+class _Link:
+    """A worker's end of its pipe, shared by the job loop and the heartbeat thread (one send
+    at a time). When the parent is gone (the pipe is closed) there is nobody to report to:
+    the worker exits at once and quietly, whichever thread finds out."""
+
+    def __init__(self, conn: Connection) -> None:
+        self.conn = conn
+        self.lock = threading.Lock()
+
+    def send(self, message: tuple[str, int, Any]) -> None:
+        try:
+            with self.lock:
+                self.conn.send(message)
+        except (OSError, EOFError):  # BrokenPipeError, ConnectionResetError
+            os._exit(0)
+
+    def recv(self) -> Any:
+        try:
+            return self.conn.recv()
+        except (OSError, EOFError):
+            os._exit(0)
+
+    def beat(self, interval: float) -> None:
+        """Send a beat every ``interval`` seconds, for ever (a daemon thread's loop)."""
+        while True:
+            time.sleep(interval)
+            self.send(("beat", -1, None))
+
+
+def _serve(
+    conn: Connection | _Link, tracer: Tracer, c: Camera, w: World, settings: RenderSettings
+) -> None:
     """Trace the jobs ``conn`` brings with ``tracer.render_region`` until ``None`` (one frame:
     the tracer prepares it once, for the first job)."""
     while True:
@@ -142,19 +194,26 @@ def _serve(conn: Connection, tracer: Tracer, c: Camera, w: World, settings: Rend
 def _worker_main(
     conn: Connection, inner: str, c: Camera, w: World, settings: RenderSettings
 ) -> None:
-    """One worker: load the inner variant by name, then trace the jobs it is sent until
-    ``None`` with its tracer.
+    """One worker: start the heartbeat, load the inner variant by name, then trace the jobs
+    it is sent until ``None`` with its tracer.
 
-    Sends ``("done", index, [r, g, b, ...])`` per job (row-major), or ``("error", index,
+    Sends ``("beat", -1, None)`` every ``HEARTBEAT_SECONDS`` from a thread,
+    ``("done", index, [r, g, b, ...])`` per job (row-major), or ``("error", index,
     traceback)`` and stops; ``("init-error", -1, traceback)`` if it cannot start.
     """
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
+    link = _Link(conn)
+    link.send(("beat", -1, None))  # the first word: started
+    beats = threading.Thread(
+        target=link.beat, args=(HEARTBEAT_SECONDS,), name="rtc-pooled-heartbeat", daemon=True
+    )
+    beats.start()
     try:
         tracer = _tracer_of(load_variant(inner))
     except BaseException:
-        conn.send(("init-error", -1, traceback.format_exc()))
+        link.send(("init-error", -1, traceback.format_exc()))
         return
-    _serve(conn, tracer, c, w, settings)
+    _serve(link, tracer, c, w, settings)
 
 
 # ------------------------------------------------------------------------------ the pool
@@ -166,12 +225,54 @@ class _Worker:
     process: Any  # a multiprocessing Process
     conn: Connection
     held: deque[int]  # the jobs sent to it and not yet returned, oldest first
+    heard: float  # time.monotonic() when its last message (or its start) was seen
     stopped: bool = False  # told to stop (no jobs left for it)
     broken: bool = False  # its pipe closed: it died
+    talked: bool = False  # it has sent something (the startup allowance is over)
+    silent: bool = False  # it stayed silent too long: killed, not asked, when closing
 
     @property
     def label(self) -> str:
         return f"worker {self.number} (pid {self.process.pid})"
+
+
+@contextmanager
+def _sigint_blocked() -> Iterator[None]:
+    """SIGINT blocked in this thread while a worker starts: the worker inherits the block
+    (a Ctrl-C while its interpreter imports would otherwise end it with a traceback) until
+    it ignores SIGINT, and a Ctrl-C meant for us meanwhile is not lost: another thread takes
+    it, or it waits until the block ends. The resource tracker is started first: starting
+    it unblocks SIGINT (CPython's own guard, bpo-33613)."""
+    if not hasattr(signal, "pthread_sigmask"):  # not POSIX
+        yield
+        return
+    from multiprocessing import resource_tracker
+
+    resource_tracker.ensure_running()
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, mask)
+
+
+def _process_state(pid: int | None) -> str | None:
+    """The state letter Linux shows for ``pid`` (``T``: stopped, ``R``: running ...), or
+    None where it cannot be read."""
+    try:
+        with open(f"/proc/{pid}/stat", encoding="ascii") as stat:
+            return stat.read().rsplit(")", 1)[1].split()[0]
+    except (OSError, IndexError):
+        return None
+
+
+def _silence_text(pid: int | None) -> str:
+    state = _process_state(pid)
+    if state in ("T", "t"):
+        return "it is stopped (a SIGSTOP, Ctrl-Z or a debugger)"
+    if state == "D":
+        return "it is blocked in the kernel (waiting on a disk or device)"
+    return "it is frozen or starved of CPU"
 
 
 def _exit_text(code: int | None) -> str:
@@ -190,9 +291,16 @@ class _Pool:
     jobs finish and raises ``RenderWorkerError`` when a worker fails."""
 
     def __init__(
-        self, count: int, inner: str, c: Camera, w: World, settings: RenderSettings
+        self,
+        count: int,
+        inner: str,
+        c: Camera,
+        w: World,
+        settings: RenderSettings,
+        timeout: float = DEFAULT_TIMEOUT,
     ) -> None:
         context: Any = get_context(START_METHOD)
+        self.timeout = timeout
         self.workers: list[_Worker] = []
         try:
             for number in range(count):
@@ -204,7 +312,8 @@ class _Pool:
                     daemon=True,
                 )
                 try:
-                    process.start()
+                    with _sigint_blocked():
+                        process.start()
                 except Exception as error:
                     raise RenderWorkerError(
                         f"pooled render: cannot start worker {number}: the camera, world and "
@@ -212,7 +321,7 @@ class _Pool:
                     ) from error
                 finally:
                     child_end.close()
-                self.workers.append(_Worker(number, process, parent_end, deque()))
+                self.workers.append(_Worker(number, process, parent_end, deque(), time.monotonic()))
         except BaseException:
             self.close()
             raise
@@ -229,7 +338,7 @@ class _Pool:
                 if not worker.stopped:
                     by_object[worker.conn] = worker
                     by_object[worker.process.sentinel] = worker
-            for ready in wait(list(by_object)):
+            for ready in wait(list(by_object), timeout=HEARTBEAT_SECONDS):
                 worker = by_object[ready]
                 if worker.stopped:
                     continue
@@ -239,6 +348,9 @@ class _Pool:
                 if ready is worker.process.sentinel or worker.broken:
                     self._died(worker, jobs, remaining)
                 self._feed(worker, pending, jobs)
+            for worker in self.workers:
+                if not worker.stopped:
+                    self._check_heard(worker, jobs, remaining)
 
     def _receive(self, worker: _Worker, jobs: list[Job]) -> Iterator[tuple[int, list[float]]]:
         """Everything the worker has sent so far (``broken`` when its pipe has closed)."""
@@ -250,6 +362,10 @@ class _Pool:
             except (EOFError, OSError):
                 worker.broken = True  # it died: the caller reports it
                 return
+            worker.heard = time.monotonic()
+            worker.talked = True
+            if kind == "beat":
+                continue
             if kind == "done":
                 worker.held.remove(index)
                 yield index, payload
@@ -276,20 +392,46 @@ class _Pool:
         except (BrokenPipeError, ConnectionResetError, EOFError):
             worker.broken = True  # it died: ``results`` reports it when its sentinel fires
 
+    def _holding(self, worker: _Worker, jobs: list[Job]) -> str:
+        held = ", ".join(f"job {i} ({describe_job(jobs[i])})" for i in worker.held)
+        return f"while holding {held}" if held else "while waiting for work"
+
     def _died(self, worker: _Worker, jobs: list[Job], remaining: int) -> None:
         worker.process.join(timeout=1.0)
-        held = ", ".join(f"job {i} ({describe_job(jobs[i])})" for i in worker.held)
-        holding = f"while holding {held}" if held else "while waiting for work"
         raise RenderWorkerError(
             f"pooled render: {worker.label} died with {_exit_text(worker.process.exitcode)} "
-            f"{holding}; {len(jobs) - remaining} of {len(jobs)} jobs were done; "
-            "no image is returned"
+            f"{self._holding(worker, jobs)}; {len(jobs) - remaining} of {len(jobs)} jobs "
+            "were done; no image is returned"
+        )
+
+    def _check_heard(self, worker: _Worker, jobs: list[Job], remaining: int) -> None:
+        """A ``RenderWorkerError`` when ``worker`` has been silent for longer than allowed
+        (``timeout``; before its first word, at least ``STARTUP_SECONDS``). Silence is
+        counted from when its last message was read, and a message waiting unread counts as
+        heard, so a parent that was itself paused does not blame its workers."""
+        limit = self.timeout if worker.talked else max(self.timeout, STARTUP_SECONDS)
+        silence = time.monotonic() - worker.heard
+        if silence <= limit or worker.broken:
+            return
+        try:
+            if worker.conn.poll():  # it spoke while we were busy: read on the next round
+                return
+        except (EOFError, OSError):
+            return  # its pipe closed: its sentinel reports it
+        worker.silent = True
+        raise RenderWorkerError(
+            f"pooled render: {worker.label} sent no heartbeat for {silence:.1f} s (the limit "
+            f"is {limit:g} s: pooled[timeout=T]) {self._holding(worker, jobs)}: "
+            f"{_silence_text(worker.process.pid)}; {len(jobs) - remaining} of {len(jobs)} "
+            "jobs were done; no image is returned"
         )
 
     def close(self, timeout: float = STOP_SECONDS) -> None:
         """Stop every worker: politely when they were told to stop, else terminate."""
         for worker in self.workers:
-            if not worker.stopped:
+            if worker.silent:  # a stopped process only acts on SIGKILL
+                worker.process.kill()
+            elif not worker.stopped:
                 worker.process.terminate()
         for worker in self.workers:
             worker.process.join(timeout=timeout if worker.stopped else 1.0)
@@ -314,12 +456,14 @@ class PooledTracer(Wrapper):
         workers: int,
         granularity: str = DEFAULT_GRANULARITY,
         tile: int = DEFAULT_TILE,
+        timeout: float = DEFAULT_TIMEOUT,
     ) -> None:
         super().__init__(inner)
         self.inner_name = inner_name
         self.workers = workers
         self.granularity = granularity
         self.tile = tile
+        self.timeout = timeout
 
     def render_into(
         self,
@@ -333,7 +477,7 @@ class PooledTracer(Wrapper):
         as rows complete."""
         jobs = make_jobs(c.hsize, c.vsize, self.granularity, self.tile)
         left_in_row = [c.hsize] * c.vsize
-        pool = _Pool(min(self.workers, len(jobs)), self.inner_name, c, w, settings)
+        pool = _Pool(min(self.workers, len(jobs)), self.inner_name, c, w, settings, self.timeout)
         try:
             for index, values in pool.results(jobs):
                 self.write_region(image, jobs[index], values)
@@ -358,8 +502,8 @@ class PooledTracer(Wrapper):
 # ------------------------------------------------------------------------------ factory
 
 
-def _settings(options: Mapping[str, str]) -> tuple[int, str, int]:
-    check_options(NAME, options, ("workers", "granularity", "tile"))
+def _settings(options: Mapping[str, str]) -> tuple[int, str, int, int]:
+    check_options(NAME, options, ("workers", "granularity", "tile", "timeout"))
     workers = (
         parse_int(NAME, "workers", options["workers"], 1, MAX_WORKERS)
         if "workers" in options
@@ -376,7 +520,10 @@ def _settings(options: Mapping[str, str]) -> tuple[int, str, int]:
                 "granularity=tile"
             )
         tile = parse_int(NAME, "tile", options["tile"], 1, 4096)
-    return workers, granularity, tile
+    timeout = DEFAULT_TIMEOUT
+    if "timeout" in options:
+        timeout = parse_int(NAME, "timeout", options["timeout"], 1, MAX_TIMEOUT)
+    return workers, granularity, tile, timeout
 
 
 def _tracer_of(inner: Variant) -> Tracer:
@@ -392,14 +539,16 @@ def _tracer_of(inner: Variant) -> Tracer:
 
 def variant(inner: Variant | None = None, **options: str) -> Variant:
     """The registry's factory: ``pooled[workers=N,granularity=G,tile=S]:INNER``."""
-    workers, granularity, tile = _settings(options)
+    workers, granularity, tile, timeout = _settings(options)
     inner = inner if inner is not None else load_variant("naive")
-    tracer = PooledTracer(_tracer_of(inner), inner.name, workers, granularity, tile)
+    tracer = PooledTracer(_tracer_of(inner), inner.name, workers, granularity, tile, timeout)
     spelled: dict[str, object] = {"workers": workers}
     if granularity != DEFAULT_GRANULARITY:
         spelled["granularity"] = granularity
     if granularity == "tile" and tile != DEFAULT_TILE:
         spelled["tile"] = tile
+    if timeout != DEFAULT_TIMEOUT:
+        spelled["timeout"] = timeout
     return tracer_variant(
         canonical_name(NAME, spelled, inner),
         f"render on {workers} worker processes, one {_unit(granularity, tile)} per job, "

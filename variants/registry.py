@@ -35,6 +35,7 @@ from typing import Any
 
 GROUP = "rtc.variants"
 ALL = "all"
+MAX_WRAPPED = 32  # variants inside each other in one name (NAME:INNER:...); more is a typo
 TRUE_WORDS = ("true", "on", "yes", "1")
 FALSE_WORDS = ("false", "off", "no", "0")
 
@@ -166,6 +167,7 @@ class _Parser:
     def __init__(self, text: str) -> None:
         self.text = text
         self.at = 0
+        self.depth = 0
 
     def fail(self, expected: str) -> VariantError:
         found = repr(self.text[self.at]) if self.at < len(self.text) else "the end"
@@ -207,7 +209,16 @@ class _Parser:
                 options.append(self.option(options))
             if not self.peek("]"):
                 raise self.fail("',' or ']'")
-        inner = self.variant() if self.peek(":") else None
+        inner = None
+        if self.peek(":"):
+            self.depth += 1
+            if self.depth >= MAX_WRAPPED:
+                shown = self.text if len(self.text) <= 60 else self.text[:57] + "..."
+                raise VariantError(
+                    f"bad variant name {shown!r}: more than {MAX_WRAPPED} variants inside each "
+                    "other (NAME:INNER:...)"
+                )
+            inner = self.variant()
         return VariantSpec(name, tuple(options), inner)
 
     def option(self, before: list[tuple[str, str]]) -> tuple[str, str]:

@@ -1,0 +1,186 @@
+"""A world as the wavefront tracer reads it: tables (chapters 5-16).
+
+Every leaf shape becomes a primitive (its index is its place in a depth-first walk of the
+world, so comparing indices orders ties as the reference's stable sort does), with:
+
+- ``kind`` (``SPHERE`` ... ``SMOOTH``) and ``row``, its row in its kind's own table
+  (``caps`` for cylinders and cones, ``tri`` and ``smooth`` for triangles);
+- ``xform``, its row in ``inv`` (world to object space, rows 0-2 of the inverse composed
+  through its groups and CSG parents, chapter 14) and ``nrm`` (object to world space for
+  normals: rows 0-2 of the inverse's transpose, 3x3);
+- ``mat``, its row in the material tables (chapters 6, 10, 11), pattern included;
+- ``shadow``: whether it casts a shadow.
+
+Shapes that share a transform chain (a mesh's triangles) share a row of ``inv``, shapes that
+share a ``Material`` share its row. What a ray is tested against is a *unit*: a primitive
+outside CSG, or a whole CSG tree (chapter 16, ``CsgTree``); a unit has a world-space box
+unless it is unbounded (planes, open-ended cylinders and cones), and ``bvh`` arranges the
+bounded ones.
+
+``variants.wavefront.pack`` makes a ``Scene`` of a world.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from raytracer.patterns import (
+    CheckersPattern,
+    GradientPattern,
+    Pattern,
+    RingPattern,
+    StripePattern,
+    TestPattern,
+)
+from raytracer.shapes.cone import Cone
+from raytracer.shapes.cube import Cube
+from raytracer.shapes.cylinder import Cylinder
+from raytracer.shapes.plane import Plane
+from raytracer.shapes.shape import Shape
+from raytracer.shapes.smooth_triangle import SmoothTriangle
+from raytracer.shapes.sphere import Sphere
+from raytracer.shapes.triangle import Triangle
+from variants.registry import RenderError
+
+# primitive kinds
+SPHERE, PLANE, CUBE, CYLINDER, CONE, TRIANGLE, SMOOTH = range(7)
+KIND_NAMES = ("sphere", "plane", "cube", "cylinder", "cone", "triangle", "smooth triangle")
+SHAPE_KINDS: tuple[tuple[type[Shape], int], ...] = (
+    (SmoothTriangle, SMOOTH),  # before Triangle: a smooth triangle is a triangle
+    (Triangle, TRIANGLE),
+    (Sphere, SPHERE),
+    (Plane, PLANE),
+    (Cube, CUBE),
+    (Cylinder, CYLINDER),
+    (Cone, CONE),
+)
+SHAPE_METHODS = ("local_intersect", "local_normal_at")
+
+# pattern kinds
+NO_PATTERN, STRIPES, GRADIENT, RINGS, CHECKERS, TEST_PATTERN = range(6)
+PATTERN_KINDS: tuple[tuple[type[Pattern], int], ...] = (
+    (StripePattern, STRIPES),
+    (GradientPattern, GRADIENT),
+    (RingPattern, RINGS),
+    (CheckersPattern, CHECKERS),
+    (TestPattern, TEST_PATTERN),
+)
+PATTERN_NAMES = "stripes, gradient, rings, checkers and the test pattern"
+
+# CSG operations (chapter 16)
+OPERATIONS = {"union": 0, "intersection": 1, "difference": 2}
+
+# the Material fields the passes read; any other field must keep its default
+MATERIAL_FIELDS = frozenset(
+    (
+        "color", "ambient", "diffuse", "specular", "shininess", "reflective", "transparency",
+        "refractive_index", "pattern",
+    )
+)  # fmt: skip
+
+BOX_PAD = 1e-9  # boxes grow by this much (relative, plus absolute) so rounding loses no hit
+
+
+class Unsupported(RenderError, ValueError):
+    """Something in the world the wavefront passes do not vectorize; the message names it.
+    A ``ValueError`` for the book's API, a ``RenderError`` so that ``rtc render`` reports
+    it in one line."""
+
+
+@dataclass(frozen=True)
+class Leaf:
+    """A CSG tree's leaf: primitive ``prim``."""
+
+    prim: int
+
+
+@dataclass(frozen=True)
+class Bunch:
+    """A group inside a CSG tree (chapter 14): its children's intersections, sorted."""
+
+    children: tuple[Node, ...]
+
+
+@dataclass(frozen=True)
+class Combine:
+    """A CSG operation (chapter 16) of ``left`` (primitives ``lo`` to ``mid`` - 1) and
+    ``right`` (``mid`` to ``hi`` - 1)."""
+
+    op: int
+    left: Node
+    right: Node
+    lo: int
+    mid: int
+    hi: int
+
+
+Node = Leaf | Bunch | Combine
+
+
+@dataclass(frozen=True)
+class CsgTree:
+    """A CSG shape at the top of a unit: its tree and its primitives ``lo`` to ``hi`` - 1."""
+
+    root: Combine
+    lo: int
+    hi: int
+    slots: int  # the most intersections its list can hold
+
+
+SLOTS = (2, 1, 2, 4, 4, 1, 1)
+"""How many intersections a primitive of each kind can give (the cylinder's and the cone's:
+two on the sides, one per cap)."""
+
+
+@dataclass
+class Scene:
+    """The packed world (see the module's docstring); float tables in ``dtype``. Tables of
+    several values per row (``inv``, ``nrm``, ``color``, ``pat_*``, ``caps``, ``tri``,
+    ``smooth``) are stored a value at a time: ``inv[k, x]`` is value k of row x, so that
+    gathering one value for many rays reads one contiguous array."""
+
+    dtype: Any
+    kind: np.ndarray
+    row: np.ndarray
+    xform: np.ndarray
+    mat: np.ndarray
+    shadow: np.ndarray
+    inv: np.ndarray
+    nrm: np.ndarray
+    color: np.ndarray
+    ambient: np.ndarray
+    diffuse: np.ndarray
+    specular: np.ndarray
+    shininess: np.ndarray
+    reflective: np.ndarray
+    transparency: np.ndarray
+    refractive: np.ndarray
+    pattern: np.ndarray
+    pat_inv: np.ndarray
+    pat_a: np.ndarray
+    pat_b: np.ndarray
+    caps: np.ndarray  # cylinders and cones: minimum, maximum, closed (1.0 or 0.0)
+    tri: np.ndarray  # triangles: p1, e1, e2, normal (12 values)
+    smooth: np.ndarray  # smooth triangles, same rows as ``tri``: n1, n2, n3 (9 values)
+    unit_prim: np.ndarray  # per unit: its primitive, or -1 for a CSG tree
+    unit_tree: np.ndarray  # per unit: its CSG tree, or -1
+    unit_lo: np.ndarray  # per unit: its world box (NaN rows: unbounded)
+    unit_hi: np.ndarray
+    unit_ball: np.ndarray  # per unit: a world-space ball holding it, (4, units): centre, radius
+    trees: list[CsgTree]
+    light_pos: np.ndarray
+    light_int: np.ndarray
+    shapes: list[Shape] = field(repr=False)
+    opaque: bool = True  # no material is transparent (n1/n2 never needed)
+    mirrors: bool = False  # some material reflects or is transparent (secondary rays)
+
+    @property
+    def n_prims(self) -> int:
+        return len(self.kind)
+
+    @property
+    def n_units(self) -> int:
+        return len(self.unit_prim)
