@@ -28,7 +28,7 @@ import sys
 import threading
 import time
 import traceback
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -301,6 +301,22 @@ def run_series(
     }
 
 
+def _announce_compiles(log: Callable[[str], None]) -> None:
+    """Log what numba compiles and for how long (the first render of an option set or a new
+    kind of scene compiles for tens of seconds, which would otherwise pass in silence)."""
+    if "variants.numba" not in sys.modules:
+        return
+    from variants.numba.specialize import on_compile
+
+    def told(what: str, seconds: float | None) -> None:
+        if seconds is None:
+            log(f"compiling {what}: first time only, kept for later runs")
+        else:
+            log(f"compiled in {seconds:.1f} s")
+
+    on_compile(told)
+
+
 def main(argv: list[str]) -> int:
     job_path = Path(argv[0])
     folder = job_path.parent
@@ -315,6 +331,7 @@ def main(argv: list[str]) -> int:
         if job.get("threads"):
             usage.pin_to_cores(int(job["threads"]))
         renderer = Renderer(job)
+        _announce_compiles(log)
         outcome: dict[str, Any] = {
             "variant": renderer.variant.name,
             "summary": renderer.variant.summary,

@@ -80,6 +80,30 @@ def _progress_bar(rows: int) -> tuple[Callable[[int], object] | None, Callable[[
     return bar.update, bar.close
 
 
+def _watch_compiles() -> list[float]:
+    """Say on stderr what numba compiles and that it happens once (the first render of a
+    new kind of scene compiles for seconds); the seconds spent, one entry per compile.
+    Nothing is watched unless the variant loaded numba's kernels module."""
+    spent: list[float] = []
+    if "variants.numba" not in sys.modules:
+        return spent
+    from variants.numba.specialize import kernel_folder, on_compile
+
+    def told(what: str, seconds: float | None) -> None:
+        if seconds is None:
+            print(
+                f"rtc render: compiling {what}: first time only, kept in {kernel_folder()}",
+                file=sys.stderr,
+                flush=True,
+            )
+        else:
+            spent.append(seconds)
+            print(f"rtc render: compiled in {seconds:.1f} s", file=sys.stderr, flush=True)
+
+    on_compile(told)
+    return spent
+
+
 def run(args: argparse.Namespace) -> int:
     from variants.registry import RenderError, load_variant
 
@@ -114,6 +138,7 @@ def run(args: argparse.Namespace) -> int:
         )
         for note in scene.notes:
             print(f"scene: {note}")
+    compiles = _watch_compiles()
     update, close = _progress_bar(camera.vsize)
     start = time.perf_counter()
     try:
@@ -127,5 +152,12 @@ def run(args: argparse.Namespace) -> int:
         write_image(image, output)
     except OSError as error:
         raise UserError(f"cannot write {args.output!r}: {error.strerror or error}") from None
-    print(f"rendered in {elapsed:.2f} s -> {output}")
+    if compiles:
+        compiled = sum(compiles)
+        print(
+            f"rendered in {elapsed - compiled:.2f} s, after {compiled:.1f} s compiling (first "
+            f"time only) -> {output}"
+        )
+    else:
+        print(f"rendered in {elapsed:.2f} s -> {output}")
     return 0

@@ -46,6 +46,7 @@ import subprocess
 import sys
 import tempfile
 import threading
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -62,6 +63,18 @@ FAST_FLAGS = '{"afn", "arcp", "contract", "nsz", "reassoc"}'  # (as text: a set'
 ENTRY_NAME = "rtc_render_rows"  # the render's exported name in the shared library
 _lock = threading.RLock()
 _renderers: dict[str, Renderer] = {}
+
+CompileListener = Callable[[str, float | None], object]
+"""Told ``(what, None)`` when a compile starts and ``(what, seconds)`` when it ends."""
+_listeners: list[CompileListener] = []
+
+
+def on_compile(listener: CompileListener) -> Callable[[], None]:
+    """Call ``listener`` around every compile of this process (a shared library built, or
+    numba compiling where none can be built): a command line shows what is compiling and
+    that it happens once. Returns a function that removes the listener."""
+    _listeners.append(listener)
+    return lambda: _listeners.remove(listener)
 
 
 @dataclass(frozen=True)
@@ -232,21 +245,31 @@ def _load_once(
     build: Callable[[], None],
     from_library: Callable[[ctypes.CDLL], Any],
     fallback: Callable[[str], Any],
+    what: str,
 ) -> Any:
     """What ``path``'s shared library holds, once per process: built first if missing
-    (``build``), read by ``from_library``; without it (a ``BuildError``), ``fallback(why)``."""
+    (``build``), read by ``from_library``; without it (a ``BuildError``), ``fallback(why)``.
+    A build (and the fallback, which may compile) is announced to the ``on_compile``
+    listeners as ``what``."""
     key = str(path)
     with _lock:
         found = cache.get(key)
         if found is not None:
             return found
         problem = ""
-        if not path.is_file():
+        compiling = not path.is_file()
+        started = time.perf_counter()
+        if compiling:
+            for listener in list(_listeners):
+                listener(what, None)
             try:
                 build()
             except BuildError as error:
                 problem = str(error)
         found = from_library(ctypes.CDLL(str(path))) if path.is_file() else fallback(problem)
+        if compiling:
+            for listener in list(_listeners):
+                listener(what, time.perf_counter() - started)
         cache[key] = found
         return found
 
@@ -271,8 +294,9 @@ def load_renderer(config: KernelConfig) -> Renderer:
             entry,
         )
 
+    what = f"the render kernel for {config.features.key} ({config.describe()})"
     renderer: Renderer = _load_once(
-        _renderers, path, lambda: _build_library(config, path), from_library, fallback
+        _renderers, path, lambda: _build_library(config, path), from_library, fallback, what
     )
     return renderer
 
@@ -445,7 +469,9 @@ def load_bvh_builder() -> Builder:
             bvh_kernel.build, f"numba with its disk cache (no shared library: {problem})"
         )
 
-    builder: Builder = _load_once(_bvh_builders, path, build, from_library, fallback)
+    builder: Builder = _load_once(
+        _bvh_builders, path, build, from_library, fallback, "the hierarchy builder"
+    )
     return builder
 
 
