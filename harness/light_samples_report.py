@@ -82,14 +82,20 @@ def blocks(run: Run, plot: str | None, context: str) -> list[Block]:
         return out
     t = truth["points"][0]
     w, h = t["size"]
+    measured_entries = [e for e in entries(run) if e.get("points")]
+    cells = sorted({int(e["cells"]) for e in measured_entries if "cells" in e})
+    counts = sorted({int(p["samples"]) for e in measured_entries for p in e["points"]})
+    renders = max((len(p.get("walls", [1])) for e in measured_entries for p in measured(e)),
+                  default=1)  # fmt: skip
     out.append(
         Para(
             f"Scene `{truth['scene']}` at {w}x{h} through `{truth['variant']}`, its area lights "
-            "sampled with 1 to 64 cells, at their centres or jittered (new jitter for every "
-            "pixel sample, from the (seed, pixel, sample, light, cell) function), at 1, 4 and 16 "
-            f"samples per pixel. Ground truth: {truth['name']} at {t['samples']} spp "
-            f"({figures.seconds_text(t['wall'])}). One render per point, its compilation "
-            "excluded (a warm-up render first); the CPU share is the cores the render got."
+            f"sampled with {', '.join(map(str, cells))} cells, at their centres or jittered "
+            "(new jitter for every pixel sample, from the (seed, pixel, sample, light, cell) "
+            f"function), at {', '.join(map(str, counts))} samples per pixel. Ground truth: "
+            f"{truth['name']} at {t['samples']} spp ({figures.seconds_text(t['wall'])}). "
+            f"Time: the median of up to {renders} renders per point, compilation excluded (a "
+            "warm-up render first); CPU: the cores the renders got."
         )
     )
     if plot is not None:
@@ -120,18 +126,37 @@ def blocks(run: Run, plot: str | None, context: str) -> list[Block]:
     findings = _findings(run)
     if findings:
         out.append(Bullets(findings))
-    pictures: list[tuple[str, list[Picture | None]]] = []
+    out += _gallery(run, truth)
+    return out + _picture_blocks(run)
+
+
+def _gallery(run: Run, truth: Mapping[str, Any]) -> list[Block]:
+    """The truth, then one row per cell count: its picture centred and jittered (the
+    pictures of the fewest samples per pixel, where the two differ most)."""
+    t = truth["points"][0]
+    rows: list[tuple[str, list[Picture | None]]] = []
     if t.get("image"):
-        caption = f"truth: {truth['name']}, {t['samples']} spp"
-        pictures.append((caption, [Picture(f"runs/{t['image']}", "ground truth", 240)]))
+        truth_picture = Picture(f"runs/{t['image']}", "ground truth", 240)
+        rows.append((f"ground truth: {truth['name']}, {t['samples']} spp", [truth_picture, None]))
+    by_cells: dict[int, dict[bool, tuple[str, Picture]]] = {}
     for entry in entries(run):
         for p in entry.get("points", []):
-            if p.get("image"):
+            if p.get("image") and "cells" in entry:
                 caption = f"{entry['name']}, {p['samples']} spp"
-                pictures.append((caption, [Picture(f"runs/{p['image']}", caption, 240)]))
-    if pictures:
-        out.append(Gallery(["sampling", "picture"], pictures))
-    return out + _picture_blocks(run)
+                picture = Picture(f"runs/{p['image']}", caption, 240)
+                by_cells.setdefault(int(entry["cells"]), {})[bool(entry.get("jitter"))] = (
+                    caption, picture
+                )  # fmt: skip
+    for cells in sorted(by_cells):
+        pair = by_cells[cells]
+        spp = next(iter(pair.values()))[0].rsplit(", ", 1)[1]
+        rows.append(
+            (f"{cells} cell{'s' if cells > 1 else ''} per light, {spp}",
+             [pair[False][1] if False in pair else None, pair[True][1] if True in pair else None])
+        )  # fmt: skip
+    if not rows:
+        return []
+    return [Gallery(["light sampling", "cell centres", "jittered cells"], rows)]
 
 
 def _picture_blocks(run: Run) -> list[Block]:

@@ -262,11 +262,17 @@ def light_samples_plot(run: Mapping[str, Any], path: Path) -> Path | None:
     on_front = lsr.front(run)
     figure, axes = plt.subplots(figsize=(7.5, 5))
     front_points: list[tuple[float, float]] = []
+    palette = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    cell_counts = sorted({int(e.get("cells", 0)) for e, _ in entries})
     for entry, points in entries:
         xs = [p["wall"] for p in points]
         ys = [max(p["error"]["rmse"], 1e-7) for p in points]
-        style = "-" if entry.get("jitter") else "--"
-        axes.plot(xs, ys, marker="o", linestyle=style, label=entry["name"])
+        jittered = bool(entry.get("jitter"))
+        color = palette[cell_counts.index(int(entry.get("cells", 0))) % len(palette)]
+        axes.plot(
+            xs, ys, marker="o" if jittered else "s", linestyle="-" if jittered else "--",
+            color=color, label=entry["name"],
+        )  # fmt: skip
         for p, x, y in zip(points, xs, ys, strict=True):
             axes.annotate(
                 str(p["samples"]), (x, y), textcoords="offset points", xytext=(4, 3), fontsize=7
@@ -290,9 +296,10 @@ def light_samples_plot(run: Mapping[str, Any], path: Path) -> Path | None:
     if truth is not None and truth.get("points"):
         t = truth["points"][0]
         axes.set_title(
-            f"Soft shadows: light cells (dashed: centred, solid: jittered) against samples per "
-            f"pixel (labels), {t['size'][0]}x{t['size'][1]}\nground truth {truth['name']} at "
-            f"{t['samples']} spp through {truth['variant']}; {_caption(run)}",
+            f"Soft shadows: light cells (colour; dashed: centred, solid: jittered) against "
+            f"samples per pixel (labels), {t['size'][0]}x{t['size'][1]}\n"
+            f"ground truth {truth['name']} at {t['samples']} spp through {truth['variant']}; "
+            f"{_caption(run)}",
             fontsize=9,
         )
     axes.grid(True, which="both", alpha=0.3)
