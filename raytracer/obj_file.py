@@ -58,11 +58,14 @@ class ObjParseError(ObjFileError):
     line: the line as written; expected: what the parser wanted there.
     """
 
-    def __init__(self, source: str, line_number: int, line: str, expected: str) -> None:
+    def __init__(
+        self, source: str, line_number: int, line: str, expected: str, *, show_line: bool = True
+    ) -> None:
         shown = line.strip()
         if len(shown) > 80:
             shown = shown[:77] + "..."
-        super().__init__(source, f"{source}, line {line_number}: {shown!r}: {expected}")
+        quoted = f"{shown!r}: " if show_line else ""  # not the bytes of a binary file
+        super().__init__(source, f"{source}, line {line_number}: {quoted}{expected}")
         self.line_number = line_number
         self.line = line
         self.expected = expected
@@ -257,8 +260,14 @@ def _read(
     current = parser.default_group
     vertices, normals = parser.vertices, parser.normals
     isfinite = math.isfinite
+    binary = "\x00" in text  # then every line is checked for one
     number = 0
     for number, line in enumerate(_lines(text), start=1):
+        if binary and "\x00" in line:
+            raise ObjParseError(
+                source, number, line, "a NUL byte: this is a binary file, not OBJ text",
+                show_line=False,
+            )  # fmt: skip
         words = line.split()
         if not words:
             continue
@@ -306,8 +315,6 @@ def _read(
                 current = parser.groups[name]
         elif keyword.startswith("#"):
             continue
-        elif "\x00" in line:
-            raise _error(source, number, line, "a NUL byte: this is a binary file, not OBJ text")
         else:
             parser.ignored_lines += 1
     parser.lines = number

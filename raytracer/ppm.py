@@ -38,7 +38,13 @@ def _tokens(text: str) -> Iterator[tuple[str, int]]:
 
 
 def _whole(token: str) -> int | None:
-    return int(token) if token.isascii() and token.isdigit() else None
+    """A token of ASCII digits as its number (None for anything else). The largest value
+    the format has is 65535: digits past 20 are only leading zeros or a number too large,
+    which is kept as one too large (Python refuses to read thousands of digits)."""
+    if not (token.isascii() and token.isdigit()):
+        return None
+    digits = token.lstrip("0") or "0"
+    return int(digits) if len(digits) <= 20 else 10**20
 
 
 def canvas_from_ppm(text: str) -> Canvas:
@@ -94,7 +100,8 @@ def canvas_from_ppm(text: str) -> Canvas:
                 line, f"{token[:20]!r} is not a color value (a whole number from 0 to {maximum})"
             )
         if number > maximum:
-            raise PPMError(line, f"the value {number} is above the maximum value {maximum}")
+            shown = token if len(token) <= 20 else token[:17] + "..."
+            raise PPMError(line, f"the value {shown} is above the maximum value {maximum}")
         values.append(number / maximum)
     if len(values) < count:
         raise PPMError(

@@ -1,3 +1,17 @@
-"""The step library is a pytest plugin; every test session here uses it."""
+"""The step library is a pytest plugin; every test session here uses it.
+
+The property tests (hypothesis) run under a profile: ``default`` keeps the suite fast (a few
+dozen examples a test); ``pytest --hypothesis-profile=long`` runs 10,000 examples a test,
+for a maintainer now and then. Both give each example a deadline, so a hang is a failure.
+A test's own ``@settings(max_examples=...)`` still wins over the profile's count.
+"""
+
+from hypothesis import HealthCheck, settings
 
 pytest_plugins = ["steps.plugin"]
+
+settings.register_profile("default", max_examples=40, deadline=2000)
+settings.register_profile(
+    "long", max_examples=10_000, deadline=2000, suppress_health_check=[HealthCheck.too_slow]
+)
+settings.load_profile("default")

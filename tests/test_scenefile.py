@@ -603,8 +603,9 @@ def test_a_singular_transform_names_the_object_and_its_line(tmp_path: Path, api:
             - [scale, 1, 0, 1]
         """)  # fmt: skip
     assert message == (
-        f"{tmp_path / 'scene.yml'}:13: the transform of the cube at line 12 is not invertible "
-        "(determinant 0: a scale by 0?); expected an invertible transform"
+        f"{tmp_path / 'scene.yml'}:13: the transform of the cube at line 12 is not invertible: "
+        "its determinant is 0 (a scale by 0, or a shear that flattens space onto a plane); "
+        "expected an invertible transform"
     )
 
 
@@ -675,7 +676,10 @@ def test_a_degenerate_camera(tmp_path: Path, api: Any) -> None:
 
 def test_a_yaml_alias_inside_itself_is_an_error_not_a_hang(tmp_path: Path, api: Any) -> None:
     message = error(tmp_path, api, "- &loop\n  add: group\n  children:\n    - *loop\n")
-    assert message.startswith(f"{tmp_path / 'scene.yml'}:11: shapes nested more than 100 deep")
+    assert message.startswith(
+        f"{tmp_path / 'scene.yml'}:14: the alias *loop is inside the item it names (&loop, "
+        "line 11): a shape inside itself nests without end"
+    )
 
 
 def test_a_key_given_twice(tmp_path: Path, api: Any) -> None:

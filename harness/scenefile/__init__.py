@@ -27,9 +27,20 @@ The format, as this loader reads it (top level: a list of items, read in order):
   or PNG, relative to the scene file), or ``mapping: cube`` with a UV pattern for each of
   ``left front right back up down``; every pattern takes a ``transform``.
 
+Values the book's functions take but no surface has are refused: a negative color or light
+component, a negative ambient, diffuse or specular, shininess or refractive-index of 0 or
+less, reflective or transparency outside 0 to 1, a cylinder's or cone's min above its max, a
+transform that cannot be inverted in floating point (a scale of 1e-200, not only of 0).
+
+Limits (``limits``), checked while the file is read: groups and CSGs nested at most 100 deep
+(``RTC_SCENE_MAX_DEPTH``), at most 5,000,000 shapes in the world, every copy a YAML alias or
+a defined shape makes and every OBJ triangle counted (``RTC_SCENE_MAX_SHAPES``). A load that
+takes more than a second shows a progress bar on stderr when stderr is a terminal.
+
 Every mistake in a scene file is one ``SceneError``: ``file:line: what is wrong, what was
-expected``. Modules: ``reader`` (YAML with lines), ``transforms``, ``materials``,
-``textures`` (map patterns), ``images`` (image files), ``shapes``, ``loader`` (the top level).
+expected``. Modules: ``reader`` (YAML with lines), ``composer`` (YAML's composer with the
+limits), ``limits``, ``progress``, ``transforms``, ``materials``, ``textures`` (map patterns),
+``images`` (image files), ``shapes``, ``loader`` (the top level).
 """
 
 from harness.scenefile.errors import SceneError

@@ -10,6 +10,8 @@ from typing import Any, Literal
 
 from yaml.nodes import Node
 
+from harness.scenefile.limits import Limits
+from harness.scenefile.progress import LoadProgress
 from harness.scenefile.reader import Reader
 from raytracer.api import BOOK_API
 
@@ -38,7 +40,10 @@ class Context:
     (for errors); scope: the names defined so far, in file order; depth: how deep the shape
     being read is nested in groups and CSGs; notes: what the load did that ``--explain``
     reports (triangles skipped ...); images: the image textures decoded so far, by path
-    (a scene may put one image on many faces).
+    (a scene may put one image on many faces); limits: how deep and how big the scene may be
+    (``limits``); shapes: the shapes the world will hold so far, counted before they are
+    built (OBJ triangles included); triangles: each OBJ model's triangles, once parsed;
+    progress: the load's progress bar (None: no bar).
     """
 
     reader: Reader
@@ -48,6 +53,22 @@ class Context:
     depth: int = 0
     notes: list[str] = field(default_factory=list)
     images: dict[Path, Any] = field(default_factory=dict)
+    limits: Limits = field(default_factory=Limits)
+    shapes: int = 0
+    triangles: dict[Path, int] = field(default_factory=dict)
+    progress: LoadProgress | None = None
+
+    def count_shapes(self, count: int, node: Node | int | None, what: str) -> None:
+        """``count`` more shapes for the world (``what`` names them); past the limit, a
+        ``SceneError`` at ``node`` before they are built."""
+        self.shapes += count
+        if self.shapes > self.limits.max_shapes:
+            self.reader.fail(
+                node,
+                f"{what} would bring the scene to {self.shapes:,} shapes (every copy of a "
+                f"defined shape and every triangle of an OBJ model counted), more than the "
+                f"limit, {self.limits.max_shapes:,}; {self.limits.shapes_hint()}",
+            )
 
     def need(self, name: str, node: Node, purpose: str) -> Any:
         """The variant's ``name``; a ``SceneError`` at ``node`` if the variant lacks it."""

@@ -9,17 +9,23 @@ of the load (``Context.images``): a cube may show one picture on six faces.
 
 from __future__ import annotations
 
+import struct
+import warnings
 from pathlib import Path
 from typing import Any
 
 from yaml.nodes import Node
 
 from harness.scenefile.context import Context
+from harness.scenefile.errors import SceneError
 from raytracer.canvas import Canvas
 from raytracer.colors import Color
 
 PLAIN_PPM_SUFFIXES = (".ppm", ".pnm")
 MAX_IMAGE_BYTES = 64 * 1024 * 1024  # a larger texture file is almost certainly a mistake
+# a texture becomes one color value a pixel (about 60 bytes each in the reference): 4096x4096
+# is about a gigabyte; more is almost certainly a mistake
+MAX_IMAGE_PIXELS = 4096 * 4096
 
 
 def image_path(ctx: Context, node: Node) -> Path:
@@ -63,16 +69,32 @@ def _decode(ctx: Context, node: Node, path: Path) -> Any:
     return _decode_with_pillow(ctx, node, path)
 
 
+def _too_large(ctx: Context, node: Node, path: Path, width: int, height: int) -> None:
+    if width * height > MAX_IMAGE_PIXELS:
+        ctx.reader.fail(
+            node,
+            f"the image file {path} is {width}x{height} = {width * height:,} pixels; textures "
+            f"up to {MAX_IMAGE_PIXELS:,} pixels (4096x4096) are read",
+        )
+
+
 def _decode_with_pillow(ctx: Context, node: Node, path: Path) -> Canvas:
     from PIL import Image, UnidentifiedImageError  # only scenes with image textures need it
 
     try:
-        with Image.open(path) as image:
-            image.load()
-            rgb = image.convert("RGB")
+        with warnings.catch_warnings():  # Pillow warns of a huge image on stderr; refuse it
+            warnings.simplefilter("error", Image.DecompressionBombWarning)
+            with Image.open(path) as image:
+                _too_large(ctx, node, path, *image.size)  # before its pixels are decoded
+                image.load()
+                rgb = image.convert("RGB")
+    except SceneError:  # a ValueError, from _too_large
+        raise
     except UnidentifiedImageError:
         ctx.reader.fail(node, f"the image file {path} is not an image Pillow can read")
-    except (OSError, SyntaxError, ValueError, Image.DecompressionBombError) as error:
+    except (Image.DecompressionBombWarning, Image.DecompressionBombError) as error:
+        ctx.reader.fail(node, f"the image file {path} is too large to read: {error}")
+    except (OSError, SyntaxError, ValueError, EOFError, struct.error) as error:
         ctx.reader.fail(node, f"the image file {path} is broken: {error}")
     width, height = rgb.size
     levels = [i / 255 for i in range(256)]

@@ -18,10 +18,12 @@ from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
 
 from harness.scenefile.context import Context, Definition, Kind, updated
 from harness.scenefile.errors import SceneError
+from harness.scenefile.limits import Limits, limits_from_environment
 from harness.scenefile.materials import read_color, read_material_properties
+from harness.scenefile.progress import LoadProgress
 from harness.scenefile.reader import Entry, Reader, compose, describe, line_of
 from harness.scenefile.shapes import SHAPES, ShapeSpec, build_shape, read_shape
-from harness.scenefile.transforms import read_transform
+from harness.scenefile.transforms import read_transform, transform_problem
 from raytracer.sampling import MAX_LIGHT_STEPS
 from variants.learner import is_stub
 
@@ -87,13 +89,16 @@ class _Loading:
 
 
 def load_scene(
-    path: str | Path, api: Mapping[str, Any], *, variant: str = "this variant", divide: bool = True
-) -> Scene:
+    path: str | Path, api: Mapping[str, Any], *, variant: str = "this variant", divide: bool = True,
+    limits: Limits | None = None, progress: bool | None = None,
+) -> Scene:  # fmt: skip
     """Chapter 7's camera and world from a scene file in the book's YAML format.
 
     api: a variant's book API (every object is built with it); variant: its name, for errors;
-    divide: False keeps groups as the file builds them (no ``divide_groups``).
-    Any mistake in the file is a ``SceneError`` naming the file and line.
+    divide: False keeps groups as the file builds them (no ``divide_groups``); limits: how
+    deep and how big the scene may be (default: ``limits_from_environment``); progress: a
+    progress bar on stderr if the load takes more than a second (default: when stderr is a
+    terminal). Any mistake in the file is a ``SceneError`` naming the file and line.
     """
     path = Path(path)
     try:
@@ -101,23 +106,45 @@ def load_scene(
     except OSError as error:
         raise SceneError(path, None, f"cannot read the scene file: {error.strerror}") from None
     except UnicodeDecodeError as error:
-        raise SceneError(path, None, f"the scene file is not UTF-8 text: {error}") from None
-    return load_scene_text(text, api, path=path, variant=variant, divide=divide)
+        line = bytes(error.object[: error.start]).count(b"\n") + 1
+        raise SceneError(
+            path, line, f"the scene file is not UTF-8 text: byte 0x{error.object[error.start]:02x} "
+            f"({error.reason}); save it as UTF-8",
+        ) from None  # fmt: skip
+    return load_scene_text(
+        text, api, path=path, variant=variant, divide=divide, limits=limits, progress=progress
+    )
 
 
 def load_scene_text(
     text: str, api: Mapping[str, Any], *, path: str | Path = "<scene>",
-    variant: str = "this variant", divide: bool = True,
+    variant: str = "this variant", divide: bool = True, limits: Limits | None = None,
+    progress: bool | None = None,
 ) -> Scene:  # fmt: skip
     """Like ``load_scene`` for text already read; ``path`` names it and locates OBJ files."""
     path = Path(path)
+    limits = limits or limits_from_environment(path)
+    limits.make_room()
+    bar = LoadProgress(f"loading {path.name}", enabled=progress)
+    try:
+        return _load(text, api, path, variant, divide, limits, bar)
+    finally:
+        bar.close()
+
+
+def _load(
+    text: str, api: Mapping[str, Any], path: Path, variant: str, divide: bool, limits: Limits,
+    bar: LoadProgress,
+) -> Scene:  # fmt: skip
     reader = Reader(path)
-    root = compose(text, path)
+    bar.phase("reading YAML", len(text), "char")
+    root, shapes = compose(text, path, limits, bar)
     if root is None:
         reader.fail(None, "the scene file is empty; expected a list of '- add:' and '- define:'")
     items = reader.sequence(root, "a scene file (its top level)")
-    ctx = Context(reader, api, variant)
+    ctx = Context(reader, api, variant, limits=limits, progress=bar)
     state = _Loading(ctx, ctx.need("world", root, "the scene")())
+    bar.phase("building shapes", shapes, "shape")
     for item in items:
         _item(state, item)
     if state.camera is None:
@@ -130,7 +157,7 @@ def load_scene_text(
             f"{path}: the scene has no light, so every surface renders black; add one with "
             "'- add: light' (at, intensity)"
         )
-    notes = divide_groups(state.world.objects, api, variant) if divide else ()
+    notes = divide_groups(state.world.objects, api, variant, progress=bar) if divide else ()
     return Scene(
         path, state.camera, state.world, variant, api,
         state.camera_line, state.light_line, tuple(state.obj_files), tuple(state.warnings),
@@ -156,8 +183,9 @@ def divides(variant: Any) -> bool:
 
 
 def divide_groups(
-    objects: list[Any], api: Mapping[str, Any], variant: str, threshold: int = DIVIDE_THRESHOLD
-) -> tuple[str, ...]:
+    objects: list[Any], api: Mapping[str, Any], variant: str, threshold: int = DIVIDE_THRESHOLD,
+    progress: LoadProgress | None = None,
+) -> tuple[str, ...]:  # fmt: skip
     """Divide every group, OBJ model and CSG shape among ``objects`` with the variant's
     ``divide`` (the bonus chapter); what was done, as notes (none without such a shape)."""
     composite = [s for s in objects if hasattr(s, "children") or hasattr(s, "left")]
@@ -167,8 +195,12 @@ def divide_groups(
     if divide is None or is_stub(divide):
         return (f"groups not divided: {variant!r} has no divide() (the bonus chapter)",)
     before = sum(_count_groups(s) for s in composite)
+    if progress is not None:
+        progress.phase("dividing groups", len(composite), "group")
     for shape in composite:
         divide(shape, threshold)
+        if progress is not None:
+            progress.advance()
     made = sum(_count_groups(s) for s in composite) - before
     what = f"divide (threshold {threshold}) on {len(composite)} top-level group"
     what += "s, OBJ models or CSG shapes" if len(composite) > 1 else ", OBJ model or CSG shape"
@@ -203,6 +235,7 @@ def _item(state: _Loading, node: Node) -> None:
         _area_light(state, node, entries)
     else:
         spec = read_shape(state.ctx, node)
+        state.ctx.count_shapes(spec.count, node, spec.label)
         for obj_file in _obj_files(spec):
             if obj_file not in state.obj_files:
                 state.obj_files.append(obj_file)
@@ -239,18 +272,46 @@ def _camera(state: _Loading, node: Node, entries: dict[str, Entry]) -> None:
     forward = [b - a for a, b in zip(eye, to, strict=True)]
     if not any(forward):
         reader.fail(value["to"], "the camera's 'to' equals its 'from'; expected another point")
-    left = (forward[1] * up[2] - forward[2] * up[1], forward[2] * up[0] - forward[0] * up[2],
-            forward[0] * up[1] - forward[1] * up[0])  # fmt: skip
-    if not any(left):
+    _check_length(reader, value["to"], forward, "the camera's 'from' and 'to' are")
+    if any(up):
+        _check_length(reader, value["up"], up, "the camera's 'up' is")
+    f, u = _unit(forward), _unit(up) if any(up) else (0.0, 0.0, 0.0)
+    left = (f[1] * u[2] - f[2] * u[1], f[2] * u[0] - f[0] * u[2], f[0] * u[1] - f[1] * u[0])
+    if not math.hypot(*left) > 1e-12:
         reader.fail(
             value["up"], "the camera's 'up' is zero or points along the line from 'from' to "
             "'to'; expected a direction across it, e.g. [0, 1, 0]"
         )  # fmt: skip
     point, vector = ctx.need("point", node, "the camera"), ctx.need("vector", node, "the camera")
-    view = ctx.need("view_transform", node, "the camera")(point(*eye), point(*to), vector(*up))
+    try:
+        view = ctx.need("view_transform", node, "the camera")(point(*eye), point(*to), vector(*up))
+    except (ArithmeticError, ValueError) as error:  # checked above; a variant may be stricter
+        reader.fail(node, f"the camera's view transform cannot be made: {error}")
+    problem = transform_problem(ctx, view)
+    if problem is not None:
+        reader.fail(node, f"the camera's view transform (from, to and up) {problem}")
     camera = ctx.need("camera", node, "the camera")(width, height, fov)
     state.camera = updated(camera, transform=view)
     state.camera_line = line_of(node)
+
+
+def _unit(v: list[float]) -> tuple[float, float, float]:
+    length = math.hypot(*v)
+    return (v[0] / length, v[1] / length, v[2] / length)
+
+
+def _check_length(reader: Reader, node: Node, v: list[float], what: str) -> None:
+    """The book's ``normalize`` squares the components: their squares' sum must be a
+    positive, finite float (a vector from about 1e-154 to 1e154 long)."""
+    squares = v[0] * v[0] + v[1] * v[1] + v[2] * v[2]
+    if not 0 < squares < math.inf:
+        close = "too close together" if "and" in what else "too short"
+        far = "too far apart" if "and" in what else "too long"
+        reader.fail(
+            node,
+            f"{what} {close if squares == 0 else far} for floating point (a length of "
+            f"{math.hypot(*v):.3g}); expected a length from about 1e-150 to 1e150",
+        )
 
 
 def _light(state: _Loading, node: Node, entries: dict[str, Entry]) -> None:

@@ -8,13 +8,14 @@ turns the dict into the variant's material.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 from yaml.nodes import Node, ScalarNode
 
 from harness.scenefile.context import Context, updated
 from harness.scenefile.reader import Entry, line_of
-from harness.scenefile.transforms import is_invertible, read_transform
+from harness.scenefile.transforms import read_transform, transform_problem
 
 # the format's key -> the book's material property
 NUMBER_PROPERTIES = {
@@ -34,11 +35,31 @@ PATTERNS = {
     "checkers": "checkers_pattern",
 }
 PATTERN_KEYS = ("type", "colors", "transform")
+# the range each number property may take: (low, high, what the error says it must be);
+# the book's functions take any number, but outside these a material is not a surface
+# (negative light, a highlight over the whole hemisphere, more light out than in)
+RANGES = {
+    "ambient": (0.0, math.inf, "0 or more"),
+    "diffuse": (0.0, math.inf, "0 or more"),
+    "specular": (0.0, math.inf, "0 or more"),
+    "reflective": (0.0, 1.0, "from 0 to 1"),
+    "transparency": (0.0, 1.0, "from 0 to 1"),
+}
 
 
 def read_color(ctx: Context, node: Node, what: str) -> Any:
-    """``[r, g, b]`` as the variant's color."""
+    """``[r, g, b]`` (each 0 or more; above 1 is brighter than white) as the variant's
+    color."""
     r, g, b = ctx.reader.numbers(node, what, 3)
+    for item, value, name in zip(
+        ctx.reader.sequence(node, what), (r, g, b), ("red", "green", "blue"), strict=True
+    ):
+        if value < 0:
+            ctx.reader.fail(
+                item,
+                f"{what}: {name} is {value}; a color's components are 0 or more (a negative "
+                "amount of light does not exist)",
+            )
     return ctx.need("color", node, what)(r, g, b)
 
 
@@ -64,11 +85,11 @@ def read_pattern(ctx: Context, node: Node) -> Any:
     if "transform" in entries:
         transform_node = entries["transform"].value
         m = read_transform(ctx, transform_node, f"the {kind} pattern's transform")
-        if not is_invertible(ctx, m):
+        problem = transform_problem(ctx, m)
+        if problem is not None:
             reader.fail(
                 transform_node,
-                f"the transform of the {kind} pattern at line {line_of(node)} is not "
-                "invertible (determinant 0: a scale by 0?); expected an invertible transform",
+                f"the transform of the {kind} pattern at line {line_of(node)} {problem}",
             )
         ctx.need("set_pattern_transform", transform_node, "a pattern transform")(pattern, m)
     return pattern
@@ -103,8 +124,12 @@ def read_material_properties(ctx: Context, node: Node, what: str) -> dict[str, A
             properties["pattern"] = read_pattern(ctx, entry.value)
         else:
             value = reader.number(entry.value, f"{what}: {key}")
-            if key == "refractive-index" and value <= 0:
-                reader.fail(entry.value, f"{what}: refractive-index must be above 0, got {value}")
+            if key in ("refractive-index", "shininess") and value <= 0:
+                reader.fail(entry.value, f"{what}: {key} must be above 0, got {value}")
+            if key in RANGES:
+                low, high, expected = RANGES[key]
+                if not low <= value <= high:
+                    reader.fail(entry.value, f"{what}: {key} must be {expected}, got {value}")
             properties[NUMBER_PROPERTIES[key]] = value
     return properties
 

@@ -17,8 +17,12 @@ from typing import NoReturn
 import yaml
 from yaml.constructor import ConstructorError, SafeConstructor
 from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
+from yaml.reader import ReaderError
 
+from harness.scenefile.composer import LimitedLoader
 from harness.scenefile.errors import SceneError
+from harness.scenefile.limits import Limits
+from harness.scenefile.progress import LoadProgress
 
 INDENTATION_HINT = (
     "check the indentation: the keys of one item line up, and every item of a list starts with '- '"
@@ -28,11 +32,16 @@ _NUMBER_TEXT = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
 _STR_TAG = "tag:yaml.org,2002:str"
 
 
-def compose(text: str, path: Path) -> Node | None:
-    """The YAML node tree of ``text`` (None for an empty document); YAML's own errors become
-    a ``SceneError`` at the line YAML reports."""
+def compose(
+    text: str, path: Path, limits: Limits | None = None, progress: LoadProgress | None = None
+) -> tuple[Node | None, int]:
+    """The YAML node tree of ``text`` (None for an empty document) and the number of shapes
+    it describes (aliases counted as copies), within ``limits`` (``composer``); YAML's own
+    errors become a ``SceneError`` at the line YAML reports."""
+    loader = None
     try:
-        return yaml.compose(text, Loader=yaml.SafeLoader)
+        loader = LimitedLoader(text, path, limits or Limits(), progress)  # checks characters
+        return loader.get_single_node(), loader.shapes
     except yaml.MarkedYAMLError as error:
         mark = error.problem_mark or error.context_mark
         problem = error.problem or "cannot be read"
@@ -43,8 +52,18 @@ def compose(text: str, path: Path) -> Node | None:
         raise SceneError(
             path, line, f"invalid YAML: {problem}{context}; {INDENTATION_HINT}"
         ) from None
+    except ReaderError as error:  # a character YAML text may not hold
+        line = text.count("\n", 0, error.position) + 1
+        code = error.character if isinstance(error.character, int) else 0
+        raise SceneError(
+            path, line, f"invalid YAML: the character #x{code:04x} is not allowed in YAML text "
+            f"({error.reason}); is this a binary file?",
+        ) from None  # fmt: skip
     except yaml.YAMLError as error:
-        raise SceneError(path, None, f"invalid YAML: {error}") from None
+        raise SceneError(path, None, f"invalid YAML: {' '.join(str(error).split())}") from None
+    finally:
+        if loader is not None:
+            loader.dispose()
 
 
 def line_of(node: Node) -> int:
@@ -55,7 +74,9 @@ def line_of(node: Node) -> int:
 def describe(node: Node) -> str:
     """A short account of a node for an error message: its text, or what kind it is."""
     if isinstance(node, ScalarNode):
-        return repr(node.value) if node.tag == _STR_TAG else str(node.value)
+        text = str(node.value)
+        text = text if len(text) <= 60 else text[:57] + "..."  # a message stays readable
+        return repr(text) if node.tag == _STR_TAG else text
     if isinstance(node, SequenceNode):
         return "a list"
     return "a mapping"
@@ -154,7 +175,15 @@ class Reader:
             value = float(value)
         if isinstance(value, bool) or not isinstance(value, int | float):
             self.fail(node, f"{what} must be a number, got {describe(node)}")
-        number = float(value)
+        try:
+            number = float(value)
+        except OverflowError:  # an integer literal of hundreds of digits
+            if not allow_infinity:
+                self.fail(
+                    node, f"{what} must be a finite number, got a whole number of "
+                    f"{len(str(abs(value)))} digits (above the largest float, about 1.8e308)",
+                )  # fmt: skip
+            return math.inf if value > 0 else -math.inf
         if math.isnan(number):
             self.fail(node, f"{what} must be a number, got NaN")
         if math.isinf(number) and not allow_infinity:

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 import inspect
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -23,7 +24,7 @@ from yaml.nodes import MappingNode, Node
 from harness.scenefile.context import Context
 from harness.scenefile.materials import make_material, read_material
 from harness.scenefile.reader import Entry, line_of
-from harness.scenefile.transforms import is_invertible, read_transform
+from harness.scenefile.transforms import read_transform, transform_problem
 
 COMMON_KEYS = ("add", "transform", "material", "shadow")
 KEYS: dict[str, tuple[str, ...]] = {
@@ -49,7 +50,6 @@ FACTORIES: dict[str, tuple[str, ...]] = {
     "csg": ("csg",),
 }
 OPERATIONS = ("union", "intersection", "difference")
-MAX_DEPTH = 100  # groups and CSGs inside each other; deeper is a mistake (or a YAML loop)
 
 
 @dataclass(frozen=True)
@@ -59,7 +59,9 @@ class ShapeSpec:
     kind: one of ``SHAPES``; line: where it was added; label: how errors name it;
     transform: a matrix; material: book material properties; shadow: casts a shadow;
     minimum, maximum, closed: cylinders and cones; children: a group's; obj_file: the OBJ
-    model's resolved path; operation, left, right: a CSG's.
+    model's resolved path; operation, left, right: a CSG's; height: levels of shapes, itself
+    included (a sphere 1, a group of spheres 2); count: the shapes it builds, itself included
+    (an OBJ model counts 1 here, its triangles once it is parsed).
     """
 
     kind: str
@@ -76,6 +78,8 @@ class ShapeSpec:
     operation: str | None = None
     left: ShapeSpec | None = None
     right: ShapeSpec | None = None
+    height: int = 1
+    count: int = 1
 
 
 def _start(ctx: Context, node: Node, add_node: Node) -> ShapeSpec:
@@ -106,9 +110,11 @@ def _start(ctx: Context, node: Node, add_node: Node) -> ShapeSpec:
 def _child(ctx: Context, node: Node, what: str) -> ShapeSpec:
     if not isinstance(node, MappingNode):
         ctx.reader.fail(node, f"{what} must be a shape ('add: sphere' and its keys)")
-    if ctx.depth >= MAX_DEPTH:
+    if ctx.depth >= ctx.limits.max_depth:  # the YAML reader's limit comes first; a guard
         ctx.reader.fail(
-            node, f"shapes nested more than {MAX_DEPTH} deep (a YAML alias inside itself?)"
+            node,
+            f"groups and CSGs nested more than {ctx.limits.max_depth} deep; "
+            f"{ctx.limits.depth_hint()}",
         )
     ctx.depth += 1
     try:
@@ -166,8 +172,52 @@ def read_shape(ctx: Context, node: Node) -> ShapeSpec:
         elif key in ("left", "right"):
             changes[key] = _child(ctx, value, what)
     spec = dataclasses.replace(spec, **changes)
+    _check_bounds(ctx, spec, node, entries)
     _check_complete(ctx, spec, node, entries)
-    return spec
+    return _measured(ctx, spec, node)
+
+
+def _measured(ctx: Context, spec: ShapeSpec, node: Node) -> ShapeSpec:
+    """``spec`` with its height and count; nesting or a count past the limits (through
+    defined shapes added by name, which the YAML reader cannot see) is a ``SceneError``."""
+    inside = [c for c in (*spec.children, spec.left, spec.right) if c is not None]
+    height = 1 + max((c.height for c in inside), default=0)
+    count = 1 + sum(c.count for c in inside)
+    limits = ctx.limits
+    if ctx.depth + height - 1 > limits.max_depth:
+        ctx.reader.fail(
+            node,
+            f"{spec.label} nests groups and CSGs {ctx.depth + height - 1} deep (defined shapes "
+            f"added by name included), more than the limit, {limits.max_depth}; "
+            f"{limits.depth_hint()}",
+        )
+    if count > limits.max_shapes:
+        ctx.reader.fail(
+            node,
+            f"{spec.label} holds {count:,} shapes (every copy of a defined shape counted), "
+            f"more than the limit, {limits.max_shapes:,}; {limits.shapes_hint()}",
+        )
+    return dataclasses.replace(spec, height=height, count=count)
+
+
+def _check_bounds(ctx: Context, spec: ShapeSpec, node: Node, entries: dict[str, Entry]) -> None:
+    """A cylinder's or cone's ``min`` (default -infinity) must not be above its ``max``
+    (default infinity): such a shape has no side (the book's functions allow it)."""
+    low = -math.inf if spec.minimum is None else spec.minimum
+    high = math.inf if spec.maximum is None else spec.maximum
+    at = next((entries[k].value for k in ("min", "max") if k in entries), node)
+    if low == math.inf or high == -math.inf:
+        ctx.reader.fail(
+            at,
+            f"{spec.label}: min cannot be infinity, nor max -infinity; min and max are the "
+            "heights (y) where it starts and ends",
+        )
+    if low > high:
+        ctx.reader.fail(
+            at,
+            f"{spec.label}: min ({low:g}) is above max ({high:g}); min and max are the heights "
+            "(y) where it starts and ends, min below max",
+        )
 
 
 def _check_complete(ctx: Context, spec: ShapeSpec, node: Node, entries: dict[str, Entry]) -> None:
@@ -178,13 +228,10 @@ def _check_complete(ctx: Context, spec: ShapeSpec, node: Node, entries: dict[str
     for key in needed:
         if present[key] is None:
             ctx.reader.fail(node, f"{spec.label} has no '{key}'; a {spec.kind} needs one")
-    if spec.transform is not None and not is_invertible(ctx, spec.transform):
+    problem = None if spec.transform is None else transform_problem(ctx, spec.transform)
+    if problem is not None:
         at = entries["transform"].key_node if "transform" in entries else node
-        ctx.reader.fail(
-            at,
-            f"the transform of {spec.label} is not invertible (determinant 0: a scale by 0?); "
-            "expected an invertible transform",
-        )
+        ctx.reader.fail(at, f"the transform of {spec.label} {problem}")
 
 
 @dataclass(frozen=True)
@@ -198,6 +245,8 @@ class Inherited:
 def build_shape(ctx: Context, spec: ShapeSpec, inherited: Inherited = Inherited()) -> Any:
     """A new shape (with new children) from ``spec``, through the variant's API."""
     api = ctx.api
+    if ctx.progress is not None:
+        ctx.progress.advance()
     material = spec.material if spec.material is not None else inherited.material
     shadow = spec.shadow if spec.shadow is not None else inherited.shadow
     passed = Inherited(material, shadow)
@@ -259,6 +308,9 @@ def _build_obj(ctx: Context, spec: ShapeSpec) -> Any:
         ctx.reader.fail(
             spec.line, f"{spec.label}: cannot read OBJ file {spec.obj_file}: {error.strerror}"
         )
+    known = ctx.triangles.get(spec.obj_file)
+    if known is not None:  # parsed before: count its triangles before parsing it again
+        ctx.count_shapes(known, spec.line, f"the {known:,} triangles of {spec.label}")
     api = ctx.api
     parse, to_group = api["parse_obj_file"], api["obj_to_group"]
     factories = {
@@ -272,6 +324,10 @@ def _build_obj(ctx: Context, spec: ShapeSpec) -> Any:
         parser = parse(text, **_accepted(parse, factories))
     except ValueError as error:
         ctx.reader.fail(spec.line, f"the OBJ file of {spec.label} is broken: {error}")
+    if known is None:
+        triangles = int(getattr(parser, "triangles", 0))
+        ctx.triangles[spec.obj_file] = triangles
+        ctx.count_shapes(triangles, spec.line, f"the {triangles:,} triangles of {spec.label}")
     skipped = getattr(parser, "degenerate_triangles", 0)
     if skipped:
         first = getattr(parser, "first_degenerate_line", 0)
