@@ -289,12 +289,22 @@ def test_any_nesting_depth_loads_or_fails_clearly(
     load_or_clear_error(text, workdir / "deep.yml", limits)
 
 
-TRIPLES = st.lists(NUMBERS, min_size=3, max_size=3)
+def mostly(usual: st.SearchStrategy[Any], rare: st.SearchStrategy[Any]) -> st.SearchStrategy[Any]:
+    """``usual`` seven times in eight, else ``rare`` (so that many inputs get far)."""
+    return st.integers(0, 7).flatmap(lambda i: rare if i == 0 else usual)
+
+
+# mostly ordinary numbers (so that many cameras load and their views are checked), with the
+# extreme ones mixed in
+COORDINATE = mostly(st.floats(-1e3, 1e3), NUMBERS)
+TRIPLES = st.lists(COORDINATE, min_size=3, max_size=3)
+SIDE = mostly(st.integers(1, 64), NUMBERS)
 
 
 @given(
-    eye=TRIPLES, to=TRIPLES, up=TRIPLES, fov=NUMBERS, size=st.tuples(NUMBERS, NUMBERS),
-    light=TRIPLES, intensity=TRIPLES,
+    eye=TRIPLES, to=TRIPLES, up=TRIPLES, fov=mostly(st.floats(0.01, 3.1), NUMBERS),
+    size=st.tuples(SIDE, SIDE), light=TRIPLES,
+    intensity=st.lists(mostly(st.floats(0, 2), NUMBERS), min_size=3, max_size=3),
 )  # fmt: skip
 def test_any_camera_and_light_numbers_load_or_fail_clearly(
     eye: list[float], to: list[float], up: list[float], fov: float,
@@ -414,12 +424,28 @@ PPM_WORDS = st.one_of(
 SPACE = st.sampled_from((" ", "\n", "\t", "  ", "\r\n", " # a comment\n", "#", "\x0b"))
 
 
-@given(
-    words=st.lists(st.tuples(PPM_WORDS, SPACE), max_size=40),
-    header=st.sampled_from(("", "P3\n", "P3\n2 2\n255\n", "P3 1 1 1 ", "P3\n# made by hand\n")),
-)
-def test_ppm_text_reads_or_fails_clearly(words: list[tuple[str, str]], header: str) -> None:
-    text = header + "".join(word + space for word, space in words)
+@st.composite
+def ppm_texts(draw: st.DrawFn) -> str:
+    """Either any words after a header, or a well-formed header with about as many values as
+    it announces (one fewer or more at times), any of them possibly replaced."""
+    if draw(st.booleans()):
+        header = draw(st.sampled_from(("", "P3\n", "P3\n2 2\n255\n", "P3 1 1 1 ",
+                                       "P3\n# made by hand\n")))  # fmt: skip
+        words = draw(st.lists(st.tuples(PPM_WORDS, SPACE), max_size=40))
+        return header + "".join(word + space for word, space in words)
+    width, height, maximum = draw(st.integers(1, 4)), draw(st.integers(1, 3)), draw(
+        st.sampled_from((1, 15, 255, 65535)))  # fmt: skip
+    count = width * height * 3 + draw(st.sampled_from((-1, 0, 0, 0, 0, 1)))
+    values = draw(st.lists(mostly(st.integers(0, maximum).map(str), PPM_WORDS), min_size=count,
+                           max_size=count))  # fmt: skip
+    spaces = draw(st.lists(mostly(st.just(" "), SPACE), min_size=len(values) + 4,
+                           max_size=len(values) + 4))  # fmt: skip
+    tokens = ["P3", str(width), str(height), str(maximum), *values]
+    return "".join(token + space for token, space in zip(tokens, spaces, strict=True))
+
+
+@given(text=ppm_texts())
+def test_ppm_text_reads_or_fails_clearly(text: str) -> None:
     try:
         image = canvas_from_ppm(text)
     except PPMError as error:
