@@ -18,7 +18,7 @@ import shutil
 import signal
 import subprocess
 import sys
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -113,3 +113,25 @@ def run_job(folder: Path, job: Mapping[str, Any]) -> JobOutcome:
     if isinstance(result, int):
         result = {"variant": job["variant"], "error": f"the measuring process exited with {result}"}
     return JobOutcome(folder, result)
+
+
+def job_main(run: Callable[[dict[str, Any], Path], dict[str, Any]], argv: list[str]) -> int:
+    """The body of a section's measuring process (``python -m harness.MODULE JOB.json``):
+    read the job, exit when the parent dies, ``run(job, folder)``, and write its result (or
+    ``{"error": ..., "traceback": ...}`` when it raised: one failed point, reported in the
+    run file) atomically as ``result.json`` beside the job."""
+    from harness.child import _watch_parent
+
+    job_path = Path(argv[0])
+    job = json.loads(job_path.read_text())
+    _watch_parent()
+    try:
+        result = run(job, job_path.parent)
+    except Exception as error:
+        import traceback
+
+        result = {"error": f"{type(error).__name__}: {error}", "traceback": traceback.format_exc()}
+    temporary = job_path.parent / ".result.json.tmp"
+    temporary.write_text(json.dumps(result))
+    os.replace(temporary, job_path.parent / "result.json")
+    return 0

@@ -23,9 +23,7 @@ the same size and settings (section ``bonus-picture``), so the report shows it.
 
 from __future__ import annotations
 
-import json
 import math
-import os
 import statistics
 import sys
 import time
@@ -283,24 +281,10 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """``python -m harness.light_samples JOB.json``: run one job, write ``result.json``
-    beside it (``{"error": ...}`` when it fails)."""
-    from harness.child import _watch_parent
+    """``python -m harness.light_samples JOB.json``: one configuration's job."""
+    from harness.jobs import job_main
 
-    args = sys.argv[1:] if argv is None else argv
-    job_path = Path(args[0])
-    job = json.loads(job_path.read_text())
-    _watch_parent()
-    try:
-        result = render_job(job, job_path.parent)
-    except Exception as error:  # one failed configuration, reported in the run file
-        import traceback
-
-        result = {"error": f"{type(error).__name__}: {error}", "traceback": traceback.format_exc()}
-    temporary = job_path.parent / ".result.json.tmp"
-    temporary.write_text(json.dumps(result))
-    os.replace(temporary, job_path.parent / "result.json")
-    return 0
+    return job_main(render_job, sys.argv[1:] if argv is None else argv)
 
 
 if __name__ == "__main__":

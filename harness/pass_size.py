@@ -24,8 +24,6 @@ Everything lands in the run file's ``series`` (section ``pass-size``);
 
 from __future__ import annotations
 
-import json
-import os
 import statistics
 import sys
 import time
@@ -264,24 +262,10 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """``python -m harness.pass_size JOB.json``: run one job, write ``result.json`` beside
-    it (``{"error": ...}`` when it fails)."""
-    from harness.child import _watch_parent
+    """``python -m harness.pass_size JOB.json``: one point's job."""
+    from harness.jobs import job_main
 
-    args = sys.argv[1:] if argv is None else argv
-    job_path = Path(args[0])
-    job = json.loads(job_path.read_text())
-    _watch_parent()
-    try:
-        result = render_job(job, job_path.parent)
-    except Exception as error:  # one failed point, reported in the run file
-        import traceback
-
-        result = {"error": f"{type(error).__name__}: {error}", "traceback": traceback.format_exc()}
-    temporary = job_path.parent / ".result.json.tmp"
-    temporary.write_text(json.dumps(result))
-    os.replace(temporary, job_path.parent / "result.json")
-    return 0
+    return job_main(render_job, sys.argv[1:] if argv is None else argv)
 
 
 if __name__ == "__main__":

@@ -42,7 +42,6 @@ import shutil
 import sys
 import sysconfig
 import time
-import traceback
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -463,21 +462,13 @@ def _watch_parent() -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """``python -m harness.profiling JOB.json``: run one job, write ``result.json`` beside
-    it (``{"error": ...}`` when it fails)."""
-    args = sys.argv[1:] if argv is None else argv
-    job_path = Path(args[0])
-    job = json.loads(job_path.read_text())
-    _watch_parent()
-    try:
-        run = stages_job if job["kind"] == "stages" else cprofile_job
-        result = run(job)
-    except Exception as error:  # reported by the parent, in one line
-        result = {"error": f"{type(error).__name__}: {error}", "traceback": traceback.format_exc()}
-    temporary = job_path.parent / ".result.json.tmp"
-    temporary.write_text(json.dumps(result))
-    os.replace(temporary, job_path.parent / "result.json")
-    return 0
+    """``python -m harness.profiling JOB.json``: a stages or a cProfile job."""
+    from harness.jobs import job_main
+
+    def run(job: dict[str, Any], _: Path) -> dict[str, Any]:
+        return stages_job(job) if job["kind"] == "stages" else cprofile_job(job)
+
+    return job_main(run, sys.argv[1:] if argv is None else argv)
 
 
 # ---------------------------------------------------------------------------- the parent

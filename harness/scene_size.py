@@ -33,9 +33,7 @@ a million triangles): run it on its own, ``rtc bench --sections scene-size``, an
 
 from __future__ import annotations
 
-import json
 import math
-import os
 import statistics
 import sys
 import time
@@ -384,26 +382,13 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """``python -m harness.scene_size JOB.json``: run one job, write ``result.json`` beside
-    it (``{"error": ...}`` when it fails)."""
-    from harness.child import _watch_parent
+    """``python -m harness.scene_size JOB.json``: a parse or a render job."""
+    from harness.jobs import job_main
 
-    args = sys.argv[1:] if argv is None else argv
-    job_path = Path(args[0])
-    job = json.loads(job_path.read_text())
-    _watch_parent()
-    try:
-        parse = job["kind"] == "parse"
-        result = parse_job(job) if parse else render_job(job, job_path.parent)
-    except Exception as error:  # one failed point, reported in the run file
-        import traceback
+    def run(job: dict[str, Any], folder: Path) -> dict[str, Any]:
+        return parse_job(job) if job["kind"] == "parse" else render_job(job, folder)
 
-        result = {"error": f"{type(error).__name__}: {error}"}
-        result["traceback"] = traceback.format_exc()
-    temporary = job_path.parent / ".result.json.tmp"
-    temporary.write_text(json.dumps(result))
-    os.replace(temporary, job_path.parent / "result.json")
-    return 0
+    return job_main(run, sys.argv[1:] if argv is None else argv)
 
 
 def slope(points: list[tuple[float, float]]) -> float | None:
