@@ -31,23 +31,31 @@ def cpu_share(row: Mapping[str, Any]) -> float:
     return float(sum(row["cpu"]) / sum(row["wall"]))
 
 
+ALL_CORES_BY_DEFAULT = ("pooled", "numba")
+"""Variants that use every available core unless an option of ``PARALLEL_OPTIONS`` says."""
+
+
 def cores_asked(name: str, available: int) -> int:
-    """The cores a variant asks for, by its name: N for ``pooled[workers=N]`` (its inner
-    variant runs inside those workers) and ``numba[threads=N]``, every available core for
-    plain ``numba`` and ``pooled``, 1 for a single-threaded variant; never more than
-    ``available`` (a row cannot get cores the machine does not have)."""
+    """The cores a variant asks for, by its name: N for a worker or thread count option
+    (``harness.plan.PARALLEL_OPTIONS``: ``pooled[workers=N]``, whose inner variant runs in
+    those workers, ``numba[threads=N]``, ``wavefront[threads=N]``), every available core for
+    plain ``numba`` and ``pooled``, 1 otherwise; never more than ``available`` (a row cannot
+    get cores the machine does not have)."""
+    from harness.plan import PARALLEL_OPTIONS
+
     try:
         spec = parse_variant_name(name)
     except VariantError:
         return 1
     options = dict(spec.options)
-    key = {"pooled": "workers", "numba": "threads"}.get(spec.name)
-    if key is None:
-        return 1
-    try:
-        asked = int(options[key]) if key in options else available
-    except ValueError:
-        asked = available
+    asked = available if spec.name in ALL_CORES_BY_DEFAULT else 1
+    for key in PARALLEL_OPTIONS:
+        if key in options:
+            try:
+                asked = int(options[key])
+            except ValueError:
+                asked = available
+            break
     return max(1, min(asked, available))
 
 

@@ -61,6 +61,8 @@ def test_a_time_per_pixel_takes_the_unit_that_fits(seconds, text):
         ("pooled[workers=2]:naive", 2, 2),
         ("pooled[workers=1]:numba", 2, 1),  # the workers count, not the inner threads
         ("pooled[workers=8]:naive", 2, 2),  # never more than the machine has
+        ("wavefront", 2, 1),  # one thread unless asked
+        ("wavefront[threads=2]", 2, 2),
         ("not a name[", 2, 1),
     ],
 )
