@@ -175,17 +175,6 @@ def run(
 # ---------------------------------------------------------------------------- the job
 
 
-def _rss() -> int:
-    """This process's resident set now, in bytes (0 where /proc is missing)."""
-    try:
-        for line in Path("/proc/self/status").read_text().splitlines():
-            if line.startswith("VmRSS:"):
-                return int(line.split()[1]) * 1024
-    except (OSError, ValueError, IndexError):
-        pass
-    return 0
-
-
 def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
     """One ``max_mb``: load the scene, a warm-up render at ``WARM``, the timed renders (RSS
     high-water mark over them), one render under ``tracemalloc``; the big point: one render
@@ -199,7 +188,7 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
     from harness.imagediff import canvas_array
     from harness.presets import build_scene
     from harness.scenefile import divides
-    from harness.usage import TreeCpuClock, peak_memory, reset_peak_rss
+    from harness.usage import TreeCpuClock, current_rss, peak_memory, reset_peak_rss
     from raytracer.camera import RenderSettings
     from variants.registry import load_variant
 
@@ -230,7 +219,7 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
     image = None
     canvas = tracer.new_canvas(camera)
     gc.collect()
-    before = _rss()
+    before = current_rss()
     was_reset = reset_peak_rss()
     big = bool(job.get("big"))
     if big:

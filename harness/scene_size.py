@@ -239,17 +239,6 @@ def run(
 # ---------------------------------------------------------------------------- the jobs
 
 
-def _rss() -> int:
-    """This process's resident set now, in bytes (0 where /proc is missing)."""
-    try:
-        for line in Path("/proc/self/status").read_text().splitlines():
-            if line.startswith("VmRSS:"):
-                return int(line.split()[1]) * 1024
-    except (OSError, ValueError, IndexError):
-        pass
-    return 0
-
-
 def _peak_since_reset(was_reset: bool) -> int:
     from harness.usage import peak_memory
 
@@ -262,7 +251,7 @@ def parse_job(job: dict[str, Any]) -> dict[str, Any]:
     import gc
     import tracemalloc
 
-    from harness.usage import reset_peak_rss
+    from harness.usage import current_rss, reset_peak_rss
     from raytracer.obj_file import parse_obj_file
 
     path = Path(job["mesh"])
@@ -273,7 +262,7 @@ def parse_job(job: dict[str, Any]) -> dict[str, Any]:
     result: dict[str, Any] = {"read": read, "bytes": len(text)}
     for attempt in range(int(job["repeat"])):
         gc.collect()
-        before = _rss()
+        before = current_rss()
         was_reset = reset_peak_rss()
         started = time.perf_counter()
         parser = parse_obj_file(text, source=str(path))
@@ -313,7 +302,7 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
 
     from harness.imagediff import canvas_array
     from harness.scenefile import divides, load_scene_text
-    from harness.usage import TreeCpuClock, reset_peak_rss
+    from harness.usage import TreeCpuClock, current_rss, reset_peak_rss
     from raytracer.camera import RenderSettings
     from variants.registry import load_variant
 
@@ -338,7 +327,7 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
     del warm
     tracer.forget()
     gc.collect()
-    before = _rss()
+    before = current_rss()
     was_reset = reset_peak_rss()
     started = time.perf_counter()
     scene = load(Path(job["mesh"]), size)

@@ -105,6 +105,11 @@ def _status_kib(pid: int | str, key: str) -> int | None:
     return None
 
 
+def current_rss() -> int:
+    """This process's resident set now, in bytes (0 where /proc is missing)."""
+    return (_status_kib("self", "VmRSS") or 0) * 1024
+
+
 def reset_peak_rss() -> bool:
     """Reset this process's resident-set high-water mark; True if the system allows it."""
     try:
