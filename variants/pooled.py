@@ -79,7 +79,7 @@ from variants.registry import (
     parse_int,
     tracer_variant,
 )
-from variants.wrapper import Wrapper
+from variants.wrapper import Wrapper, tracer_of
 
 NAME = "pooled"
 GRANULARITIES = ("line", "pixel", "tile")
@@ -209,7 +209,7 @@ def _worker_main(
     )
     beats.start()
     try:
-        tracer = _tracer_of(load_variant(inner))
+        tracer = tracer_of(NAME, load_variant(inner))
     except BaseException:
         link.send(("init-error", -1, traceback.format_exc()))
         return
@@ -526,22 +526,11 @@ def _settings(options: Mapping[str, str]) -> tuple[int, str, int, int]:
     return workers, granularity, tile, timeout
 
 
-def _tracer_of(inner: Variant) -> Tracer:
-    """The inner variant's tracer; a ``VariantError`` for a variant without one."""
-    if not isinstance(inner.tracer, Tracer):
-        raise VariantError(
-            f"variant {NAME!r} cannot wrap {inner.name!r}: it has no tracer (a "
-            "raytracer.tracer.Tracer whose render_region the workers call); a variant that "
-            "answers through its api alone can only render in one process"
-        )
-    return inner.tracer
-
-
 def variant(inner: Variant | None = None, **options: str) -> Variant:
     """The registry's factory: ``pooled[workers=N,granularity=G,tile=S]:INNER``."""
     workers, granularity, tile, timeout = _settings(options)
     inner = inner if inner is not None else load_variant("naive")
-    tracer = PooledTracer(_tracer_of(inner), inner.name, workers, granularity, tile, timeout)
+    tracer = PooledTracer(tracer_of(NAME, inner), inner.name, workers, granularity, tile, timeout)
     spelled: dict[str, object] = {"workers": workers}
     if granularity != DEFAULT_GRANULARITY:
         spelled["granularity"] = granularity

@@ -158,7 +158,7 @@ class VariantSpec:
 
 
 _WORD = re.compile(r"[A-Za-z_][A-Za-z0-9_.\-]*")
-_VALUE = re.compile(r"[A-Za-z0-9_.+\-]+")
+_VALUE = re.compile(r"[A-Za-z0-9_.+\-:/]+")  # a scheduler address: tcp://HOST:8786
 
 
 class _Parser:

@@ -9,6 +9,7 @@ from collections.abc import Callable
 from typing import Any
 
 from raytracer.tracer import STEPS, Tracer, overridden_steps
+from variants.registry import Variant, VariantError
 
 # ``render`` stays the reference's: it calls ``render_into`` through ``self``, which a
 # wrapper overrides to change where the regions are traced
@@ -56,3 +57,15 @@ def steps_overridden(tracer: Tracer) -> tuple[str, ...]:
     ]
     inner = steps_overridden(tracer.inner)
     return tuple(name for name in STEPS if name in own or name in inner)
+
+
+def tracer_of(wrapper: str, inner: Variant) -> Tracer:
+    """The inner variant's tracer, which a wrapper named ``wrapper`` hands regions to; a
+    ``VariantError`` for a variant without one."""
+    if not isinstance(inner.tracer, Tracer):
+        raise VariantError(
+            f"variant {wrapper!r} cannot wrap {inner.name!r}: it has no tracer (a "
+            "raytracer.tracer.Tracer whose render_region the workers call); a variant that "
+            "answers through its api alone can only render in one process"
+        )
+    return inner.tracer

@@ -1,0 +1,250 @@
+"""The ``dask`` variant: tiles traced on a Dask cluster (a ``LocalCluster`` of worker processes,
+or a running scheduler's) are the inner variant's own pixels; progress counts rows; a worker
+killed mid-render costs time, not the picture; an unreachable scheduler, a tile that raises and
+a bad option are one clear line each."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import os
+import signal
+import socket
+import threading
+import time
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from raytracer.camera import RenderSettings
+from rtc.cli import main
+from variants import dask_cluster
+from variants.dask_cluster import ClusterError, DaskTracer
+from variants.registry import Variant, VariantError, load_variant
+
+distributed = pytest.importorskip("distributed")  # a declared dependency: always there in CI
+
+REFERENCE_SCENE = Path(__file__).resolve().parent.parent / "harness" / "scenes" / "reference.yml"
+
+
+def _scene(variant: Variant, width: int, height: int) -> tuple[Any, Any]:
+    api = variant.api
+    view = api["view_transform"](
+        api["point"](0, 1.5, -5), api["point"](0, 0, 0), api["vector"](0, 1, 0)
+    )
+    c = dataclasses.replace(api["camera"](width, height, math.pi / 3), transform=view)
+    return c, api["default_world"]()
+
+
+def _same_pixels(a: Any, b: Any) -> bool:
+    return (a.width, a.height) == (b.width, b.height) and all(
+        (p.red, p.green, p.blue) == (q.red, q.green, q.blue)
+        for p, q in zip(a.pixels, b.pixels, strict=True)
+    )
+
+
+@pytest.fixture(scope="module")
+def scheduler() -> Iterator[str]:
+    """A running cluster in this process (threads, not processes): enough for the tests that
+    only need an address to connect to."""
+    with distributed.LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0"
+    ) as cluster:
+        yield cluster.scheduler_address
+
+
+# ------------------------------------------------------------------------------ names
+
+
+@pytest.mark.parametrize(
+    ("name", "canonical"),
+    [
+        ("dask[workers=2]:numba[threads=1]", "dask[workers=2]:numba[threads=1]"),
+        ("dask[tile=8,workers=1]", "dask[tile=8,workers=1]:naive"),
+        (
+            "dask[scheduler=tcp://10.0.0.5:8786]:cached",
+            "dask[scheduler=tcp://10.0.0.5:8786]:cached",
+        ),
+    ],
+)
+def test_names_are_canonical(name: str, canonical: str) -> None:
+    assert load_variant(name).name == canonical
+
+
+@pytest.mark.parametrize(
+    ("name", "words"),
+    [
+        ("dask[workers=2,scheduler=tcp://h:1]", "give one of them"),
+        ("dask[scheduler=localhost]", "not an address like tcp://HOST:8786"),
+        ("dask[scheduler=tcp://h:99999]", "port outside 1..65535"),
+        ("dask[scheduler=tcp://h]", "missing port"),
+        ("dask[workers=0]", "workers"),
+        ("dask[tile=0]", "tile"),
+        ("dask[colour=red]", "colour"),
+    ],
+)
+def test_bad_options_are_one_clear_error(name: str, words: str) -> None:
+    with pytest.raises(VariantError, match=words.replace("(", r"\(").replace(".", r"\.")) as info:
+        load_variant(name)
+    assert "\n" not in str(info.value)
+
+
+# ------------------------------------------------------------------------------ renders
+
+
+@pytest.mark.parametrize("inner", ["naive", "cached"])
+def test_a_local_cluster_render_is_the_inner_variants_picture_and_counts_every_row(
+    inner: str,
+) -> None:
+    variant = load_variant(f"dask[workers=2,tile=5]:{inner}")
+    own = load_variant(inner)
+    c, w = _scene(own, 13, 11)
+    rows: list[int] = []
+    image = variant.api["render"](c, w, None, rows.append)
+    assert sum(rows) == 11 and all(n > 0 for n in rows)
+    assert _same_pixels(image, own.api["render"](c, w))
+
+
+def test_numba_tiles_on_the_cluster_equal_numbas_own_render() -> None:
+    from harness.scenefile import load_scene
+
+    variant = load_variant("dask[workers=2,tile=16]:numba[threads=1]")
+    own = load_variant("numba[threads=1]")
+    scene = load_scene(str(REFERENCE_SCENE), own.api).resized(40, 30)
+    settings = RenderSettings(samples=2)
+    image = variant.api["render"](scene.camera, scene.world, settings)
+    expected = own.api["render"](scene.camera, scene.world, settings)
+    assert _same_pixels(image, expected)
+
+
+def test_a_session_keeps_one_cluster_and_each_worker_loads_the_inner_variant_once() -> None:
+    variant = load_variant("dask[workers=2,tile=4]:cached")
+    tracer = variant.tracer
+    assert isinstance(tracer, DaskTracer)
+    c, w = _scene(variant, 12, 8)
+    with tracer.session() as client:
+        first = client.run(os.getpid)
+        loaded_before = client.run(lambda: id(dask_cluster._TRACERS["cached"]))
+        for _ in range(2):
+            tracer.render(c, w)
+        assert client.run(os.getpid) == first  # the same worker processes throughout
+        assert client.run(lambda: id(dask_cluster._TRACERS["cached"])) == loaded_before
+
+
+def test_a_running_scheduler_renders_the_same_picture(scheduler: str) -> None:
+    variant = load_variant(f"dask[scheduler={scheduler},tile=6]:naive")
+    own = load_variant("naive")
+    c, w = _scene(own, 12, 9)
+    assert _same_pixels(variant.api["render"](c, w), own.api["render"](c, w))
+
+
+# ------------------------------------------------------------------------------ faults
+
+
+def test_killing_a_worker_mid_render_still_gives_the_same_picture() -> None:
+    variant = load_variant("dask[workers=2,tile=2]:naive")
+    own = load_variant("naive")
+    tracer = variant.tracer
+    assert isinstance(tracer, DaskTracer)
+    c, w = _scene(own, 16, 12)
+    killed: list[int] = []
+    with tracer.session() as client:
+        pids = list(client.run(os.getpid).values())
+
+        def kill_a_worker(rows: int) -> None:
+            if not killed:  # after the first finished row: the other tiles are in flight
+                os.kill(pids[0], signal.SIGKILL)
+                killed.append(pids[0])
+
+        image = tracer.render(c, w, None, kill_a_worker)
+        after = list(client.run(os.getpid).values())
+    assert killed and killed[0] not in after  # it really died (its nanny started another)
+    assert _same_pixels(image, own.api["render"](c, w))
+
+
+def _closed_port() -> int:
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        port: int = probe.getsockname()[1]
+    return port
+
+
+def test_an_unreachable_scheduler_is_one_line_within_seconds() -> None:
+    variant = load_variant(f"dask[scheduler=tcp://127.0.0.1:{_closed_port()},timeout=3]:naive")
+    c, w = _scene(variant, 4, 3)
+    start = time.monotonic()
+    with pytest.raises(
+        ClusterError, match=r"cannot reach the scheduler at tcp://127\.0\.0\.1"
+    ) as info:
+        variant.api["render"](c, w)
+    assert time.monotonic() - start < 5
+    assert "\n" not in str(info.value)
+
+
+def test_something_else_listening_is_not_taken_for_a_scheduler() -> None:
+    server = socket.socket()
+    server.bind(("127.0.0.1", 0))
+    server.listen()
+    port = server.getsockname()[1]
+
+    def answer_nonsense() -> None:
+        connection, _ = server.accept()
+        with connection:
+            connection.sendall(b"HTTP/1.0 200 OK\r\n\r\n" + b"\xff" * 64)
+            time.sleep(0.5)
+
+    threading.Thread(target=answer_nonsense, daemon=True).start()
+    variant = load_variant(f"dask[scheduler=tcp://127.0.0.1:{port},timeout=2]:naive")
+    c, w = _scene(variant, 4, 3)
+    start = time.monotonic()
+    try:
+        with pytest.raises(ClusterError, match="cannot reach the scheduler") as info:
+            variant.api["render"](c, w)
+    finally:
+        server.close()
+    assert time.monotonic() - start < 5
+    assert "\n" not in str(info.value)
+
+
+class _Broken:
+    def render_region(self, *args: Any) -> list[float]:
+        raise ZeroDivisionError("a bug in the inner tracer")
+
+
+def test_a_tile_that_raises_fails_the_render_naming_the_tile(
+    scheduler: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # the in-process cluster's worker shares this module's table of loaded tracers
+    monkeypatch.setitem(dask_cluster._TRACERS, "cached", _Broken())  # type: ignore[arg-type]
+    variant = load_variant(f"dask[scheduler={scheduler},tile=4]:cached")
+    c, w = _scene(variant, 8, 4)
+    with pytest.raises(
+        ClusterError,
+        match=r"tile x \d+\.\.\d+, y 0\.\.3 failed on a worker: "
+        "ZeroDivisionError: a bug in the inner tracer",
+    ) as info:
+        variant.api["render"](c, w)
+    assert "\n" not in str(info.value)
+
+
+def test_rtc_render_with_no_scheduler_is_one_line_exit_2_and_no_image(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    output = tmp_path / "out.png"
+    code = main(
+        [
+            "render",
+            str(REFERENCE_SCENE),
+            "--variant",
+            f"dask[scheduler=tcp://127.0.0.1:{_closed_port()}]:naive",
+            "--size",
+            "8x6",
+            "-o",
+            str(output),
+        ]
+    )
+    err = capsys.readouterr().err
+    assert code == 2 and not output.exists()
+    assert err.count("\n") == 1 and "cannot reach the scheduler" in err

@@ -1,0 +1,389 @@
+"""``dask``: chapter 7's ``render`` as tiles on a Dask cluster, over any inner variant (for a
+render, or a sweep, that outgrows one machine).
+
+Name and options (the grammar of ``variants.registry``)::
+
+    dask[workers=N,tile=S,timeout=T]:INNER
+    dask[scheduler=tcp://HOST:PORT,tile=S,timeout=T]:INNER
+
+- ``workers``: start a ``distributed.LocalCluster`` of N single-threaded worker processes
+  for the render (default: the CPUs this process may use), and stop it after;
+- ``scheduler``: connect to a running cluster instead (``dask scheduler`` on one machine,
+  ``dask worker tcp://HOST:8786`` on the others, each with this project installed);
+- ``tile``: the side of a job's square of pixels (default 32);
+- ``timeout``: seconds to reach the scheduler, or for a local cluster to start (default 5);
+- ``INNER``: the variant that traces the pixels (default ``naive``). Give a threaded inner
+  variant one thread per worker (``dask[workers=2]:numba[threads=1]``): the workers are the
+  parallelism.
+
+``DaskTracer`` is a ``Wrapper`` that overrides ``render_into`` only. A render:
+
+- sends the camera, world and settings to the cluster once, as the result of one small task
+  (``_frame``) that every tile depends on: a worker fetches it once and keeps it for the
+  frame. A task rather than ``scatter``: the scheduler can run it again when the workers
+  holding it die, so a lost worker never loses the scene;
+- submits one future per tile (``trace_tile``); a worker loads the inner variant from the
+  registry once (``worker_tracer``: numba's kernels compile, or load from the kernel cache,
+  once per worker process, not per tile) and traces the tile with its ``render_region``,
+  so the pixels are the inner variant's own;
+- writes tiles as they complete and calls ``progress(rows)`` as image rows finish;
+- when a worker dies, Dask runs its tiles again elsewhere (its nanny restarts it) and the
+  picture is the same; a tile that kills workers ``distributed.scheduler.allowed-failures``
+  times in a row, or raises, fails the render with one ``ClusterError`` line;
+- an unreachable scheduler is one ``ClusterError`` line after ``timeout`` seconds.
+
+``DaskTracer.session()`` keeps one cluster (and its loaded workers) across several renders:
+what the benchmark uses to time start-up apart from rendering.
+"""
+
+from __future__ import annotations
+
+import logging
+import pickle
+import time
+from collections.abc import Iterator, Mapping
+from contextlib import contextmanager, suppress
+from typing import Any
+
+import numpy as np
+
+from raytracer.camera import Camera, RenderSettings
+from raytracer.canvas import Canvas
+from raytracer.tracer import Progress, Region, Tracer
+from raytracer.world import World
+from variants.pooled import default_workers, describe_job, make_jobs
+from variants.registry import (
+    RenderError,
+    Variant,
+    VariantError,
+    canonical_name,
+    check_options,
+    load_variant,
+    parse_int,
+    tracer_variant,
+)
+from variants.wrapper import Wrapper, tracer_of
+
+NAME = "dask"
+DEFAULT_TILE = 32
+DEFAULT_TIMEOUT = 5
+MAX_WORKERS = 256
+USAGE = (
+    "workers=N (a local cluster of N single-threaded processes, default: the CPU count) or "
+    "scheduler=tcp://HOST:PORT (a running cluster), "
+    f"tile=S (tile side in pixels, default {DEFAULT_TILE}), "
+    f"timeout=T (seconds to reach the scheduler, default {DEFAULT_TIMEOUT}); "
+    "wraps INNER (dask:INNER, default naive)"
+)
+
+
+class ClusterError(RenderError):
+    """A render on the cluster failed (no scheduler, a tile that raised or kept killing its
+    workers); no image was produced."""
+
+
+# ------------------------------------------------------------------------------ on a worker
+
+_TRACERS: dict[str, Tracer] = {}  # one inner tracer per variant name, per worker process
+
+
+def worker_tracer(inner: str) -> Tracer:
+    """The ``inner`` variant's tracer in this worker process, loaded on first use."""
+    tracer = _TRACERS.get(inner)
+    if tracer is None:
+        tracer = _TRACERS[inner] = tracer_of(NAME, load_variant(inner))
+    return tracer
+
+
+def _frame(payload: bytes) -> tuple[Camera, World, RenderSettings]:
+    """The camera, world and settings of a render (run once; every tile depends on it)."""
+    frame: tuple[Camera, World, RenderSettings] = pickle.loads(payload)
+    return frame
+
+
+def trace_tile(
+    inner: str, frame: tuple[Camera, World, RenderSettings], region: Region
+) -> np.ndarray:
+    """One tile's row-major ``[r, g, b, ...]``, traced by the inner variant's own
+    ``render_region`` (the frame is the same object for every tile on this worker, so the
+    tracer prepares it once)."""
+    c, w, settings = frame
+    return np.asarray(worker_tracer(inner).render_region(c, w, settings, region), np.float64)
+
+
+# ------------------------------------------------------------------------------ the cluster
+
+
+def _distributed() -> Any:
+    try:
+        import distributed
+    except ImportError as error:  # a dependency; this names the fix if it is missing
+        raise ImportError(
+            "the dask variant needs the 'distributed' package: pip install distributed"
+        ) from error
+    return distributed
+
+
+@contextmanager
+def connected(scheduler: str | None, workers: int, timeout: float, inner: str) -> Iterator[Any]:
+    """A ``distributed.Client``: to ``scheduler``, or to a new local cluster of ``workers``
+    single-threaded processes (closed on leaving). Every worker has loaded ``inner`` when
+    this yields. ``ClusterError`` when the scheduler cannot be reached in ``timeout`` s."""
+    distributed = _distributed()
+    quiet = logging.ERROR  # a killed worker's restart is Dask's business, not the user's
+    cluster = None
+    try:
+        if scheduler is None:
+            cluster = distributed.LocalCluster(
+                n_workers=workers,
+                threads_per_worker=1,
+                processes=True,
+                dashboard_address=":0",  # a free port: no clash with another cluster
+                silence_logs=quiet,
+            )
+            address = cluster.scheduler_address
+        else:
+            address = scheduler
+            _probe(address, timeout)  # a failed Client lingers 20 s in its __del__: ask first
+        client = distributed.Client(address, timeout=f"{timeout}s", set_as_default=False)
+    except Exception as error:  # refused, timed out, or something else answered
+        if cluster is not None:
+            cluster.close()
+        where = f"the scheduler at {scheduler}" if scheduler else "a local cluster"
+        raise ClusterError(
+            f"dask render: cannot reach {where}: {_first_line(error)}"
+            + ("; is `dask scheduler` running there, and the address right?" if scheduler else "")
+        ) from None
+    try:
+        if scheduler is not None:
+            _wait_for_a_worker(client, timeout, scheduler)
+        client.run(worker_tracer, inner)  # load the inner variant on every worker, once
+        yield client
+    finally:
+        with suppress(Exception):
+            client.close()
+        if cluster is not None:
+            with suppress(Exception):
+                cluster.close()
+
+
+def _probe(address: str, timeout: float) -> None:
+    """Reach ``address`` and shake hands as a client would, then hang up; raises what failed.
+    A plain socket first, so a refused port or an unknown host fails at once (Dask's own
+    connect retries those until its timeout); then Dask's handshake, on an event loop of its
+    own (a ``Client`` that fails to start lingers for 20 s in its ``__del__``)."""
+    import asyncio
+    import socket
+
+    from distributed.comm import connect
+    from distributed.comm.addressing import parse_address, parse_host_port
+
+    scheme, location = parse_address(address)
+    if scheme in ("tcp", "tls"):
+        with socket.create_connection(parse_host_port(location), timeout=timeout):
+            pass
+
+    async def shake_hands() -> None:
+        comm = await connect(address, timeout=timeout)
+        await comm.close()
+
+    async def shake_hands_in_time() -> None:  # a peer that answers and then waits: no hang
+        try:
+            await asyncio.wait_for(shake_hands(), timeout)
+        except TimeoutError:
+            raise TimeoutError(f"no Dask handshake from {address} within {timeout:g} s") from None
+
+    try:
+        asyncio.run(shake_hands_in_time())
+    except (OSError, TimeoutError):
+        raise
+    except Exception as error:  # the other end answered, but not as a Dask scheduler
+        raise OSError(
+            f"the other end does not speak Dask's protocol ({_first_line(error)})"
+        ) from None
+
+
+def _wait_for_a_worker(client: Any, timeout: float, scheduler: str) -> None:
+    try:
+        client.wait_for_workers(1, timeout=timeout)
+    except (OSError, TimeoutError):
+        raise ClusterError(
+            f"dask render: the scheduler at {scheduler} has no workers after {timeout:g} s; "
+            f"start some with `dask worker {scheduler}`"
+        ) from None
+
+
+def _first_line(error: BaseException) -> str:
+    text = str(error).strip().splitlines()
+    return f"{type(error).__name__}: {text[0]}" if text else type(error).__name__
+
+
+# ------------------------------------------------------------------------------ render
+
+
+class DaskTracer(Wrapper):
+    """Chapter 7's ``render`` as ``tile`` x ``tile`` jobs on a Dask cluster, each traced by
+    the ``inner_name`` variant's tracer on a worker; every other step is ``inner``'s."""
+
+    def __init__(
+        self,
+        inner: Tracer,
+        inner_name: str,
+        workers: int,
+        scheduler: str | None = None,
+        tile: int = DEFAULT_TILE,
+        timeout: float = DEFAULT_TIMEOUT,
+    ) -> None:
+        super().__init__(inner)
+        self.inner_name = inner_name
+        self.workers = workers
+        self.scheduler = scheduler
+        self.tile = tile
+        self.timeout = timeout
+        self._client: Any = None
+
+    @contextmanager
+    def session(self) -> Iterator[Any]:
+        """One cluster (its workers started and the inner variant loaded) for every render
+        inside; a render outside a session starts and stops its own."""
+        if self._client is not None:
+            yield self._client
+            return
+        with connected(self.scheduler, self.workers, self.timeout, self.inner_name) as client:
+            self._client = client
+            try:
+                yield client
+            finally:
+                self._client = None
+
+    def render_into(
+        self,
+        image: Canvas,
+        c: Camera,
+        w: World,
+        settings: RenderSettings,
+        progress: Progress | None = None,
+    ) -> None:
+        """Chapter 7: fill ``image`` with the tiles the cluster traces; ``progress(rows)``
+        as rows complete."""
+        distributed = _distributed()
+        jobs = make_jobs(c.hsize, c.vsize, "tile", self.tile)
+        left_in_row = [c.hsize] * c.vsize
+        payload = pickle.dumps((c, w, settings), protocol=pickle.HIGHEST_PROTOCOL)
+        with self.session() as client:
+            frame = client.submit(_frame, payload, pure=False, key=f"rtc-frame-{time.time_ns()}")
+            futures = {
+                client.submit(trace_tile, self.inner_name, frame, job, pure=False): index
+                for index, job in enumerate(jobs)
+            }
+            try:
+                for future in distributed.as_completed(futures, loop=client.loop):
+                    index = futures[future]
+                    values = self._result(future, jobs[index], len(jobs))
+                    self.write_region(image, jobs[index], values.tolist())
+                    finished = 0
+                    x0, y0, x1, y1 = jobs[index]
+                    for y in range(y0, y1):
+                        left_in_row[y] -= x1 - x0
+                        finished += left_in_row[y] == 0
+                    if progress is not None and finished:
+                        progress(finished)
+            finally:
+                client.cancel([*futures, frame])
+
+    def _result(self, future: Any, job: Region, count: int) -> np.ndarray:
+        from distributed import KilledWorker
+
+        try:
+            values: np.ndarray = future.result()
+        except KilledWorker:
+            raise ClusterError(
+                f"dask render: {describe_job(job)} (one of {count} tiles) killed the workers "
+                "that ran it, again and again (distributed.scheduler.allowed-failures); no "
+                "image is returned"
+            ) from None
+        except Exception as error:
+            raise ClusterError(
+                f"dask render: {describe_job(job)} failed on a worker: {_first_line(error)}; "
+                "no image is returned"
+            ) from error
+        return values
+
+    def explain(self, w: World) -> str:
+        where = (
+            f"the cluster at {self.scheduler}"
+            if self.scheduler
+            else f"a local cluster of {self.workers} single-threaded worker processes"
+        )
+        return (
+            f"{type(self).__name__}: {self.tile}x{self.tile} tiles as futures on {where}, "
+            f"each traced with {self.inner_name}; {self.inner.explain(w)}"
+        )
+
+
+# ------------------------------------------------------------------------------ factory
+
+
+def _settings(options: Mapping[str, str]) -> tuple[int, str | None, int, int]:
+    check_options(NAME, options, ("workers", "scheduler", "tile", "timeout"))
+    scheduler = options.get("scheduler")
+    if scheduler is not None and "workers" in options:
+        raise VariantError(
+            f"variant {NAME!r}: workers=N starts a local cluster and scheduler=ADDRESS joins "
+            "a running one: give one of them"
+        )
+    if scheduler is not None:
+        _check_address(scheduler)
+    workers = (
+        parse_int(NAME, "workers", options["workers"], 1, MAX_WORKERS)
+        if "workers" in options
+        else default_workers()
+    )
+    tile = parse_int(NAME, "tile", options["tile"], 1, 4096) if "tile" in options else DEFAULT_TILE
+    timeout = (
+        parse_int(NAME, "timeout", options["timeout"], 1, 3600)
+        if "timeout" in options
+        else DEFAULT_TIMEOUT
+    )
+    return workers, scheduler, tile, timeout
+
+
+def _check_address(scheduler: str) -> None:
+    """A ``VariantError`` unless ``scheduler`` reads as SCHEME://HOST:PORT."""
+    from distributed.comm.addressing import parse_address, parse_host_port
+
+    try:
+        scheme, location = parse_address(scheduler, strict=True)
+        if scheme in ("tcp", "tls"):
+            host, port = parse_host_port(location)
+            if not host or not 0 < int(port) < 65536:
+                raise ValueError(f"{location} has no host or a port outside 1..65535")
+    except (ValueError, TypeError) as error:
+        raise VariantError(
+            f"variant {NAME!r}: scheduler={scheduler} is not an address like "
+            f"tcp://HOST:8786 ({_first_line(error)})"
+        ) from None
+
+
+def variant(inner: Variant | None = None, **options: str) -> Variant:
+    """The registry's factory: ``dask[workers=N]:INNER`` or ``dask[scheduler=ADDR]:INNER``."""
+    workers, scheduler, tile, timeout = _settings(options)
+    _distributed()  # unavailable, with the reason, when distributed is not installed
+    inner = inner if inner is not None else load_variant("naive")
+    tracer = DaskTracer(tracer_of(NAME, inner), inner.name, workers, scheduler, tile, timeout)
+    spelled: dict[str, object] = {"scheduler": scheduler} if scheduler else {"workers": workers}
+    if tile != DEFAULT_TILE:
+        spelled["tile"] = tile
+    if timeout != DEFAULT_TIMEOUT:
+        spelled["timeout"] = timeout
+    where = f"the cluster at {scheduler}" if scheduler else f"{workers} local Dask workers"
+    return tracer_variant(
+        canonical_name(NAME, spelled, inner),
+        f"render {tile}x{tile} tiles on {where}, tracing with {inner.name}",
+        tracer,
+        api={**inner.api},
+        overrides=inner.overrides,
+        base=inner.name,
+        usage=USAGE,
+        tolerance=inner.tolerance,
+    )
