@@ -52,6 +52,7 @@ from harness.results import RunWriter, pyperf_document
 from harness.sharing import Watch
 from harness.sizes import Size, scaled
 from harness.usage import available_cores
+from variants.registry import RenderError
 
 HEAT_FULL_SCALE = 16 / 255  # heat maps: this difference and more is brightest
 BASELINE_BUDGET_FACTOR = 3.0  # naive's rows get three budgets: every speed-up depends on them
@@ -66,6 +67,30 @@ def slug(name: str) -> str:
 
 def _size_list(size: Size) -> list[int]:
     return [size.width, size.height]
+
+
+def _series_task(
+    section: str, points: list[tuple[Size, int]], budget: float | None
+) -> dict[str, Any]:
+    """A measuring process's task: render each (size, samples) point."""
+    return {
+        "kind": "series",
+        "budget": budget,
+        "images": section != "sizes",
+        "points": [{"size": _size_list(size), "samples": n} for size, n in points],
+    }
+
+
+def _series_entry(
+    section: str, name: str, scene: SceneRef, extra: dict[str, Any], outcome: JobOutcome
+) -> dict[str, Any]:
+    """A series entry of the run file from a series task's outcome."""
+    entry: dict[str, Any] = {"section": section, "name": name, "scene": scene.name, **extra}
+    if outcome.ok:
+        entry.update(status="ok", **outcome.result["tasks"][0])
+    else:
+        entry.update(status="failed", error=outcome.result["error"], points=[])
+    return entry
 
 
 @contextmanager
@@ -112,9 +137,15 @@ class Bench:
     def _job(
         self, variant: str, scene: SceneRef, tasks: list[dict[str, Any]], depth: int | None = None
     ) -> JobOutcome:
-        self._jobs += 1
         if self.watch is not None:
             self.watch.sample()
+        return run_job(*self._job_spec(variant, scene, tasks, depth))
+
+    def _job_spec(
+        self, variant: str, scene: SceneRef, tasks: list[dict[str, Any]], depth: int | None = None
+    ) -> tuple[Path, dict[str, Any]]:
+        """A job's folder (numbered in the run's staging folder) and the job."""
+        self._jobs += 1
         job = {
             "variant": variant,
             "scene": scene.as_dict(),
@@ -124,7 +155,7 @@ class Bench:
             "threads": self.settings.threads,
             "tasks": tasks,
         }
-        return run_job(self.writer.staging / "jobs" / f"{self._jobs:03d}", job)
+        return self.writer.staging / "jobs" / f"{self._jobs:03d}", job
 
     def _image_name(self, section: str, name: str, suffix: str = "") -> str:
         return f"{section}-{slug(name)}{suffix}.png"
@@ -290,19 +321,39 @@ class Bench:
         extra: dict[str, Any],
     ) -> tuple[dict[str, Any], JobOutcome]:
         self.log(f"{section}: {name}")
-        task = {
-            "kind": "series",
-            "budget": budget,
-            "images": section != "sizes",
-            "points": [{"size": _size_list(size), "samples": n} for size, n in points],
-        }
-        outcome = self._job(name, scene, [task])
-        entry: dict[str, Any] = {"section": section, "name": name, "scene": scene.name, **extra}
-        if outcome.ok:
-            entry.update(status="ok", **outcome.result["tasks"][0])
-        else:
-            entry.update(status="failed", error=outcome.result["error"], points=[])
-        return entry, outcome
+        outcome = self._job(name, scene, [_series_task(section, points, budget)])
+        return _series_entry(section, name, scene, extra, outcome), outcome
+
+    def _sweep_jobs(
+        self, configs: list[tuple[str, list[tuple[Size, int]]]], truth: str
+    ) -> list[tuple[dict[str, Any], JobOutcome]]:
+        """The sweep's configurations, one after the other here, or all at once on the
+        cluster ``--sweep-on`` names (``harness.cluster_jobs``)."""
+        s = self.settings
+        extra = {"truth": truth}
+        if s.sweep_on is None:
+            return [
+                self._series_job("sweep", name, s.scene, points, s.budget, extra)
+                for name, points in configs
+            ]
+        from harness.cluster_jobs import cluster_jobs
+
+        specs = [
+            self._job_spec(name, s.scene, [_series_task("sweep", points, s.budget)])
+            for name, points in configs
+        ]
+        self.log(f"sweep: {len(specs)} configurations as tasks on {s.sweep_on}")
+        self.notes.append(
+            f"The error sweep's {len(specs)} configurations ran as tasks on {s.sweep_on}, "
+            "side by side: their timings shared the workers' machines (each point's CPU "
+            "share says what it got)."
+        )
+        with cluster_jobs(s.sweep_on) as run:
+            outcomes = run(specs)
+        return [
+            (_series_entry("sweep", name, s.scene, extra, outcome), outcome)
+            for (name, _), outcome in zip(configs, outcomes, strict=True)
+        ]
 
     def sweep(self) -> None:
         s = self.settings
@@ -335,13 +386,19 @@ class Bench:
         outcome.discard()
         self.series.append(entry)
         counts = [n for n in s.mode.sweep_samples if n * 4 <= truth]
-        for name in self._sweep_configs():
-            points = [(size, n) for n in counts]
-            if self._hopeless("sweep", name, points):
-                continue
-            entry, outcome = self._series_job(
-                "sweep", name, s.scene, points, budget, {"truth": truth_name}
-            )
+        points = [(size, n) for n in counts]
+        configs = [
+            (name, points)
+            for name in self._sweep_configs()
+            if not self._hopeless("sweep", name, points)
+        ]
+        try:
+            measured = self._sweep_jobs(configs, truth_name)
+        except RenderError as error:  # the cluster: no scheduler there, or none started
+            self.log(f"sweep: {error}")
+            self.notes.append(f"sweep not run: {error}")
+            return
+        for entry, outcome in measured:
             for point in entry.get("points", []):
                 if point.get("image"):
                     image = outcome.image(point["image"])
@@ -440,6 +497,19 @@ class Bench:
         )  # fmt: skip
         jobs = self.writer.staging / "jobs" / "pass-size"
         self.series.extend(pass_size.run(plan, jobs, self.log, self._save_image))
+
+    def cluster(self) -> None:
+        """What a cluster buys and costs (``harness.cluster``): numba on 1 and 2 threads
+        against 1 and 2 local Dask workers, on a render of at least 5 s."""
+        from harness import cluster
+
+        s = self.settings
+        plan = cluster.Plan(
+            scene=s.scene, size=s.size, samples=s.samples, depth=s.depth, seed=s.seed,
+            epsilon=s.epsilon, repeat=s.repeat,
+        )  # fmt: skip
+        jobs = self.writer.staging / "jobs" / "cluster"
+        self.series.extend(cluster.run(plan, jobs, self.log, self._save_image))
 
     def profile(self) -> None:
         """Where the time goes (``harness.profiling``): the stages, the top functions and a

@@ -31,7 +31,7 @@ def cpu_share(row: Mapping[str, Any]) -> float:
     return float(sum(row["cpu"]) / sum(row["wall"]))
 
 
-ALL_CORES_BY_DEFAULT = ("pooled", "numba")
+ALL_CORES_BY_DEFAULT = ("pooled", "numba", "dask")
 """Variants that use every available core unless an option of ``PARALLEL_OPTIONS`` says."""
 
 

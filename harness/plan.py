@@ -19,7 +19,7 @@ from harness.sizes import Size, smaller_sizes
 BASELINE = "naive"
 SECTIONS = (
     "table", "sweep", "scaling", "preset", "kata", "scene-size", "light-samples", "profile",
-    "pass-size",
+    "pass-size", "cluster",
 )  # fmt: skip
 DEFAULT_SECTIONS = ("table", "sweep", "scaling", "preset", "kata")
 """What ``rtc bench`` runs without ``--sections``: ``scene-size`` (``harness.scene_size``)
@@ -29,7 +29,9 @@ times and needs numba's area-light kernels compiled, so it too runs when asked f
 ``profile`` (``harness.profiling``) profiles naive, cached, prealloc and numba at 32x24, about
 a minute, most of it naive under cProfile; ``pass-size`` (``harness.pass_size``) renders the
 scene through ``wavefront`` at four ``max_mb`` and, within the budget, once at 4000x3000 with
-16 samples (about ten minutes)."""
+16 samples (about ten minutes); ``cluster`` (``harness.cluster``) renders for at least 5 s
+per configuration through numba on 1 and 2 threads and 1 and 2 local Dask workers (about two
+minutes)."""
 PARALLEL_OPTIONS = ("workers", "threads")  # options whose value is a worker or thread count
 BENCH_CONFIGS: dict[str, tuple[str, ...]] = {
     "pooled": (
@@ -42,6 +44,7 @@ BENCH_CONFIGS: dict[str, tuple[str, ...]] = {
     ),
     "numba": ("numba[threads=1]", "numba[float32]", "numba[fastmath]", "numba[specialize=off]"),
     "wavefront": ("wavefront[float32]", "wavefront[threads=2]"),
+    "dask": ("dask[workers=2]:numba[threads=1]",),
 }
 """Registry name -> what ``--variants all`` measures besides its default options."""
 
@@ -94,7 +97,9 @@ class BenchSettings:
     defaults); epsilon: ``RenderSettings.epsilon`` (None: the book's EPSILON);
     mesh_variants, meshes: the ``scene-size`` section's (``harness.scene_size``);
     light_variant: the ``light-samples`` section's (``harness.light_samples``);
-    pass_variant: the ``pass-size`` section's (``harness.pass_size``).
+    pass_variant: the ``pass-size`` section's (``harness.pass_size``); sweep_on: the Dask
+    cluster the error sweep's configurations run on (``harness.cluster_jobs``; None: here,
+    one after the other).
     """
 
     scene: SceneRef
@@ -116,6 +121,7 @@ class BenchSettings:
     meshes: tuple[str, ...] = SCALE_MESHES
     light_variant: str = "numba"
     pass_variant: str = "wavefront"
+    sweep_on: str | None = None
 
     def as_dict(self) -> dict[str, Any]:
         data = asdict(self)

@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from harness import (
+    cluster_report,
     figures,
     light_samples_report,
     pass_size_report,
@@ -745,6 +746,9 @@ def build_blocks(runs: list[Run], plot_files: Mapping[str, Path | None]) -> list
     profiled = profiling_report.newest(runs)
     if profiled is not None:
         blocks += profiling_report.blocks(profiled, context_line(profiled))
+    clustered = cluster_report.newest(runs)
+    if clustered is not None:
+        blocks += cluster_report.blocks(clustered, context_line(clustered))
     passes = pass_size_report.newest(runs)
     if passes is not None:
         pass_png = plot_files.get("pass-size")
@@ -887,6 +891,7 @@ def console_table(run: Run) -> str:
     lines += scene_size_report.console_lines(run)
     lines += light_samples_report.console_lines(run)
     lines += pass_size_report.console_lines(run)
+    lines += cluster_report.console_lines(run)
     lines += profiling_report.console_lines(run)
     if math.isfinite(run["seconds"]):
         lines.append(f"(the run took {run['seconds']:.0f} s)")

@@ -79,8 +79,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help=f"which parts to run, of {', '.join(SECTIONS)} (default: all but scene-size, "
         "which takes minutes: render, load and pack time against a mesh's triangle count, "
         "light-samples: soft shadows' light cells against pixel samples, pass-size: the "
-        "wavefront variant's time and memory against max_mb, and profile: where "
-        "the time goes in naive, cached, prealloc and numba, about a minute)",
+        "wavefront variant's time and memory against max_mb, profile: where "
+        "the time goes in naive, cached, prealloc and numba, about a minute, and cluster: "
+        "numba on 1 and 2 threads against 1 and 2 local Dask workers, about two minutes)",
     )
     parser.add_argument(
         "--mesh-variants", default="numba,numba[bvh=off]", metavar="A,B",
@@ -93,6 +94,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--pass-variant", default="wavefront", metavar="NAME",
         help="the pass-size section's variant, its max_mb set per point (default: wavefront)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--sweep-on", default=None, metavar="CLUSTER",
+        help="run the error sweep's configurations as tasks on a Dask cluster, all at once: "
+        "dask[workers=N] (a local one) or dask[scheduler=tcp://HOST:8786] (a running one)",
     )  # fmt: skip
     parser.add_argument(
         "--meshes", default="all", metavar="A,B",
@@ -184,7 +190,25 @@ def settings_from(args: argparse.Namespace) -> BenchSettings:
         meshes=meshes,
         light_variant=args.light_variant,
         pass_variant=args.pass_variant,
+        sweep_on=_sweep_on(args.sweep_on),
     )
+
+
+def _sweep_on(text: str | None) -> str | None:
+    """``--sweep-on`` checked: its spelling, and a running scheduler reached now (before
+    minutes of measuring), one ``UserError`` line otherwise."""
+    if text is None:
+        return None
+    from harness.cluster_jobs import cluster_options
+    from variants.dask_cluster import probe
+
+    try:
+        _workers, scheduler, timeout = cluster_options(text)
+        if scheduler is not None:
+            probe(scheduler, timeout)
+    except (ValueError, OSError, TimeoutError) as error:
+        raise UserError(f"--sweep-on: {error}") from None
+    return text
 
 
 def _scene_size_options(args: argparse.Namespace) -> tuple[tuple[str, ...], tuple[str, ...]]:

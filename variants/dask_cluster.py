@@ -125,10 +125,13 @@ def _distributed() -> Any:
 
 
 @contextmanager
-def connected(scheduler: str | None, workers: int, timeout: float, inner: str) -> Iterator[Any]:
+def connected(
+    scheduler: str | None, workers: int, timeout: float, inner: str | None = None
+) -> Iterator[Any]:
     """A ``distributed.Client``: to ``scheduler``, or to a new local cluster of ``workers``
-    single-threaded processes (closed on leaving). Every worker has loaded ``inner`` when
-    this yields. ``ClusterError`` when the scheduler cannot be reached in ``timeout`` s."""
+    single-threaded processes (closed on leaving). Every worker has loaded ``inner`` (a
+    variant name) when this yields. ``ClusterError`` when the scheduler cannot be reached
+    in ``timeout`` s."""
     distributed = _distributed()
     quiet = logging.ERROR  # a killed worker's restart is Dask's business, not the user's
     cluster = None
@@ -144,7 +147,7 @@ def connected(scheduler: str | None, workers: int, timeout: float, inner: str) -
             address = cluster.scheduler_address
         else:
             address = scheduler
-            _probe(address, timeout)  # a failed Client lingers 20 s in its __del__: ask first
+            probe(address, timeout)  # a failed Client lingers 20 s in its __del__: ask first
         client = distributed.Client(address, timeout=f"{timeout}s", set_as_default=False)
     except Exception as error:  # refused, timed out, or something else answered
         if cluster is not None:
@@ -157,7 +160,8 @@ def connected(scheduler: str | None, workers: int, timeout: float, inner: str) -
     try:
         if scheduler is not None:
             _wait_for_a_worker(client, timeout, scheduler)
-        client.run(worker_tracer, inner)  # load the inner variant on every worker, once
+        if inner is not None:
+            client.run(worker_tracer, inner)  # load the inner variant on every worker, once
         yield client
     finally:
         with suppress(Exception):
@@ -167,7 +171,7 @@ def connected(scheduler: str | None, workers: int, timeout: float, inner: str) -
                 cluster.close()
 
 
-def _probe(address: str, timeout: float) -> None:
+def probe(address: str, timeout: float) -> None:
     """Reach ``address`` and shake hands as a client would, then hang up; raises what failed.
     A plain socket first, so a refused port or an unknown host fails at once (Dask's own
     connect retries those until its timeout); then Dask's handshake, on an event loop of its
@@ -272,6 +276,9 @@ class DaskTracer(Wrapper):
         payload = pickle.dumps((c, w, settings), protocol=pickle.HIGHEST_PROTOCOL)
         with self.session() as client:
             frame = client.submit(_frame, payload, pure=False, key=f"rtc-frame-{time.time_ns()}")
+            # on every worker before the tiles: else the scheduler keeps the tiles beside
+            # the one copy (data locality) and the other workers wait for stealing
+            client.replicate([frame])
             futures = {
                 client.submit(trace_tile, self.inner_name, frame, job, pure=False): index
                 for index, job in enumerate(jobs)
@@ -324,7 +331,8 @@ class DaskTracer(Wrapper):
 # ------------------------------------------------------------------------------ factory
 
 
-def _settings(options: Mapping[str, str]) -> tuple[int, str | None, int, int]:
+def cluster_settings(options: Mapping[str, str]) -> tuple[int, str | None, int, int]:
+    """(workers, scheduler, tile, timeout) from a ``dask[...]`` name's options, checked."""
     check_options(NAME, options, ("workers", "scheduler", "tile", "timeout"))
     scheduler = options.get("scheduler")
     if scheduler is not None and "workers" in options:
@@ -367,7 +375,7 @@ def _check_address(scheduler: str) -> None:
 
 def variant(inner: Variant | None = None, **options: str) -> Variant:
     """The registry's factory: ``dask[workers=N]:INNER`` or ``dask[scheduler=ADDR]:INNER``."""
-    workers, scheduler, tile, timeout = _settings(options)
+    workers, scheduler, tile, timeout = cluster_settings(options)
     _distributed()  # unavailable, with the reason, when distributed is not installed
     inner = inner if inner is not None else load_variant("naive")
     tracer = DaskTracer(tracer_of(NAME, inner), inner.name, workers, scheduler, tile, timeout)
