@@ -248,3 +248,27 @@ def test_rtc_render_with_no_scheduler_is_one_line_exit_2_and_no_image(
     err = capsys.readouterr().err
     assert code == 2 and not output.exists()
     assert err.count("\n") == 1 and "cannot reach the scheduler" in err
+
+
+class _Exits:
+    def render_region(self, *args: Any) -> list[float]:
+        os._exit(3)  # a crash that takes the worker process with it
+
+
+def _install_a_crashing_tracer() -> None:
+    dask_cluster._TRACERS["cached"] = _Exits()  # type: ignore[assignment]
+
+
+def test_a_tile_that_keeps_killing_its_workers_is_one_line() -> None:
+    import dask
+
+    variant = load_variant("dask[workers=1,tile=4]:cached")
+    tracer = variant.tracer
+    assert isinstance(tracer, DaskTracer)
+    c, w = _scene(variant, 4, 4)
+    # the scheduler runs in this process: after one death the tile is given up
+    with dask.config.set({"distributed.scheduler.allowed-failures": 0}), tracer.session() as client:
+        client.run(_install_a_crashing_tracer)
+        with pytest.raises(ClusterError, match="killed the workers that ran it") as info:
+            tracer.render(c, w)
+    assert "\n" not in str(info.value)

@@ -232,11 +232,11 @@ def test_a_stopped_worker_fails_the_render_within_its_timeout(
 
 
 def test_a_ctrl_c_while_a_worker_starts_is_held_back_not_lost() -> None:
-    from variants.pooled import _sigint_blocked
+    from variants.pooled import sigint_blocked
 
     reached = []
     with pytest.raises(KeyboardInterrupt):
-        with _sigint_blocked():
+        with sigint_blocked():
             os.kill(os.getpid(), signal.SIGINT)  # a worker started now inherits the block
             blocked = signal.pthread_sigmask(signal.SIG_BLOCK, set())
             if threading.active_count() == 1:  # no other thread can take it: it waits

@@ -51,7 +51,7 @@ from raytracer.camera import Camera, RenderSettings
 from raytracer.canvas import Canvas
 from raytracer.tracer import Progress, Region, Tracer
 from raytracer.world import World
-from variants.pooled import default_workers, describe_job, make_jobs
+from variants.pooled import default_workers, describe_job, make_jobs, sigint_blocked
 from variants.registry import (
     RenderError,
     Variant,
@@ -62,7 +62,7 @@ from variants.registry import (
     parse_int,
     tracer_variant,
 )
-from variants.wrapper import Wrapper, tracer_of
+from variants.wrapper import RowProgress, Wrapper, tracer_of
 
 NAME = "dask"
 DEFAULT_TILE = 32
@@ -137,13 +137,16 @@ def connected(
     cluster = None
     try:
         if scheduler is None:
-            cluster = distributed.LocalCluster(
-                n_workers=workers,
-                threads_per_worker=1,
-                processes=True,
-                dashboard_address=":0",  # a free port: no clash with another cluster
-                silence_logs=quiet,
-            )
+            # Ctrl-C is ours to handle: the workers (and the cluster's event loop thread)
+            # start with SIGINT blocked and keep it so; they stop when the cluster closes
+            with sigint_blocked():
+                cluster = distributed.LocalCluster(
+                    n_workers=workers,
+                    threads_per_worker=1,
+                    processes=True,
+                    dashboard_address=":0",  # a free port: no clash with another cluster
+                    silence_logs=quiet,
+                )
             address = cluster.scheduler_address
         else:
             address = scheduler
@@ -272,7 +275,7 @@ class DaskTracer(Wrapper):
         as rows complete."""
         distributed = _distributed()
         jobs = make_jobs(c.hsize, c.vsize, "tile", self.tile)
-        left_in_row = [c.hsize] * c.vsize
+        rows = RowProgress(c.hsize, c.vsize, progress)
         payload = pickle.dumps((c, w, settings), protocol=pickle.HIGHEST_PROTOCOL)
         with self.session() as client:
             frame = client.submit(_frame, payload, pure=False, key=f"rtc-frame-{time.time_ns()}")
@@ -288,13 +291,7 @@ class DaskTracer(Wrapper):
                     index = futures[future]
                     values = self._result(future, jobs[index], len(jobs))
                     self.write_region(image, jobs[index], values.tolist())
-                    finished = 0
-                    x0, y0, x1, y1 = jobs[index]
-                    for y in range(y0, y1):
-                        left_in_row[y] -= x1 - x0
-                        finished += left_in_row[y] == 0
-                    if progress is not None and finished:
-                        progress(finished)
+                    rows.done(jobs[index])
             finally:
                 client.cancel([*futures, frame])
 

@@ -79,7 +79,7 @@ from variants.registry import (
     parse_int,
     tracer_variant,
 )
-from variants.wrapper import Wrapper, tracer_of
+from variants.wrapper import RowProgress, Wrapper, tracer_of
 
 NAME = "pooled"
 GRANULARITIES = ("line", "pixel", "tile")
@@ -237,7 +237,7 @@ class _Worker:
 
 
 @contextmanager
-def _sigint_blocked() -> Iterator[None]:
+def sigint_blocked() -> Iterator[None]:
     """SIGINT blocked in this thread while a worker starts: the worker inherits the block
     (a Ctrl-C while its interpreter imports would otherwise end it with a traceback) until
     it ignores SIGINT, and a Ctrl-C meant for us meanwhile is not lost: another thread takes
@@ -312,7 +312,7 @@ class _Pool:
                     daemon=True,
                 )
                 try:
-                    with _sigint_blocked():
+                    with sigint_blocked():
                         process.start()
                 except Exception as error:
                     raise RenderWorkerError(
@@ -476,18 +476,12 @@ class PooledTracer(Wrapper):
         """Chapter 7: fill ``image`` with the regions the workers trace; ``progress(rows)``
         as rows complete."""
         jobs = make_jobs(c.hsize, c.vsize, self.granularity, self.tile)
-        left_in_row = [c.hsize] * c.vsize
+        rows = RowProgress(c.hsize, c.vsize, progress)
         pool = _Pool(min(self.workers, len(jobs)), self.inner_name, c, w, settings, self.timeout)
         try:
             for index, values in pool.results(jobs):
                 self.write_region(image, jobs[index], values)
-                x0, y0, x1, y1 = jobs[index]
-                finished = 0
-                for y in range(y0, y1):
-                    left_in_row[y] -= x1 - x0
-                    finished += left_in_row[y] == 0
-                if progress is not None and finished:
-                    progress(finished)
+                rows.done(jobs[index])
         finally:
             pool.close()
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-from raytracer.tracer import STEPS, Tracer, overridden_steps
+from raytracer.tracer import STEPS, Progress, Region, Tracer, overridden_steps
 from variants.registry import Variant, VariantError
 
 # ``render`` stays the reference's: it calls ``render_into`` through ``self``, which a
@@ -57,6 +57,25 @@ def steps_overridden(tracer: Tracer) -> tuple[str, ...]:
     ]
     inner = steps_overridden(tracer.inner)
     return tuple(name for name in STEPS if name in own or name in inner)
+
+
+class RowProgress:
+    """``progress(rows)`` called as image rows finish, while regions of a ``width`` x
+    ``height`` image complete in any order (a pool's or a cluster's)."""
+
+    def __init__(self, width: int, height: int, progress: Progress | None) -> None:
+        self.left_in_row = [width] * height
+        self.progress = progress
+
+    def done(self, region: Region) -> None:
+        """``region`` (x0, y0, x1, y1) is written: report the rows it finished."""
+        x0, y0, x1, y1 = region
+        finished = 0
+        for y in range(y0, y1):
+            self.left_in_row[y] -= x1 - x0
+            finished += self.left_in_row[y] == 0
+        if self.progress is not None and finished:
+            self.progress(finished)
 
 
 def tracer_of(wrapper: str, inner: Variant) -> Tracer:
