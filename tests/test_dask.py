@@ -6,10 +6,12 @@ a bad option are one clear line each."""
 from __future__ import annotations
 
 import dataclasses
+import faulthandler
 import math
 import os
 import signal
 import socket
+import sys
 import threading
 import time
 from collections.abc import Iterator
@@ -271,4 +273,40 @@ def test_a_tile_that_keeps_killing_its_workers_is_one_line() -> None:
         client.run(_install_a_crashing_tracer)
         with pytest.raises(ClusterError, match="killed the workers that ran it") as info:
             tracer.render(c, w)
+    assert "\n" not in str(info.value)
+
+
+@pytest.mark.parametrize("name", ["pooled[workers=2]:cached", "dask[workers=2,tile=2]:cached"])
+def test_a_deeply_nested_world_renders_in_the_workers_as_here(name: str) -> None:
+    # the loader raises the recursion limit for a scene nested this deep (RTC_SCENE_MAX_DEPTH);
+    # the workers take the parent's limit, so they trace (and pass on) what it loaded
+    own = load_variant("cached")
+    api = own.api
+    c, _ = _scene(own, 4, 3)
+    shape = api["sphere"]()
+    for _ in range(400):
+        group = api["group"]()
+        api["add_child"](group, shape)
+        shape = group
+    w = dataclasses.replace(api["default_world"](), objects=[shape])
+    before = sys.getrecursionlimit()
+    sys.setrecursionlimit(12 * 400 + 400)
+    # a worker that cannot pickle the world for another one leaves Dask waiting for ever:
+    # if that comes back, end the run with the stacks instead of hanging CI
+    faulthandler.dump_traceback_later(120, exit=True)
+    try:
+        image = load_variant(name).api["render"](c, w)
+        expected = own.api["render"](c, w)
+    finally:
+        faulthandler.cancel_dump_traceback_later()
+        sys.setrecursionlimit(before)
+    assert _same_pixels(image, expected)
+
+
+def test_a_world_that_does_not_pickle_is_one_line() -> None:
+    variant = load_variant("dask[workers=1]:cached")
+    c, w = _scene(variant, 4, 3)
+    w = dataclasses.replace(w, objects=[*w.objects, lambda: None])
+    with pytest.raises(ClusterError, match="must pickle to go to the workers") as info:
+        variant.api["render"](c, w)
     assert "\n" not in str(info.value)

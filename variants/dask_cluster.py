@@ -40,6 +40,7 @@ from __future__ import annotations
 
 import logging
 import pickle
+import sys
 import time
 from collections.abc import Iterator, Mapping
 from contextlib import contextmanager, suppress
@@ -62,7 +63,7 @@ from variants.registry import (
     parse_int,
     tracer_variant,
 )
-from variants.wrapper import RowProgress, Wrapper, tracer_of
+from variants.wrapper import RowProgress, Wrapper, recursion_limit_at_least, tracer_of
 
 NAME = "dask"
 DEFAULT_TILE = 32
@@ -95,18 +96,25 @@ def worker_tracer(inner: str) -> Tracer:
     return tracer
 
 
-def _frame(payload: bytes) -> tuple[Camera, World, RenderSettings]:
-    """The camera, world and settings of a render (run once; every tile depends on it)."""
+def _frame(payload: bytes, recursion_limit: int) -> tuple[Camera, World, RenderSettings]:
+    """The camera, world and settings of a render (run once; every tile depends on it),
+    with the parent's recursion limit (a deeply nested world needs it to be traced here,
+    and pickled again for the other workers)."""
+    recursion_limit_at_least(recursion_limit)
     frame: tuple[Camera, World, RenderSettings] = pickle.loads(payload)
     return frame
 
 
 def trace_tile(
-    inner: str, frame: tuple[Camera, World, RenderSettings], region: Region
+    inner: str,
+    frame: tuple[Camera, World, RenderSettings],
+    region: Region,
+    recursion_limit: int = 1000,
 ) -> np.ndarray:
     """One tile's row-major ``[r, g, b, ...]``, traced by the inner variant's own
     ``render_region`` (the frame is the same object for every tile on this worker, so the
-    tracer prepares it once)."""
+    tracer prepares it once), with at least the parent's recursion limit."""
+    recursion_limit_at_least(recursion_limit)
     c, w, settings = frame
     return np.asarray(worker_tracer(inner).render_region(c, w, settings, region), np.float64)
 
@@ -276,14 +284,22 @@ class DaskTracer(Wrapper):
         distributed = _distributed()
         jobs = make_jobs(c.hsize, c.vsize, "tile", self.tile)
         rows = RowProgress(c.hsize, c.vsize, progress)
-        payload = pickle.dumps((c, w, settings), protocol=pickle.HIGHEST_PROTOCOL)
+        try:
+            payload = pickle.dumps((c, w, settings), protocol=pickle.HIGHEST_PROTOCOL)
+        except Exception as error:  # a lambda in a pattern, an open file in a shape ...
+            raise ClusterError(
+                f"dask render: the camera, world and settings must pickle to go to the "
+                f"workers ({_first_line(error)})"
+            ) from None
         with self.session() as client:
-            frame = client.submit(_frame, payload, pure=False, key=f"rtc-frame-{time.time_ns()}")
+            limit = sys.getrecursionlimit()
+            key = f"rtc-frame-{time.time_ns()}"
+            frame = client.submit(_frame, payload, limit, pure=False, key=key)
             # on every worker before the tiles: else the scheduler keeps the tiles beside
             # the one copy (data locality) and the other workers wait for stealing
             client.replicate([frame])
             futures = {
-                client.submit(trace_tile, self.inner_name, frame, job, pure=False): index
+                client.submit(trace_tile, self.inner_name, frame, job, limit, pure=False): index
                 for index, job in enumerate(jobs)
             }
             try:

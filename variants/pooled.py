@@ -53,6 +53,7 @@ from __future__ import annotations
 
 import os
 import signal
+import sys
 import threading
 import time
 import traceback
@@ -79,7 +80,7 @@ from variants.registry import (
     parse_int,
     tracer_variant,
 )
-from variants.wrapper import RowProgress, Wrapper, tracer_of
+from variants.wrapper import RowProgress, Wrapper, recursion_limit_at_least, tracer_of
 
 NAME = "pooled"
 GRANULARITIES = ("line", "pixel", "tile")
@@ -192,7 +193,12 @@ def _serve(
 
 
 def _worker_main(
-    conn: Connection, inner: str, c: Camera, w: World, settings: RenderSettings
+    conn: Connection,
+    inner: str,
+    c: Camera,
+    w: World,
+    settings: RenderSettings,
+    recursion_limit: int = 1000,
 ) -> None:
     """One worker: start the heartbeat, load the inner variant by name, then trace the jobs
     it is sent until ``None`` with its tracer.
@@ -202,6 +208,7 @@ def _worker_main(
     traceback)`` and stops; ``("init-error", -1, traceback)`` if it cannot start.
     """
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
+    recursion_limit_at_least(recursion_limit)
     link = _Link(conn)
     link.send(("beat", -1, None))  # the first word: started
     beats = threading.Thread(
@@ -307,7 +314,7 @@ class _Pool:
                 parent_end, child_end = context.Pipe()
                 process = context.Process(
                     target=_worker_main,
-                    args=(child_end, inner, c, w, settings),
+                    args=(child_end, inner, c, w, settings, sys.getrecursionlimit()),
                     name=f"rtc-pooled-{number}",
                     daemon=True,
                 )

@@ -5,6 +5,7 @@ traced) and ``render``, which calls them.
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Callable
 from typing import Any
 
@@ -57,6 +58,14 @@ def steps_overridden(tracer: Tracer) -> tuple[str, ...]:
     ]
     inner = steps_overridden(tracer.inner)
     return tuple(name for name in STEPS if name in own or name in inner)
+
+
+def recursion_limit_at_least(limit: int) -> None:
+    """In a worker: the recursion limit its parent had (the scene loader raises it for a
+    deeply nested scene, ``RTC_SCENE_MAX_DEPTH``), so the worker traces what the parent
+    loaded; never lowered."""
+    if sys.getrecursionlimit() < limit:
+        sys.setrecursionlimit(limit)
 
 
 class RowProgress:
