@@ -10,7 +10,7 @@ from typing import Any
 
 from harness import figures
 from harness.cluster import SECTION
-from harness.document import Block, Heading, Para, Table
+from harness.document import Block, Heading, Para, Picture, Table
 
 Run = Mapping[str, Any]
 TARGET = 1.7  # the issue's: two local workers at >= 1.7x the throughput of one
@@ -25,12 +25,12 @@ def newest(runs: list[Run]) -> Run | None:
     return next((run for run in reversed(runs) if entries(run)), None)
 
 
-def _ok(point: Mapping[str, Any]) -> bool:
+def usable(point: Mapping[str, Any]) -> bool:
     return "error" not in point and bool(point.get("render"))
 
 
 def _point(entry: Mapping[str, Any], name: str) -> Mapping[str, Any] | None:
-    return next((p for p in entry.get("points", []) if p["variant"] == name and _ok(p)), None)
+    return next((p for p in entry.get("points", []) if p["variant"] == name and usable(p)), None)
 
 
 def _cpu(point: Mapping[str, Any], cores: int) -> str:
@@ -75,7 +75,7 @@ def per_tile(entry: Mapping[str, Any]) -> float | None:
 def table(entry: Mapping[str, Any], cores: int) -> Table:
     body: list[list[str]] = []
     for p in entry.get("points", []):
-        if not _ok(p):
+        if not usable(p):
             body.append([f"`{p['variant']}`", "failed: " + str(p.get("error"))[:160], *["-"] * 5])
             continue
         walls = p["render"]
@@ -108,9 +108,9 @@ def verdict(entry: Mapping[str, Any]) -> str:
     return f"2 local workers give {ratio:.2f}x the throughput of 1: this {met} the target of 1.7x."
 
 
-def blocks(run: Run, context: str) -> list[Block]:
-    """The report's section for ``run`` (nothing if it has none); ``context``: the machine
-    and run line."""
+def blocks(run: Run, plot: Any, context: str) -> list[Block]:
+    """The report's section for ``run`` (nothing if it has none); ``plot``: the plot's path
+    relative to the results folder, or None; ``context``: the machine and run line."""
     found = entries(run)
     if not found:
         return []
@@ -134,6 +134,8 @@ def blocks(run: Run, context: str) -> list[Block]:
             f"second, of the cores the configuration asks for."
         )
     )
+    if plot is not None:
+        out.append(Picture(str(plot), "start-up and throughput of each configuration"))
     out.append(table(entry, cores))
     ratios = speedups(entry)
     lines = [verdict(entry)]
@@ -168,7 +170,7 @@ def console_lines(run: Run) -> list[str]:
             lines.append(f"{SECTION}: not run: {entry.get('error', '')[:80]}")
             continue
         for p in entry.get("points", []):
-            if not _ok(p):
+            if not usable(p):
                 lines.append(f"{SECTION} {p['variant']:<34} failed: {str(p.get('error'))[:60]}")
                 continue
             lines.append(

@@ -748,7 +748,9 @@ def build_blocks(runs: list[Run], plot_files: Mapping[str, Path | None]) -> list
         blocks += profiling_report.blocks(profiled, context_line(profiled))
     clustered = cluster_report.newest(runs)
     if clustered is not None:
-        blocks += cluster_report.blocks(clustered, context_line(clustered))
+        cluster_png = plot_files.get("cluster")
+        plot = None if cluster_png is None else f"{REPORT_DIR}/{cluster_png.name}"
+        blocks += cluster_report.blocks(clustered, plot, context_line(clustered))
     passes = pass_size_report.newest(runs)
     if passes is not None:
         pass_png = plot_files.get("pass-size")
@@ -848,6 +850,9 @@ def build_report(
         passes = pass_size_report.newest(runs)
         if passes is not None:
             plot_files["pass-size"] = plots.pass_size_plot(passes, folder / "pass-size.png")
+        clustered = cluster_report.newest(runs)
+        if clustered is not None:
+            plot_files["cluster"] = plots.cluster_plot(clustered, folder / "cluster.png")
         blocks = build_blocks(runs, plot_files)
     else:
         blocks = [Heading(1, "Benchmark results"), Para("No bench run yet (`rtc bench`).")]

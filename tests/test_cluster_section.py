@@ -77,7 +77,7 @@ def test_the_report_judges_two_workers_against_one(two: float, met: bool) -> Non
     assert cluster_report.speedups(entry)["workers"] == pytest.approx(10.0 / two)
     text = cluster_report.verdict(entry)
     assert ("meets" in text) is met and ("misses" in text) is not met
-    blocks = cluster_report.blocks(run, "machine line")
+    blocks = cluster_report.blocks(run, None, "machine line")
     assert any(isinstance(b, Table) for b in blocks)
     assert any(isinstance(b, Para) and "10.0 ms per 32x32 tile" in b.text for b in blocks)
     assert cluster_report.console_lines(run)[-1].endswith(text)
@@ -125,3 +125,15 @@ def test_sweep_on_an_unreachable_scheduler_stops_before_measuring(
     err = capsys.readouterr().err
     assert code == 2 and "--sweep-on" in err and "refused" in err.lower()
     assert not (tmp_path / "runs").exists()
+
+
+def test_the_plot_draws_every_measured_configuration(tmp_path: Path) -> None:
+    from PIL import Image
+
+    from harness.plots import cluster_plot
+
+    run = _run([_point("numba[threads=1]", 9.0), _point("dask[workers=2]:numba[threads=1]", 5.0)])
+    run["machine"].update(cpu_model="a CPU", python="3.11")
+    path = cluster_plot(run, tmp_path / "cluster.png")
+    assert path is not None and Image.open(path).size[0] > 400
+    assert cluster_plot(_run([{"variant": "numba", "error": "boom"}]), tmp_path / "x.png") is None
