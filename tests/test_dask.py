@@ -310,3 +310,19 @@ def test_a_world_that_does_not_pickle_is_one_line() -> None:
     with pytest.raises(ClusterError, match="must pickle to go to the workers") as info:
         variant.api["render"](c, w)
     assert "\n" not in str(info.value)
+
+
+def test_a_worker_that_cannot_load_the_inner_variant_is_one_line(
+    scheduler: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    def missing(name: str) -> Any:
+        raise ImportError("No module named 'numba'")
+
+    # the in-process cluster's worker loads variants through this module's names
+    monkeypatch.setattr(dask_cluster, "load_variant", missing)
+    monkeypatch.delitem(dask_cluster._TRACERS, "cached", raising=False)
+    tracer = DaskTracer(load_variant("cached").tracer, "cached", 1, scheduler=scheduler)
+    c, w = _scene(load_variant("cached"), 4, 3)
+    with pytest.raises(ClusterError, match="a worker cannot load 'cached': ImportError") as info:
+        tracer.render(c, w)
+    assert "\n" not in str(info.value)

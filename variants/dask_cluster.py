@@ -11,7 +11,7 @@ Name and options (the grammar of ``variants.registry``)::
 - ``scheduler``: connect to a running cluster instead (``dask scheduler`` on one machine,
   ``dask worker tcp://HOST:8786`` on the others, each with this project installed);
 - ``tile``: the side of a job's square of pixels (default 32);
-- ``timeout``: seconds to reach the scheduler, or for a local cluster to start (default 5);
+- ``timeout``: seconds to reach a running scheduler, and for it to have a worker (default 5);
 - ``INNER``: the variant that traces the pixels (default ``naive``). Give a threaded inner
   variant one thread per worker (``dask[workers=2]:numba[threads=1]``): the workers are the
   parallelism.
@@ -19,9 +19,11 @@ Name and options (the grammar of ``variants.registry``)::
 ``DaskTracer`` is a ``Wrapper`` that overrides ``render_into`` only. A render:
 
 - sends the camera, world and settings to the cluster once, as the result of one small task
-  (``_frame``) that every tile depends on: a worker fetches it once and keeps it for the
-  frame. A task rather than ``scatter``: the scheduler can run it again when the workers
-  holding it die, so a lost worker never loses the scene;
+  (``_frame``) that every tile depends on, copied to every worker before the tiles go out
+  (so that the scheduler spreads the tiles instead of keeping them beside the one copy). A
+  task rather than ``scatter``: the scheduler can run it again when the workers holding it
+  die, so a lost worker never loses the scene. The workers take this process's recursion
+  limit (raised by the loader for a deeply nested scene);
 - submits one future per tile (``trace_tile``); a worker loads the inner variant from the
   registry once (``worker_tracer``: numba's kernels compile, or load from the kernel cache,
   once per worker process, not per tile) and traces the tile with its ``render_region``,
@@ -30,7 +32,9 @@ Name and options (the grammar of ``variants.registry``)::
 - when a worker dies, Dask runs its tiles again elsewhere (its nanny restarts it) and the
   picture is the same; a tile that kills workers ``distributed.scheduler.allowed-failures``
   times in a row, or raises, fails the render with one ``ClusterError`` line;
-- an unreachable scheduler is one ``ClusterError`` line after ``timeout`` seconds.
+- an unreachable scheduler is one ``ClusterError`` line: at once for a refused port, an
+  unknown host or something else answering, after ``timeout`` seconds for silence; so is a
+  worker that cannot load the inner variant, and a world that does not pickle.
 
 ``DaskTracer.session()`` keeps one cluster (and its loaded workers) across several renders:
 what the benchmark uses to time start-up apart from rendering.
@@ -172,7 +176,7 @@ def connected(
         if scheduler is not None:
             _wait_for_a_worker(client, timeout, scheduler)
         if inner is not None:
-            client.run(worker_tracer, inner)  # load the inner variant on every worker, once
+            _load_everywhere(client, inner)
         yield client
     finally:
         with suppress(Exception):
@@ -215,6 +219,18 @@ def probe(address: str, timeout: float) -> None:
     except Exception as error:  # the other end answered, but not as a Dask scheduler
         raise OSError(
             f"the other end does not speak Dask's protocol ({_first_line(error)})"
+        ) from None
+
+
+def _load_everywhere(client: Any, inner: str) -> None:
+    """Load the inner variant on every worker, once (a worker without it, or without its
+    dependencies, is one ``ClusterError`` line)."""
+    try:
+        client.run(worker_tracer, inner)
+    except Exception as error:
+        raise ClusterError(
+            f"dask render: a worker cannot load {inner!r}: {_first_line(error)} (is this "
+            "project, with its dependencies, installed where the workers run?)"
         ) from None
 
 
