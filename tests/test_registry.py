@@ -241,7 +241,7 @@ def test_rtc_kata_rejects_a_bad_variant_option_before_running(
     assert main(["kata", str(tmp_path), "--variant", "naive[fast]"]) == 2
     assert "--variant: variant 'naive' has no option 'fast'" in capsys.readouterr().err
     assert main(["kata", str(tmp_path), "--variant", "pooled[workers=2:cached"]) == 2
-    assert "expected ',' or ']' at column 17" in capsys.readouterr().err
+    assert "expected ',' or ']' at column 24, found the end" in capsys.readouterr().err
 
 
 def test_a_factory_that_returns_something_else_is_reported(monkeypatch: pytest.MonkeyPatch) -> None:
