@@ -29,11 +29,13 @@ from rtc.cli import main
 SIZE = (8, 6)
 PIXELS = SIZE[0] * SIZE[1]
 POOLED = "pooled[workers=2]:naive"
+DASK = "dask[workers=2]:naive"
 VARIANTS = (
     "naive",
     "cached",
     "prealloc",
     POOLED,
+    DASK,
     "numba",
     "numba[fastmath]",
     "numba[float32]",
@@ -164,6 +166,7 @@ CLAIMS: dict[str, dict[str, Claim]] = {
     "cached": BOOK,
     "prealloc": BOOK,
     POOLED: BOOK,
+    DASK: BOOK,
     "numba": NUMBA,
     "numba[fastmath]": NUMBA,
     "numba[float32]": FLOAT32,
