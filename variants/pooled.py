@@ -549,4 +549,5 @@ def variant(inner: Variant | None = None, **options: str) -> Variant:
         base=inner.name,
         usage=USAGE,
         tolerance=inner.tolerance,
+        differences=inner.differences,
     )

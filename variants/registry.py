@@ -72,6 +72,11 @@ class Variant:
     usage: the options and inner variant the factory accepts, for ``rtc variants``.
     tolerance: the largest difference from ``naive``'s image, per colour channel, that this
         variant accepts (0: identical pixels, as every pure-Python float64 variant gives).
+    differences: where this variant knowingly differs from ``naive`` beyond agreeing within
+        ``tolerance``: a book name (``intersect``, ``normal_at``, ``color_at``, ``render``,
+        ``world_to_object`` ...) mapped to why (float32 rounding, scaled offsets ...).
+        ``tests/test_differential.py`` applies a named, documented rule to each declared name
+        and holds every other name to ``tolerance``.
     """
 
     name: str
@@ -83,6 +88,7 @@ class Variant:
     base: str | None = None
     usage: str = "none"
     tolerance: float = 0.0
+    differences: Mapping[str, str] = field(default_factory=dict, compare=False)
 
 
 def tracer_variant(
@@ -95,6 +101,7 @@ def tracer_variant(
     base: str | None = None,
     usage: str = "none",
     tolerance: float = 0.0,
+    differences: Mapping[str, str] | None = None,
 ) -> Variant:
     """A ``Variant`` around ``tracer``: the book's API is ``api`` (default: the reference's)
     with every pipeline name bound to ``tracer``; ``overrides`` adds the book names the
@@ -120,6 +127,7 @@ def tracer_variant(
         base=base,
         usage=usage,
         tolerance=tolerance,
+        differences=dict(differences or {}),
     )
 
 

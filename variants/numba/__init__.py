@@ -68,6 +68,29 @@ USAGE = (
     "bvh=sah|groups|off (default sah)"
 )
 ONE_STEP = 1.0 / 255.0
+# float32 arithmetic: where it answers differently from naive beyond its tolerance (each
+# reason starts with the rule ``tests/test_differential.py`` applies to it)
+FLOAT32_DIFFERENCES = {
+    name: "float32: hits, edges and shadow decisions within float32 rounding (about 1e-7 "
+    "relative, more through an ill-conditioned transform) of a tangent, an edge or a "
+    "light land on either side"
+    for name in ("intersect", "normal_at", "world_to_object", "normal_to_world", "color_at")
+} | {"render": "float32: as color_at, pixel by pixel"}
+# float64: a shape's inverse composed with its groups' once (``pack``), where naive goes
+# through each group: through ill-conditioned transforms the rounding differs
+COMPOSED_DIFFERENCES = {
+    name: "composed: a shape's inverse is multiplied with its groups' inverses once, so "
+    "through ill-conditioned transforms (condition cond) points and normals differ by about "
+    "cond * 2**-52"
+    for name in ("world_to_object", "normal_to_world")
+}
+# fastmath (float64): reassociated, fused arithmetic; the same rule's tag for each name
+FASTMATH_DIFFERENCES = {
+    name: "fastmath: reassociation and fused multiply-adds change what cancellation leaves "
+    "of a grazing quadratic (a ray down a cone's axis meets its tip or not) and which side "
+    "of an edge or a shadow's boundary a point rounds to"
+    for name in ("intersect", "normal_at", "color_at", "render")
+} | COMPOSED_DIFFERENCES
 
 
 def variant(inner: Variant | None = None, **options: str) -> Variant:
@@ -115,4 +138,11 @@ def variant(inner: Variant | None = None, **options: str) -> Variant:
         # float64 rounds differently from the reference in a few places (see above): colors
         # move by about 1e-9; float32 and fastmath can flip a shadow or acne decision
         tolerance=ONE_STEP if exact else 0.25,
+        differences=(
+            FLOAT32_DIFFERENCES
+            if float32
+            else FASTMATH_DIFFERENCES
+            if fastmath
+            else COMPOSED_DIFFERENCES
+        ),
     )

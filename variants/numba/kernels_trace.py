@@ -347,14 +347,16 @@ def nearest_hit(w, s, ox, oy, oz, dx, dy, dz, eps):
             if tb[j] >= ZERO:
                 hb, cc = ball_soa_terms(balls, n_balls, j, ox, oy, oz, dx, dy, dz)
                 found, t, local = ball_first(hb, cc, a, best_t)
+                # a tie goes to the earlier primitive: best_p follows every ball taken, so a
+                # ball ties with the nearest so far, not with the item found before the balls
                 if found or (
                     t == best_t and t != INF and int(balls[B_PRIM * n_balls + j]) < best_p
                 ):
                     best_t = t
                     best_l = local
+                    best_p = int(balls[B_PRIM * n_balls + j])
                     nearest = j
         if nearest >= 0:
-            best_p = int(balls[B_PRIM * n_balls + nearest])
             best_u = ZERO
             best_v = ZERO
     return best_t, best_p, best_l, best_u, best_v

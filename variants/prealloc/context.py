@@ -101,9 +101,11 @@ class TraceContext:
             return found
         rec = record_class(shape)(shape, material_record(shape.material), self.eps)
         self._records[id(shape)] = rec  # before parents and children, which point back
+        # children first: a parent's ``finish`` walks its whole subtree (a CSG's ``in_left``),
+        # this record included, so it must be finished before its parent's record is made
+        rec.finish([self.record(child) for child in _children(shape)])
         if shape.parent is not None:
             rec.parent = self.record(shape.parent)
-        rec.finish([self.record(child) for child in _children(shape)])
         return rec
 
 
