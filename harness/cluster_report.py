@@ -150,12 +150,19 @@ def blocks(run: Run, plot: Any, context: str) -> list[Block]:
     one = _point(entry, "dask[workers=1]:numba[threads=1]")
     numba = _point(entry, "numba[threads=1]")
     if tile is not None and one is not None and numba is not None:
+        side = f"{one.get('tile')}x{one.get('tile')}"
+        per = (
+            f"{figures.seconds_text(tile)} per {side} tile ({one['tiles']} tiles: one "
+            "worker's render less numba's own on one thread)"
+            if tile > 0
+            else f"no cost per {side} tile that the renders tell apart from their noise (one "
+            f"worker's {one['tiles']} tiles took {figures.seconds_text(-tile * one['tiles'])} "
+            "less than numba's own render on one thread)"
+        )
         lines.append(
             f"What the cluster costs: {figures.seconds_text(one['startup'] - numba['startup'])} "
             f"more start-up than numba alone (its LocalCluster and loading numba in the worker: "
-            f"{figures.seconds_text(one.get('session', 0.0))}), and "
-            f"{figures.seconds_text(tile)} per {one.get('tile')}x{one.get('tile')} tile "
-            f"({one['tiles']} tiles: one worker's render less numba's own on one thread)."
+            f"{figures.seconds_text(one.get('session', 0.0))}), and {per}."
         )
     out.append(Para(" ".join(lines)))
     return out

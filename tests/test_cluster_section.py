@@ -137,3 +137,14 @@ def test_the_plot_draws_every_measured_configuration(tmp_path: Path) -> None:
     path = cluster_plot(run, tmp_path / "cluster.png")
     assert path is not None and Image.open(path).size[0] > 400
     assert cluster_plot(_run([{"variant": "numba", "error": "boom"}]), tmp_path / "x.png") is None
+
+
+def test_a_cost_per_tile_below_zero_is_called_noise() -> None:
+    run = _run(
+        [
+            _point("numba[threads=1]", 9.0),
+            _point("dask[workers=1]:numba[threads=1]", 8.9, tiles=100, tile=32, session=0.8),
+        ]
+    )
+    text = " ".join(b.text for b in cluster_report.blocks(run, None, "m") if isinstance(b, Para))
+    assert "no cost per 32x32 tile that the renders tell apart from their noise" in text
