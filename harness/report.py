@@ -13,6 +13,7 @@ import math
 import os
 import tempfile
 from collections.abc import Callable, Mapping
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -652,6 +653,33 @@ def pick_runs(runs: list[Run]) -> dict[str, Run]:
     }
 
 
+@dataclass(frozen=True)
+class SideSection:
+    """A section beside the table (``rtc bench --sections NAME``), in the report: its
+    ``_report`` module (``newest(runs)``, ``blocks(run, [plot,] context)``) and its plot
+    (``plot(run, path)`` drawn into ``plot_file``; None: no plot)."""
+
+    name: str
+    report: Any
+    plot: Callable[[Run, Path], Path | None] | None = None
+    plot_file: str = ""
+
+
+SIDE_SECTIONS = (
+    SideSection("scene-size", scene_size_report, plots.scene_size_plot, "time-vs-triangles.png"),
+    SideSection(
+        "light-samples",
+        light_samples_report,
+        plots.light_samples_plot,
+        "soft-shadows-error-vs-time.png",
+    ),
+    SideSection("profile", profiling_report),
+    SideSection("cluster", cluster_report, plots.cluster_plot, "cluster.png"),
+    SideSection("pass-size", pass_size_report, plots.pass_size_plot, "pass-size.png"),
+)
+"""The sections beside the table, in the report's order."""
+
+
 def build_blocks(runs: list[Run], plot_files: Mapping[str, Path | None]) -> list[Block]:
     chosen = pick_runs(runs)
     latest = chosen["table"]
@@ -733,29 +761,16 @@ def build_blocks(runs: list[Run], plot_files: Mapping[str, Path | None]) -> list
         chosen["scaling"], plot_files.get("pixels"), plot_files.get("threads")
     )
     blocks += _preset_blocks(chosen["preset"])
-    meshes = scene_size_report.newest(runs)
-    if meshes is not None:
-        mesh_png = plot_files.get("scene-size")
-        plot = None if mesh_png is None else f"{REPORT_DIR}/{mesh_png.name}"
-        blocks += scene_size_report.blocks(meshes, plot, context_line(meshes))
-    soft = light_samples_report.newest(runs)
-    if soft is not None:
-        soft_png = plot_files.get("light-samples")
-        plot = None if soft_png is None else f"{REPORT_DIR}/{soft_png.name}"
-        blocks += light_samples_report.blocks(soft, plot, context_line(soft))
-    profiled = profiling_report.newest(runs)
-    if profiled is not None:
-        blocks += profiling_report.blocks(profiled, context_line(profiled))
-    clustered = cluster_report.newest(runs)
-    if clustered is not None:
-        cluster_png = plot_files.get("cluster")
-        plot = None if cluster_png is None else f"{REPORT_DIR}/{cluster_png.name}"
-        blocks += cluster_report.blocks(clustered, plot, context_line(clustered))
-    passes = pass_size_report.newest(runs)
-    if passes is not None:
-        pass_png = plot_files.get("pass-size")
-        plot = None if pass_png is None else f"{REPORT_DIR}/{pass_png.name}"
-        blocks += pass_size_report.blocks(passes, plot, context_line(passes))
+    for side in SIDE_SECTIONS:
+        measured = side.report.newest(runs)
+        if measured is None:
+            continue
+        if side.plot is None:
+            blocks += side.report.blocks(measured, context_line(measured))
+            continue
+        png = plot_files.get(side.name)
+        plot = None if png is None else f"{REPORT_DIR}/{png.name}"
+        blocks += side.report.blocks(measured, plot, context_line(measured))
     blocks += _kata_blocks(chosen["kata"])
     if latest.get("notes"):
         blocks += [Heading(2, "Notes"), Bullets(list(latest["notes"]))]
@@ -837,22 +852,10 @@ def build_report(
             "threads": plots.threads_plot(chosen["scaling"], folder / "throughput-vs-workers.png"),
             "history": plots.history_plot(runs, folder / "history.png"),
         }
-        meshes = scene_size_report.newest(runs)
-        if meshes is not None:
-            plot_files["scene-size"] = plots.scene_size_plot(
-                meshes, folder / "time-vs-triangles.png"
-            )
-        soft = light_samples_report.newest(runs)
-        if soft is not None:
-            plot_files["light-samples"] = plots.light_samples_plot(
-                soft, folder / "soft-shadows-error-vs-time.png"
-            )
-        passes = pass_size_report.newest(runs)
-        if passes is not None:
-            plot_files["pass-size"] = plots.pass_size_plot(passes, folder / "pass-size.png")
-        clustered = cluster_report.newest(runs)
-        if clustered is not None:
-            plot_files["cluster"] = plots.cluster_plot(clustered, folder / "cluster.png")
+        for side in SIDE_SECTIONS:
+            measured = side.report.newest(runs)
+            if measured is not None and side.plot is not None:
+                plot_files[side.name] = side.plot(measured, folder / side.plot_file)
         blocks = build_blocks(runs, plot_files)
     else:
         blocks = [Heading(1, "Benchmark results"), Para("No bench run yet (`rtc bench`).")]
