@@ -190,15 +190,17 @@ def settings_from(args: argparse.Namespace) -> BenchSettings:
         meshes=meshes,
         light_variant=args.light_variant,
         pass_variant=args.pass_variant,
-        sweep_on=_sweep_on(args.sweep_on),
+        sweep_on=_sweep_on(args.sweep_on, sections),
     )
 
 
-def _sweep_on(text: str | None) -> str | None:
-    """``--sweep-on`` checked: its spelling, and a running scheduler reached now (before
-    minutes of measuring), one ``UserError`` line otherwise."""
+def _sweep_on(text: str | None, sections: tuple[str, ...]) -> str | None:
+    """``--sweep-on`` checked: its spelling, the sweep among the sections, and a running
+    scheduler reached now (before minutes of measuring), one ``UserError`` line otherwise."""
     if text is None:
         return None
+    if "sweep" not in sections:
+        raise UserError("--sweep-on: the sweep is not among --sections (add sweep)")
     from harness.cluster_jobs import cluster_options
     from variants.dask_cluster import probe
 

@@ -148,3 +148,13 @@ def test_a_cost_per_tile_below_zero_is_called_noise() -> None:
     )
     text = " ".join(b.text for b in cluster_report.blocks(run, None, "m") if isinstance(b, Para))
     assert "no cost per 32x32 tile that the renders tell apart from their noise" in text
+
+
+def test_sweep_on_without_the_sweep_section_is_one_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    code = main(["bench", "--sections", "cluster", "--sweep-on", "dask[workers=2]",
+                 "--results-dir", str(tmp_path)])  # fmt: skip
+    err = capsys.readouterr().err
+    assert code == 2 and "the sweep is not among --sections" in err and err.count("\n") == 1
+    assert not (tmp_path / "runs").exists()
