@@ -1,8 +1,11 @@
 """The step library is a pytest plugin; every test session here uses it.
 
 The property tests (hypothesis) run under a profile: ``default`` keeps the suite fast (a few
-dozen examples a test); ``pytest --hypothesis-profile=long`` runs 10,000 examples a test,
-for a maintainer now and then. Both give each example a deadline, so a hang is a failure.
+dozen examples a test) and draws the same examples on every run (``derandomize``: the gate's
+verdict never depends on the draw, and no example database is read or written);
+``pytest --hypothesis-profile=long`` runs 10,000 examples a test, new ones each run, kept in
+``.hypothesis/`` when they fail, for a maintainer now and then. Both give each example a
+deadline, so a hang is a failure.
 A test's own ``@settings(max_examples=...)`` still wins over the profile's count.
 """
 
@@ -10,7 +13,7 @@ from hypothesis import HealthCheck, settings
 
 pytest_plugins = ["steps.plugin"]
 
-settings.register_profile("default", max_examples=40, deadline=2000)
+settings.register_profile("default", max_examples=40, deadline=2000, derandomize=True)
 settings.register_profile(
     "long", max_examples=10_000, deadline=2000, suppress_health_check=[HealthCheck.too_slow]
 )
