@@ -68,6 +68,7 @@ from raytracer.shapes.test_shape import TestShape
 from raytracer.shapes.triangle import Triangle
 from raytracer.tuples import Tuple
 from raytracer.world import World
+from variants.kinds import PATTERN_METHODS, SHAPE_METHODS, reference_kind, unchanged
 from variants.numba import layout as L
 from variants.numba.bvh import BALLS_MAX, DEFAULT, STRUCTURES, Hierarchy, build_tree
 from variants.numba.lights import light_rows
@@ -122,7 +123,6 @@ MAX_HITS = {
     L.K_TEST: 0,
 }
 OPERATIONS = {"union": L.OP_UNION, "intersection": L.OP_INTERSECTION, "difference": L.OP_DIFFERENCE}
-SHAPE_METHODS = ("local_intersect", "local_normal_at")
 UNBOUNDED = None
 
 Box = tuple[tuple[float, float, float], tuple[float, float, float]] | None
@@ -132,22 +132,17 @@ class PackError(ValueError):
     """Something the numba kernels cannot compile; the message names the object."""
 
 
-def _unchanged(cls: type, base: type, methods: Sequence[str]) -> bool:
-    """True when ``cls`` inherits every one of ``methods`` from ``base`` unchanged."""
-    return all(getattr(cls, name) is getattr(base, name) for name in methods)
-
-
 def shape_kind(shape: Shape, where: str) -> int:
     """The kernel kind of a leaf shape; a ``PackError`` for anything the kernels do not know."""
-    for cls, kind in SHAPE_KINDS:
-        if isinstance(shape, cls):
-            if _unchanged(type(shape), cls, SHAPE_METHODS):
-                return kind
-            raise PackError(
-                f"numba: cannot compile {where}, a {type(shape).__name__}: it changes how a "
-                f"{cls.__name__} intersects or computes normals, and the kernels only know "
-                "the reference's"
-            )
+    kind, changed = reference_kind(shape, SHAPE_KINDS, SHAPE_METHODS)
+    if kind is not None:
+        return kind
+    if changed is not None:
+        raise PackError(
+            f"numba: cannot compile {where}, a {type(shape).__name__}: it changes how a "
+            f"{changed.__name__} intersects or computes normals, and the kernels only know "
+            "the reference's"
+        )
     known = ", ".join(sorted(KIND_NAMES.values())) + ", group, csg"
     raise PackError(
         f"numba: cannot compile {where}, a {type(shape).__name__}: the kernels know {known}"
@@ -159,11 +154,9 @@ def pattern_kind(pattern: Pattern, where: str) -> int:
     texture = texture_kind(pattern)
     if texture is not None:
         return texture
-    for cls, kind in PATTERN_KINDS:
-        if isinstance(pattern, cls):
-            if _unchanged(type(pattern), cls, ("local_pattern_at",)):
-                return kind
-            break
+    kind, _ = reference_kind(pattern, PATTERN_KINDS, PATTERN_METHODS)
+    if kind is not None:
+        return kind
     known = ", ".join(PATTERN_NAMES.values())
     raise PackError(
         f"numba: cannot compile the pattern of {where}, a {type(pattern).__name__}: the "
@@ -589,9 +582,9 @@ class _Packer:
             fwd = _compose(parent_fwd, m)
         else:
             inv, fwd = parent_inv, parent_fwd
-        if isinstance(shape, Group) and _unchanged(type(shape), Group, SHAPE_METHODS):
+        if isinstance(shape, Group) and unchanged(type(shape), Group, SHAPE_METHODS):
             return self.add_group(shape, inv, fwd, where)
-        if isinstance(shape, CSG) and _unchanged(type(shape), CSG, SHAPE_METHODS):
+        if isinstance(shape, CSG) and unchanged(type(shape), CSG, SHAPE_METHODS):
             return self.add_csg(shape, inv, fwd, where)
         kind = shape_kind(shape, where)
         row = self.leaf_row(shape, kind, inv, where, fwd=fwd)
@@ -728,7 +721,7 @@ class _Packer:
 
     def csg_tree(self, shape: Shape, inv: Matrix, fwd: Matrix, where: str) -> Box:
         """A CSG operand's rows (and operations, post-order); inv/fwd include ``shape``."""
-        if isinstance(shape, CSG) and _unchanged(type(shape), CSG, SHAPE_METHODS):
+        if isinstance(shape, CSG) and unchanged(type(shape), CSG, SHAPE_METHODS):
             if shape.operation not in OPERATIONS:
                 raise PackError(f"numba: {where} has an unknown operation {shape.operation!r}")
             start = self.n_rows
@@ -737,7 +730,7 @@ class _Packer:
             right = self.csg_operand(shape.right, inv, fwd, f"{where}.right")
             self.csg.append([start, mid, self.n_rows, OPERATIONS[shape.operation]])
             return _union([left, right])
-        if isinstance(shape, Group) and _unchanged(type(shape), Group, SHAPE_METHODS):
+        if isinstance(shape, Group) and unchanged(type(shape), Group, SHAPE_METHODS):
             return _union(
                 [
                     self.csg_operand(child, inv, fwd, f"{where}.children[{k}]")

@@ -35,6 +35,7 @@ from raytracer.shapes.smooth_triangle import SmoothTriangle
 from raytracer.shapes.triangle import Triangle
 from raytracer.tuples import Tuple
 from raytracer.world import World
+from variants.kinds import PATTERN_METHODS, SHAPE_METHODS, reference_kind, unchanged
 from variants.wavefront.scene import (
     BOX_PAD,
     CONE,
@@ -47,7 +48,6 @@ from variants.wavefront.scene import (
     PATTERN_KINDS,
     PATTERN_NAMES,
     SHAPE_KINDS,
-    SHAPE_METHODS,
     SLOTS,
     SMOOTH,
     SPHERE,
@@ -82,21 +82,17 @@ def _label(shape: object) -> str:
     return _a(type(shape).__name__)
 
 
-def _unchanged(cls: type, base: type, methods: tuple[str, ...]) -> bool:
-    return all(getattr(cls, name) is getattr(base, name) for name in methods)
-
-
 def shape_kind(shape: Shape, where: str) -> int:
     """The primitive kind of a leaf shape; ``Unsupported`` for any other."""
-    for cls, kind in SHAPE_KINDS:
-        if isinstance(shape, cls):
-            if _unchanged(type(shape), cls, SHAPE_METHODS):
-                return kind
-            raise Unsupported(
-                f"wavefront: {where} is {_a(type(shape).__name__)}, which changes how "
-                f"{_a(cls.__name__)} intersects or computes normals; the passes only vectorize "
-                "the reference's"
-            )
+    kind, changed = reference_kind(shape, SHAPE_KINDS, SHAPE_METHODS)
+    if kind is not None:
+        return kind
+    if changed is not None:
+        raise Unsupported(
+            f"wavefront: {where} is {_a(type(shape).__name__)}, which changes how "
+            f"{_a(changed.__name__)} intersects or computes normals; the passes only vectorize "
+            "the reference's"
+        )
     known = ", ".join(KIND_NAMES)
     raise Unsupported(
         f"wavefront: {where} is {_a(type(shape).__name__)}; the passes vectorize {known}, "
@@ -107,9 +103,9 @@ def shape_kind(shape: Shape, where: str) -> int:
 def pattern_kind(pattern: object, where: str) -> int:
     """The pattern kind of a material's pattern; ``Unsupported`` for any other (a texture
     map, a pattern of patterns)."""
-    for cls, kind in PATTERN_KINDS:
-        if isinstance(pattern, cls) and _unchanged(type(pattern), cls, ("local_pattern_at",)):
-            return kind
+    kind, _ = reference_kind(pattern, PATTERN_KINDS, PATTERN_METHODS)
+    if kind is not None:
+        return kind
     raise Unsupported(
         f"wavefront: the pattern of {where} is {_a(type(pattern).__name__)}; the passes "
         f"vectorize {PATTERN_NAMES}"
@@ -395,9 +391,9 @@ class _Packer:
         its world-space box (6,), NaN when unbounded."""
         inv = _compose(_inverse(shape, where), parent_inv)
         fwd = _compose(parent_fwd, shape.transform)
-        if isinstance(shape, Group) and _unchanged(type(shape), Group, SHAPE_METHODS):
+        if isinstance(shape, Group) and unchanged(type(shape), Group, SHAPE_METHODS):
             return self.group(shape, inv, fwd, where)
-        if isinstance(shape, CSG) and _unchanged(type(shape), CSG, SHAPE_METHODS):
+        if isinstance(shape, CSG) and unchanged(type(shape), CSG, SHAPE_METHODS):
             lo = self.kind.count
             self.kinds = []
             root, box = self.csg(shape, inv, fwd, where)
@@ -480,7 +476,7 @@ class _Packer:
 
     def csg(self, shape: Shape, inv: Matrix, fwd: Matrix, where: str) -> tuple[Node, np.ndarray]:
         """A CSG operand (inv and fwd include its own transform): its node and box."""
-        if isinstance(shape, CSG) and _unchanged(type(shape), CSG, SHAPE_METHODS):
+        if isinstance(shape, CSG) and unchanged(type(shape), CSG, SHAPE_METHODS):
             if shape.operation not in OPERATIONS:
                 raise Unsupported(f"wavefront: {where} has an unknown operation")
             lo = self.kind.count
@@ -489,7 +485,7 @@ class _Packer:
             right, right_box = self.operand(shape.right, inv, fwd, f"{where}.right")
             node = Combine(OPERATIONS[shape.operation], left, right, lo, mid, self.kind.count)
             return node, _union([left_box, right_box])
-        if isinstance(shape, Group) and _unchanged(type(shape), Group, SHAPE_METHODS):
+        if isinstance(shape, Group) and unchanged(type(shape), Group, SHAPE_METHODS):
             parts = [
                 self.operand(child, inv, fwd, f"{where}.children[{k}]")
                 for k, child in enumerate(shape.children)

@@ -57,7 +57,6 @@ SHAPE_KINDS: tuple[tuple[type[Shape], int], ...] = (
     (Cylinder, CYLINDER),
     (Cone, CONE),
 )
-SHAPE_METHODS = ("local_intersect", "local_normal_at")
 
 # pattern kinds
 NO_PATTERN, STRIPES, GRADIENT, RINGS, CHECKERS, TEST_PATTERN = range(6)
