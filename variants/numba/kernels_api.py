@@ -30,7 +30,6 @@ from variants.numba.kernels_shading import (
     pattern_point,
     refraction,
     schlick_at,
-    towards_light,
 )
 from variants.numba.kernels_trace import (
     ENTRY,
@@ -278,8 +277,7 @@ def api_shade(
     elif mode == 3:
         top = push(stack, top, c[0], c[1], c[2], c[3], c[4], c[5], ONE, remaining)
     elif mode == 4:
-        lx, ly, lz, distance = towards_light(c, 3, c[0], c[1], c[2])
-        hit = shadowed(w, s, c[0], c[1], c[2], lx, ly, lz, distance, eps, 0)
+        hit = shadowed(w, s, c[0], c[1], c[2], c[3] - c[0], c[4] - c[1], c[5] - c[2], eps, 0)
         return ONE if hit else ZERO, ZERO, ZERO
     else:
         return light_intensity(w, s, p, c[0], c[1], c[2], eps, key), ZERO, ZERO

@@ -363,14 +363,22 @@ def nearest_hit(w, s, ox, oy, oz, dx, dy, dz, eps):
 
 
 @njit(**INLINE)
-def shadowed(w, s, ox, oy, oz, dx, dy, dz, distance, eps, slot):
-    """Chapter 8: does a shadow-casting object meet the ray at some t in [0, distance)?
-    (The render passes the unnormalized vector to the light and distance 1.)
-    Every ball at once first; then the primitive that answered yes last time (on this
-    thread, for this light: memo ``slot``), since neighbouring pixels usually share their
-    occluder; then the items. (Any occluder gives the same answer.)"""
+def shadowed(w, s, ox, oy, oz, vx, vy, vz, eps, slot):
+    """Chapter 8 (``is_shadowed``): does a shadow-casting object lie between (ox, oy, oz)
+    and the light at the end of (vx, vy, vz)? The shadow ray is the book's: the unit
+    vector and the distance (the EPSILON parallel tests of planes, cubes, cylinders and
+    cones assume a unit direction: along the unnormalized vector they would meet a plane
+    |v| times sooner). Every ball at once first; then the primitive that answered yes last
+    time (on this thread, for this light: memo ``slot``), since neighbouring pixels usually
+    share their occluder; then the items. (Any occluder gives the same answer.)"""
     pf, pi, items, n_items, boxes, _, balls, n_balls, _, _, _ = w
     sf, si, _ = s
+    distance = math.sqrt(vx * vx + vy * vy + vz * vz)
+    if distance == ZERO:
+        return False
+    dx = vx / distance
+    dy = vy / distance
+    dz = vz / distance
     a = dx * dx + dy * dy + dz * dz
     ix = ONE / dx
     iy = ONE / dy
@@ -595,7 +603,7 @@ def light_intensity(w, s, k, x, y, z, eps, key):
                 qx, qy, qz = cell_point(light, lm, seq0, k, u, v, cell, key)
                 if COUNT_RAYS:
                     si[1 * NSI + RAYS] += 1
-                if not shadowed(w, s, x, y, z, qx - x, qy - y, qz - z, ONE, eps, slot):
+                if not shadowed(w, s, x, y, z, qx - x, qy - y, qz - z, eps, slot):
                     lit += 1
             else:
                 lit += 1
@@ -641,7 +649,7 @@ def shade_and_push(w, s, p, eyev, normalv, over, under, reflectv, n1, n2, weight
             sg += lg
             sb += lb
             continue
-        # towards the light, not normalized: a shadow ray along it meets the light at t = 1
+        # towards the light, not normalized (``shadowed`` and the lighting below normalize it)
         vx = light[lm] - over_x
         vy = light[lm + 1] - over_y
         vz = light[lm + 2] - over_z
@@ -651,7 +659,7 @@ def shade_and_push(w, s, p, eyev, normalv, over, under, reflectv, n1, n2, weight
             if COUNT_RAYS:
                 si[1 * NSI + RAYS] += 1
             slot = k % MIN_SCRATCH
-            lit = not shadowed(w, s, over_x, over_y, over_z, vx, vy, vz, ONE, eps, slot)
+            lit = not shadowed(w, s, over_x, over_y, over_z, vx, vy, vz, eps, slot)
         lx = ZERO
         ly = ZERO
         lz = ZERO

@@ -30,7 +30,8 @@ TOLERANCE = 1.0 / 255.0
 DIFFERENCES = {
     "intersect": "epsilon: parallel tests are exact (relative for triangles) instead of the "
     "book's |d| < EPSILON, so a ray within EPSILON of parallel to a plane, a cube's face or "
-    "a cylinder's axis still hits",
+    "a cylinder's axis still hits; a hit at an infinite distance (1 / 1e-313 overflows) "
+    "is none",
     "color_at": "epsilon: over/under-point offsets scaled to the object's size, exact "
     "parallel tests and shadows that ignore what touches the light: contact shadows, acne "
     "and near-parallel hits differ where naive's fixed EPSILON decides them",
