@@ -25,7 +25,6 @@ The entry lands in the run file's ``series`` (section ``cluster``);
 from __future__ import annotations
 
 import math
-import statistics
 import sys
 import time
 from collections.abc import Callable
@@ -157,7 +156,7 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
     from harness.imagediff import canvas_array
     from harness.presets import build_scene
     from harness.scenefile import divides
-    from harness.usage import TreeCpuClock
+    from harness.usage import Timings
     from raytracer.camera import RenderSettings
     from variants.dask_cluster import DaskTracer
     from variants.pooled import make_jobs
@@ -192,20 +191,13 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
             result["seconds_per_sample"] = (time.perf_counter() - once) / CALIBRATION_SAMPLES
             samples = _chosen_samples(result["seconds_per_sample"], job["calibrate"], samples)
         settings = settings_with(samples)
-        walls: list[float] = []
-        shares: list[float] = []
+        timings = Timings()
         canvas = tracer.new_canvas(camera)
         for _ in range(int(job["repeat"])):
-            clock = TreeCpuClock()
-            clock.start()
-            began = time.perf_counter()
-            tracer.render_into(canvas, camera, world, settings)
-            wall = time.perf_counter() - began
-            walls.append(wall)
-            shares.append(clock.stop() / wall if wall > 0 else 0.0)
-    median = statistics.median(walls)
+            timings.time(tracer.render_into, canvas, camera, world, settings)
     result.update(samples=samples, rays=size.width * size.height * samples)
-    result.update(render=walls, render_median=median, cpu=shares)
+    result.update(timings.fields())
+    median = result["render_median"]
     result["rays_per_second"] = result["rays"] / median if median > 0 else None
     np.save(folder / "image.npy", canvas_array(canvas, variant.api.get("pixel_at")))
     result["image"] = "image.npy"

@@ -223,7 +223,7 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
 
     from harness.imagediff import canvas_array
     from harness.scenefile import divides, load_scene_text
-    from harness.usage import TreeCpuClock
+    from harness.usage import Timings
     from raytracer.camera import RenderSettings
     from variants.registry import load_variant
 
@@ -258,24 +258,17 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
                 )
                 continue
         settings = RenderSettings(depth=job["depth"], samples=samples, seed=job["seed"])
-        walls: list[float] = []
-        shares: list[float] = []
+        timings = Timings()
         for attempt in range(max(1, int(job.get("repeat", 1)))):
-            clock = TreeCpuClock()
-            clock.start()
-            started = time.perf_counter()
-            canvas = tracer.render(scene.camera, scene.world, settings)
-            wall = time.perf_counter() - started
-            walls.append(wall)
-            shares.append(clock.stop() / wall if wall > 0 else 0.0)
+            canvas = timings.time(tracer.render, scene.camera, scene.world, settings)
             if attempt == 0:
                 name = f"image-{samples}.npy"
                 np.save(folder / name, canvas_array(canvas, variant.api.get("pixel_at")))
                 point["image"] = name
-            if budget is not None and sum(walls) > budget:
+            if budget is not None and sum(timings.walls) > budget:
                 break
-        wall = statistics.median(walls)
-        point.update(wall=wall, walls=walls, cpu=statistics.median(shares))
+        wall = statistics.median(timings.walls)
+        point.update(wall=wall, walls=timings.walls, cpu=statistics.median(timings.shares))
         previous = (samples, wall)
     return result
 

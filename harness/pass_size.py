@@ -24,7 +24,6 @@ Everything lands in the run file's ``series`` (section ``pass-size``);
 
 from __future__ import annotations
 
-import statistics
 import sys
 import time
 from collections.abc import Callable
@@ -188,7 +187,7 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
     from harness.imagediff import canvas_array
     from harness.presets import build_scene
     from harness.scenefile import divides
-    from harness.usage import TreeCpuClock, current_rss, peak_memory, reset_peak_rss
+    from harness.usage import Timings, current_rss, peak_memory, reset_peak_rss
     from raytracer.camera import RenderSettings
     from variants.registry import load_variant
 
@@ -214,8 +213,7 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
     frame_started = time.perf_counter()
     tracer.prepared(camera, world, settings)
     result["prepare"] = time.perf_counter() - frame_started
-    walls: list[float] = []
-    shares: list[float] = []
+    timings = Timings()
     image = None
     canvas = tracer.new_canvas(camera)
     gc.collect()
@@ -225,15 +223,9 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
     if big:
         tracemalloc.start()
     for _ in range(int(job["repeat"])):
-        clock = TreeCpuClock()
-        clock.start()
-        started = time.perf_counter()
-        tracer.render_into(canvas, camera, world, settings)
-        wall = time.perf_counter() - started
-        walls.append(wall)
-        shares.append(clock.stop() / wall if wall > 0 else 0.0)
+        timings.time(tracer.render_into, canvas, camera, world, settings)
     peak = peak_memory(was_reset)
-    result.update(render=walls, render_median=statistics.median(walls), cpu=shares)
+    result.update(timings.fields())
     result["rss_growth"] = max(peak.main - before, 0)
     result["rss_method"] = peak.method
     result["rss_before"] = before

@@ -302,7 +302,7 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
 
     from harness.imagediff import canvas_array
     from harness.scenefile import divides, load_scene_text
-    from harness.usage import TreeCpuClock, current_rss, reset_peak_rss
+    from harness.usage import Timings, current_rss, reset_peak_rss
     from raytracer.camera import RenderSettings
     from variants.registry import load_variant
 
@@ -345,24 +345,17 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
             for key in ("structure", "units", "nodes", "leaves", "depth", "seconds")
             if hasattr(hierarchy, key)
         }
-    walls: list[float] = []
-    shares: list[float] = []
+    timings = Timings()
     image = None
     budget = job.get("budget")
-    while len(walls) < int(job["repeat"]):
+    while len(timings.walls) < int(job["repeat"]):
         canvas = tracer.new_canvas(c)
-        clock = TreeCpuClock()
-        clock.start()
-        started = time.perf_counter()
-        tracer.render_into(canvas, c, w, settings)
-        wall = time.perf_counter() - started
-        walls.append(wall)
-        shares.append(clock.stop() / wall if wall > 0 else 0.0)
+        timings.time(tracer.render_into, canvas, c, w, settings)
         if image is None:
             image = canvas_array(canvas, variant.api.get("pixel_at"))
-        if budget is not None and sum(walls) >= budget:
+        if budget is not None and sum(timings.walls) >= budget:
             break
-    result.update(render=walls, render_median=statistics.median(walls), cpu=shares)
+    result.update(timings.fields())
     result["peak_rss"] = _peak_since_reset(was_reset)
     if image is not None:
         np.save(folder / "image.npy", image)

@@ -17,10 +17,15 @@ from __future__ import annotations
 
 import os
 import resource
+import statistics
 import sys
 import time
-from dataclasses import dataclass
+from collections.abc import Callable
+from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any, TypeVar
+
+T = TypeVar("T")
 
 PROC = Path("/proc")
 _TICKS = os.sysconf("SC_CLK_TCK") if hasattr(os, "sysconf") else 100
@@ -93,6 +98,34 @@ class TreeCpuClock:
     def stop(self) -> float:
         own = time.process_time() - self._own
         return own + others_cpu_seconds() - self._others
+
+
+@dataclass
+class Timings:
+    """Repeated timed work (a section job's renders): each call's wall seconds and the
+    CPU share it got (CPU seconds of this process and its descendants over wall seconds)."""
+
+    walls: list[float] = field(default_factory=list)
+    shares: list[float] = field(default_factory=list)
+
+    def time(self, work: Callable[..., T], *args: Any) -> T:
+        """``work(*args)``, timed; its value."""
+        clock = TreeCpuClock()
+        clock.start()
+        began = time.perf_counter()
+        value = work(*args)
+        wall = time.perf_counter() - began
+        self.walls.append(wall)
+        self.shares.append(clock.stop() / wall if wall > 0 else 0.0)
+        return value
+
+    def fields(self) -> dict[str, Any]:
+        """A render job's result fields: ``render`` (the walls), ``render_median``, ``cpu``."""
+        return {
+            "render": self.walls,
+            "render_median": statistics.median(self.walls),
+            "cpu": self.shares,
+        }
 
 
 def _status_kib(pid: int | str, key: str) -> int | None:
