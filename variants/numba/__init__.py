@@ -27,9 +27,8 @@ Same pictures, not the same bits: at float64 without fastmath the kernels follow
 reference's arithmetic except where a faster formulation rounds differently, each one
 documented where it lives: spheres with a similarity transform tested in world space with
 a cancellation-free quadratic and their normals taken as (point - centre) / radius
-(``kernels_geometry``); reciprocals instead of divisions when normalizing; shadow rays
-along the unnormalized vector to the light, which they meet at t = 1 (``kernels_trace``);
-the specular term left out where it is below 1e-9 of the light, Schlick's powers as
+(``kernels_geometry``); reciprocals instead of divisions when normalizing; the
+specular term left out where it is below 1e-9 of the light, Schlick's powers as
 products (``kernels_shading``); group transforms composed once (``pack``). Colors move by
 about 1e-9 at most; ``tests/test_numba.py`` and ``rtc bench --numba-targets`` measure it.
 The ``bvh`` structures change which primitives a ray visits and in what order, never the

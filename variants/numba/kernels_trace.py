@@ -8,10 +8,9 @@ explicit stack that replaces the book's recursion, camera rays and samples, and 
   balls (``layout``) come after the items: one vectorized pass says which ones the ray can
   reach at all (``ball_reach``), then those get the exact test.
 - ``shadowed`` counts, in one vectorized pass, the shadow-casting balls the ray can reach,
-  and tests them exactly only when there are any; then the items. The render casts shadow
-  rays along the unnormalized vector to the light, which they reach at t = 1 (the
-  reference normalizes it and compares with the distance: the same test, rounded
-  differently), and normalizes the vector only for lighting, only when the point is lit.
+  and tests them exactly only when there are any; then the items. Its shadow ray is the
+  book's, a unit vector and the distance to the light (along the unnormalized vector the
+  book's EPSILON parallel tests would see a direction |v| times too long).
 - ``refractive_indices`` finds n1 and n2 without a sorted list: an object is in the book's
   ``containers`` when an odd number of its intersections come before the hit, and the last
   of them entered is the one whose latest such intersection comes last. A ball other than
@@ -586,8 +585,7 @@ def push(stack, top, ox, oy, oz, dx, dy, dz, weight, remaining):
 def light_intensity(w, s, k, x, y, z, eps, key):
     """The bonus chapter on soft shadows: ``intensity_at`` for area light k at (x, y, z):
     the fraction of its cells (v outer, u inner) whose point no shadow-casting object
-    hides, one shadow ray each (along the unnormalized vector, meeting the point at t =
-    1, as for point lights); ``key``: the sample's (``sample_key``), for the jitter."""
+    hides, one shadow ray each (``shadowed``, as for point lights); ``key``: the sample's (``sample_key``), for the jitter."""
     _, _, _, _, _, _, _, _, light, n_lights, _ = w
     _, si, _ = s
     lm = k * NLIGHT
@@ -654,6 +652,8 @@ def shade_and_push(w, s, p, eyev, normalv, over, under, reflectv, n1, n2, weight
         vy = light[lm + 1] - over_y
         vz = light[lm + 2] - over_z
         facing = vx * nx + vy * ny + vz * nz >= ZERO  # the light is in front of the surface
+        if vx == ZERO and vy == ZERO and vz == ZERO:
+            facing = False  # the light on the point (a cone's tip has no over point): no way in
         lit = facing
         if HAS_SHADOWS and facing:
             if COUNT_RAYS:
