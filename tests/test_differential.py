@@ -1128,6 +1128,24 @@ BLACK_MATTE = MaterialSpec((0.0, 0.0, 0.0), 0.0, 1.0, 0.0, 5.0)
     ),
     ray=RaySpec((0.2, 0.0, 0.0), (-1.0, 0.0, 0.0)),
 )
+# caught robust crashing (ZeroDivisionError): its cancellation-free quadratic meets a rotated
+# cone's tip, where the light is, which naive's rounding misses; the tip has no normal to
+# step off along, and the reference's lighting divides by the zero vector to the light:
+# fixed in variants/robust/shading.py (``lighting``: such a light adds only the ambient)
+@example(
+    spec=WorldSpec(
+        objects=(
+            ShapeSpec(
+                "cone",
+                (("rotation_x", (0.75,)),),
+                (-math.inf, math.inf, False),
+                material=BLACK_MATTE,
+            ),
+        ),
+        lights=(LightSpec((0.0, 0.0, 0.0), (1.0, 1.0, 1.0)),),
+    ),
+    ray=RaySpec((0.0, 0.0, 5.0), (0.0, 0.0, -1.0)),
+)
 # caught the near-degenerate rule itself failing (ZeroDivisionError): a ray nudged onto the
 # cone's tip, where the light is, is one naive cannot shade; that counts as naive's colour
 # jumping there

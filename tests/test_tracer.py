@@ -148,7 +148,10 @@ def test_steps_lists_the_book_names_first_and_every_step_is_a_tracer_method() ->
     [
         ("naive", ()),
         ("cached", ()),
-        ("robust", ("prepare_computations", "is_shadowed", "refracted_color", "schlick")),
+        (
+            "robust",
+            ("lighting", "prepare_computations", "is_shadowed", "refracted_color", "schlick"),
+        ),
     ],
 )
 def test_variants_declare_the_steps_they_override(name: str, steps: tuple[str, ...]) -> None:

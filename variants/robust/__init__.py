@@ -6,10 +6,11 @@ What changes (everything else is ``cached``'s, which is the reference's):
 - ``geometry``: shapes whose quadratics are solved without cancellation, whose parallel
   tests are exact (or relative, for triangles) instead of comparing with ``EPSILON``, and
   whose singular transforms are reported by name;
-- ``shading``: ``RobustTracer``, which overrides four steps of the reference's pipeline:
+- ``shading``: ``RobustTracer``, which overrides five steps of the reference's pipeline:
   the over/under-point offset scaled to the object's size in world space and
   bounded below by the rounding error of the hit point; shadows that ignore what touches the
-  light; refraction without ``inf * 0`` at very high indices.
+  light, and a light on the lit point that adds only the ambient; refraction without
+  ``inf * 0`` at very high indices.
 
 The book's scenarios pass unchanged (``pytest tests/test_features.py --variant robust``): at
 the book's scales the offsets are the book's. Pictures differ from ``naive``'s where the
@@ -33,7 +34,8 @@ DIFFERENCES = {
     "a cylinder's axis still hits; a hit at an infinite distance (1 / 1e-313 overflows) "
     "is none",
     "color_at": "epsilon: over/under-point offsets scaled to the object's size, exact "
-    "parallel tests and shadows that ignore what touches the light: contact shadows, acne "
+    "parallel tests and shadows that ignore what touches the light (a light on the lit point "
+    "adds only the ambient): contact shadows, acne "
     "and near-parallel hits differ where naive's fixed EPSILON decides them",
     "render": "epsilon: as color_at, pixel by pixel",
 }

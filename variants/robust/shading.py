@@ -19,7 +19,8 @@ the origin (smaller than the rounding error of the hit point: shadow acne). Here
 Also here:
 
 - ``is_shadowed`` ignores blockers within a relative 2**-30 of the light (a light lying on
-  a surface does not flicker in and out of that surface's shadow);
+  a surface does not flicker in and out of that surface's shadow), and ``lighting`` lets a
+  light exactly on the lit point (a cone's tip) add nothing but the ambient;
 - ``prepare_computations`` crosses coincident surfaces together when it works out n1 and
   n2 (nested glass sharing a surface is entered and left as one medium);
 - ``refracted_color`` and ``schlick`` compute sin(theta_t) as ``n1/n2 * sin(theta_i)``
@@ -36,6 +37,9 @@ from collections.abc import Sequence
 
 from raytracer.colors import BLACK, Color
 from raytracer.intersections import Computations, Intersection, computations_at
+from raytracer.lights import AreaLight, Light
+from raytracer.materials import Material
+from raytracer.materials import lighting as phong
 from raytracer.rays import Ray, position
 from raytracer.shapes.shape import Shape
 from raytracer.shapes.space import world_to_object
@@ -130,6 +134,24 @@ class RobustTracer(Tracer):
         n1, n2 = refractive_indices(hit, [hit] if xs is None else xs)
         offset = surface_offset(r, hit.t, stretch)
         return computations_at(hit, r, point, normalv, offset, n1, n2)
+
+    def lighting(
+        self,
+        material: Material,
+        object: Shape | None,
+        light: Light,
+        point: Tuple,
+        eyev: Tuple,
+        normalv: Tuple,
+        in_shadow: bool | float = False,
+        ambient: bool = True,
+    ) -> Color:
+        """Chapter 6: the reference's Phong colour, but a point light exactly on the lit point
+        (a cone's tip, which has no normal to step off along) lights only the ambient: the
+        reference divides by the zero vector between them."""
+        if not isinstance(light, AreaLight) and light.position == point:
+            in_shadow = True
+        return phong(material, object, light, point, eyev, normalv, in_shadow, ambient)
 
     def is_shadowed(self, w: World, first: Tuple, second: Tuple | None = None) -> bool:
         """Chapter 8: something that casts shadows lies between a point and a light (not
