@@ -326,3 +326,35 @@ def test_a_worker_that_cannot_load_the_inner_variant_is_one_line(
     with pytest.raises(ClusterError, match="a worker cannot load 'cached': ImportError") as info:
         tracer.render(c, w)
     assert "\n" not in str(info.value)
+
+
+def _start_compiling_on_a_worker() -> None:
+    from variants.numba import specialize
+
+    dask_cluster.forward_compiles()
+    specialize.announce("numba's kernels for a test")
+
+
+def test_a_compile_a_worker_starts_is_announced_here_naming_the_worker() -> None:
+    # the first render of a new kind of scene compiles numba's kernels in every worker for
+    # seconds: rtc render's compile listener hears it, as it hears its own compiles
+    from variants.numba import specialize
+
+    heard: list[tuple[str, float | None]] = []
+    remove = specialize.on_compile(lambda what, seconds: heard.append((what, seconds)))
+    try:
+        with (
+            distributed.LocalCluster(
+                n_workers=1, threads_per_worker=1, processes=True, dashboard_address=":0"
+            ) as cluster,
+            distributed.Client(cluster) as client,
+            dask_cluster.compiles_announced(client),
+        ):
+            client.submit(_start_compiling_on_a_worker, pure=False).result()
+            address = next(iter(client.scheduler_info()["workers"]))
+            deadline = time.monotonic() + 10
+            while not heard and time.monotonic() < deadline:
+                time.sleep(0.05)
+    finally:
+        remove()
+    assert heard == [(f"numba's kernels for a test on worker {address}", None)]

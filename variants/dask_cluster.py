@@ -29,6 +29,9 @@ Name and options (the grammar of ``variants.registry``)::
   once per worker process, not per tile) and traces the tile with its ``render_region``,
   so the pixels are the inner variant's own;
 - writes tiles as they complete and calls ``progress(rows)`` as image rows finish;
+- passes on the compiles a worker starts (numba's kernels for a new kind of scene, seconds
+  in every worker) to this process's ``on_compile`` listeners (``compiles_announced``), so
+  ``rtc render`` says them as it says its own;
 - when a worker dies, Dask runs its tiles again elsewhere (its nanny restarts it) and the
   picture is the same; a tile that kills workers ``distributed.scheduler.allowed-failures``
   times in a row, or raises, fails the render with one ``ClusterError`` line;
@@ -90,6 +93,8 @@ class ClusterError(RenderError):
 # ------------------------------------------------------------------------------ on a worker
 
 _TRACERS: dict[str, Tracer] = {}  # one inner tracer per variant name, per worker process
+COMPILE_TOPIC = "rtc-compile"  # the Dask event a worker logs when it starts compiling
+_FORWARDING: list[bool] = []  # whether this worker process forwards its compiles
 
 
 def worker_tracer(inner: str) -> Tracer:
@@ -97,7 +102,28 @@ def worker_tracer(inner: str) -> Tracer:
     tracer = _TRACERS.get(inner)
     if tracer is None:
         tracer = _TRACERS[inner] = tracer_of(NAME, load_variant(inner))
+        forward_compiles()
     return tracer
+
+
+def forward_compiles() -> None:
+    """Once per worker process that has numba's kernels: each compile it starts (the first
+    render of a new kind of scene compiles for seconds, in every worker at once) is logged
+    as a Dask event under ``COMPILE_TOPIC``, which the rendering client announces."""
+    if _FORWARDING or "variants.numba.specialize" not in sys.modules:
+        return
+    from distributed import get_worker
+
+    from variants.numba.specialize import on_compile
+
+    def tell(what: str, seconds: float | None) -> None:
+        if seconds is None:  # the start: the end is the render's own business
+            with suppress(ValueError):  # not in a worker after all
+                worker = get_worker()
+                worker.log_event(COMPILE_TOPIC, {"what": what, "worker": worker.address})
+
+    on_compile(tell)
+    _FORWARDING.append(True)
 
 
 def _frame(payload: bytes, recursion_limit: int) -> tuple[Camera, World, RenderSettings]:
@@ -244,6 +270,27 @@ def _wait_for_a_worker(client: Any, timeout: float, scheduler: str) -> None:
         ) from None
 
 
+@contextmanager
+def compiles_announced(client: Any) -> Iterator[None]:
+    """While inside: the workers' compile events reach this process's ``on_compile``
+    listeners (``rtc render`` prints them) as "WHAT on worker ADDRESS"."""
+    if "variants.numba.specialize" not in sys.modules:
+        yield
+        return
+    from variants.numba.specialize import announce
+
+    def told(event: tuple[float, Any]) -> None:
+        _, message = event
+        announce(f"{message['what']} on worker {message['worker']}")
+
+    client.subscribe_topic(COMPILE_TOPIC, told)
+    try:
+        yield
+    finally:
+        with suppress(Exception):  # a cluster already gone
+            client.unsubscribe_topic(COMPILE_TOPIC)
+
+
 def _first_line(error: BaseException) -> str:
     text = str(error).strip().splitlines()
     return f"{type(error).__name__}: {text[0]}" if text else type(error).__name__
@@ -307,7 +354,7 @@ class DaskTracer(Wrapper):
                 f"dask render: the camera, world and settings must pickle to go to the "
                 f"workers ({_first_line(error)})"
             ) from None
-        with self.session() as client:
+        with self.session() as client, compiles_announced(client):
             limit = sys.getrecursionlimit()
             key = f"rtc-frame-{time.time_ns()}"
             frame = client.submit(_frame, payload, limit, pure=False, key=key)

@@ -77,6 +77,13 @@ def on_compile(listener: CompileListener) -> Callable[[], None]:
     return lambda: _listeners.remove(listener)
 
 
+def announce(what: str, seconds: float | None = None) -> None:
+    """Tell the ``on_compile`` listeners: compiling ``what`` starts (``seconds`` None), or
+    took ``seconds`` (a Dask worker's compiles reach the client this way)."""
+    for listener in list(_listeners):
+        listener(what, seconds)
+
+
 @dataclass(frozen=True)
 class KernelConfig:
     """What a kernel module is compiled for: a feature set, float32 or float64, fastmath."""
@@ -260,16 +267,14 @@ def _load_once(
         compiling = not path.is_file()
         started = time.perf_counter()
         if compiling:
-            for listener in list(_listeners):
-                listener(what, None)
+            announce(what)
             try:
                 build()
             except BuildError as error:
                 problem = str(error)
         found = from_library(ctypes.CDLL(str(path))) if path.is_file() else fallback(problem)
         if compiling:
-            for listener in list(_listeners):
-                listener(what, time.perf_counter() - started)
+            announce(what, time.perf_counter() - started)
         cache[key] = found
         return found
 
