@@ -1146,6 +1146,24 @@ BLACK_MATTE = MaterialSpec((0.0, 0.0, 0.0), 0.0, 1.0, 0.0, 5.0)
     ),
     ray=RaySpec((0.0, 0.0, 5.0), (0.0, 0.0, -1.0)),
 )
+# caught robust crashing again (ZeroDivisionError) with the light 2.5e-305 from the tip it
+# lights: the distance underflows to 0; such a light adds only the ambient too
+@example(
+    spec=WorldSpec(
+        objects=(
+            ShapeSpec("sphere", material=BLACK_MATTE),
+            ShapeSpec("sphere", material=BLACK_MATTE),
+            ShapeSpec(
+                "cone",
+                (("scaling", (1.0, 1.8890885971824354, 1.75)),),
+                (-math.inf, math.inf, False),
+                material=BLACK_MATTE,
+            ),
+        ),
+        lights=(LightSpec((0.0, 0.0, 2.4649103112759456e-305), (1.0, 1.0, 1.0)),),
+    ),
+    ray=RaySpec((0.0, 0.0, 0.41796875), (0.0, 0.0, -1.0)),
+)
 # caught the near-degenerate rule itself failing (ZeroDivisionError): a ray nudged onto the
 # cone's tip, where the light is, is one naive cannot shade; that counts as naive's colour
 # jumping there

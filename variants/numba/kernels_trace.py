@@ -652,7 +652,7 @@ def shade_and_push(w, s, p, eyev, normalv, over, under, reflectv, n1, n2, weight
         vy = light[lm + 1] - over_y
         vz = light[lm + 2] - over_z
         facing = vx * nx + vy * ny + vz * nz >= ZERO  # the light is in front of the surface
-        if vx == ZERO and vy == ZERO and vz == ZERO:
+        if vx * vx + vy * vy + vz * vz == ZERO:
             facing = False  # the light on the point (a cone's tip has no over point): no way in
         lit = facing
         if HAS_SHADOWS and facing:

@@ -45,7 +45,7 @@ from raytracer.shapes.shape import Shape
 from raytracer.shapes.space import world_to_object
 from raytracer.tolerance import epsilon
 from raytracer.tracer import Tracer, light_and_point
-from raytracer.tuples import Tuple, dot
+from raytracer.tuples import Tuple, dot, magnitude
 from raytracer.world import World
 
 UNIT_ROUNDOFF = 2.0**-53
@@ -147,9 +147,9 @@ class RobustTracer(Tracer):
         ambient: bool = True,
     ) -> Color:
         """Chapter 6: the reference's Phong colour, but a point light exactly on the lit point
-        (a cone's tip, which has no normal to step off along) lights only the ambient: the
-        reference divides by the zero vector between them."""
-        if not isinstance(light, AreaLight) and light.position == point:
+        (a cone's tip, which has no normal to step off along), or so near that the distance
+        underflows, lights only the ambient: the reference divides by the zero distance."""
+        if not isinstance(light, AreaLight) and magnitude(light.position - point) == 0.0:
             in_shadow = True
         return phong(material, object, light, point, eyev, normalv, in_shadow, ambient)
 
