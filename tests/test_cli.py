@@ -47,4 +47,6 @@ def test_rtc_variants_lists_the_tracer_steps_each_overrides(
     assert main(["variants"]) == 0
     out = capsys.readouterr().out
     assert "tracer steps: none, the reference Tracer" in out  # naive, cached
-    assert "tracer steps: prepare_computations, is_shadowed, refracted_color, schlick" in out
+    assert (
+        "tracer steps: lighting, prepare_computations, is_shadowed, refracted_color, schlick" in out
+    )

@@ -121,7 +121,7 @@ def refractive_indices(hit: Intersection, xs: Sequence[Intersection]) -> tuple[f
 
 
 class RobustTracer(Tracer):
-    """The reference's pipeline with this module's prepare_computations, is_shadowed,
+    """The reference's pipeline with this module's lighting, prepare_computations, is_shadowed,
     schlick and refracted_color; every other step is the reference's and calls these."""
 
     def prepare_computations(
