@@ -585,7 +585,8 @@ def push(stack, top, ox, oy, oz, dx, dy, dz, weight, remaining):
 def light_intensity(w, s, k, x, y, z, eps, key):
     """The bonus chapter on soft shadows: ``intensity_at`` for area light k at (x, y, z):
     the fraction of its cells (v outer, u inner) whose point no shadow-casting object
-    hides, one shadow ray each (``shadowed``, as for point lights); ``key``: the sample's (``sample_key``), for the jitter."""
+    hides, one shadow ray each (``shadowed``, as for point lights); ``key``: the sample's
+    (``sample_key``), for the jitter."""
     _, _, _, _, _, _, _, _, light, n_lights, _ = w
     _, si, _ = s
     lm = k * NLIGHT
