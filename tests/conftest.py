@@ -10,11 +10,20 @@ A test's own ``@settings(max_examples=...)`` still wins over the profile's count
 """
 
 from hypothesis import HealthCheck, settings
+from hypothesis.database import DirectoryBasedExampleDatabase
 
 pytest_plugins = ["steps.plugin"]
 
 settings.register_profile("default", max_examples=40, deadline=2000, derandomize=True)
+# named in full: a profile registered without a parent inherits the loaded one's (default's
+# derandomize and no database), which would make the long profile draw the same examples
+# every run and keep no failing one
 settings.register_profile(
-    "long", max_examples=10_000, deadline=2000, suppress_health_check=[HealthCheck.too_slow]
+    "long",
+    max_examples=10_000,
+    deadline=2000,
+    suppress_health_check=[HealthCheck.too_slow],
+    derandomize=False,
+    database=DirectoryBasedExampleDatabase(".hypothesis/examples"),
 )
 settings.load_profile("default")
