@@ -640,7 +640,7 @@ def check_scene(settings: BenchSettings) -> None:
     a ``SceneError`` (naming the file and line) when it does not load."""
     if settings.scene.path is None:  # built in code
         return
-    from harness.scenefile import load_scene
+    from scene import load_scene
     from variants.registry import load_variant
 
     load_scene(settings.scene.path, load_variant(BASELINE).api, variant=BASELINE, divide=False)

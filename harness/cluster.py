@@ -155,9 +155,9 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
 
     from harness.imagediff import canvas_array
     from harness.presets import build_scene
-    from harness.scenefile import divides
     from harness.usage import Timings
     from raytracer.camera import RenderSettings
+    from scene import divides
     from variants.dask_cluster import DaskTracer
     from variants.pooled import make_jobs
     from variants.registry import load_variant

@@ -222,9 +222,9 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
     import numpy as np
 
     from harness.imagediff import canvas_array
-    from harness.scenefile import divides, load_scene_text
     from harness.usage import Timings
     from raytracer.camera import RenderSettings
+    from scene import divides, load_scene_text
     from variants.registry import load_variant
 
     variant = load_variant(job["variant"])

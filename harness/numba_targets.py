@@ -63,7 +63,7 @@ EPSILONS = (0.0001, 0.001)  # the project's (the book's) and the Go renderer's
 def _load(
     variant_name: str, path: Path, size: tuple[int, int] | None = None
 ) -> tuple[Any, Any, Any]:
-    from harness.scenefile import divides, load_scene
+    from scene import divides, load_scene
     from variants.registry import load_variant
 
     variant = load_variant(variant_name)
@@ -210,7 +210,7 @@ STARTUP = """
 import time
 t0 = time.perf_counter()
 from harness.images import write_image
-from harness.scenefile import divides, load_scene
+from scene import divides, load_scene
 from raytracer.camera import RenderSettings
 from variants.registry import load_variant
 t1 = time.perf_counter()

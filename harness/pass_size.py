@@ -186,9 +186,9 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
 
     from harness.imagediff import canvas_array
     from harness.presets import build_scene
-    from harness.scenefile import divides
     from harness.usage import Timings, current_rss, peak_memory, reset_peak_rss
     from raytracer.camera import RenderSettings
+    from scene import divides
     from variants.registry import load_variant
 
     variant = load_variant(job["variant"])

@@ -105,12 +105,12 @@ def build_scene(
     ref: SceneRef, api: Mapping[str, Any], variant: str, size: Size, divide: bool = True
 ) -> Any:
     """(camera, world) for ``ref`` built through ``api``, the camera ``size`` pixels;
-    divide: the loader divides the scene's groups (``harness.scenefile.divides``)."""
+    divide: the loader divides the scene's groups (``scene.divides``)."""
     if ref.path is None:
         if ref.name != BUILTIN_DEFAULT_WORLD:
             raise ValueError(f"scene {ref.name!r} has no file and is not built in")
         return _default_world_scene(api, size)
-    from harness.scenefile import load_scene
+    from scene import load_scene
 
     scene = load_scene(ref.path, api, variant=variant, divide=divide)
     scene = scene.resized(size.width, size.height)
@@ -123,6 +123,6 @@ def _default_world_scene(api: Mapping[str, Any], size: Size) -> Any:
         api["point"](0, 0, -5), api["point"](0, 0, 0), api["vector"](0, 1, 0)
     )
     cam = api["camera"](size.width, size.height, math.pi / 2)
-    from harness.scenefile.context import updated
+    from scene.context import updated
 
     return updated(cam, transform=view), api["default_world"]()

@@ -4,7 +4,7 @@ One render of a scene (chapter 7's camera and world, from a scene file) through 
 taken apart two ways, each in a fresh process (``python -m harness.profiling JOB.json``):
 
 - ``stages``: the render timed stage by stage, without a profiler in the process: ``load``
-  (the scene file, ``harness.scenefile``), ``prepare`` (the tracer's per-frame state),
+  (the scene file, ``scene``), ``prepare`` (the tracer's per-frame state),
   ``trace`` (``render_into``), ``encode`` (the PNG). A compiled variant (``numba``) splits
   prepare into ``pack`` (the world packed into arrays, its hierarchy built: the frame's
   ``packed.seconds``) and ``compile`` (the rest of prepare: loading the compiled render,
@@ -317,7 +317,7 @@ def findings(entry: Mapping[str, Any]) -> str:
 
 
 def _load(job: Mapping[str, Any], variant: Any) -> Any:
-    from harness.scenefile import divides, load_scene
+    from scene import divides, load_scene
 
     scene = load_scene(job["scene"], variant.api, variant=variant.name, divide=divides(variant))
     return scene.resized(*job["size"])

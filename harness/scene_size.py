@@ -7,7 +7,7 @@ loop), one fresh process per (variant, mesh), with its costs apart:
 
 - ``load``: ``load_scene`` of the scene file (reading the OBJ file, chapter 15's parser, the
   group, the scene's material given to every triangle, and ``divide`` for a tracer without a
-  hierarchy of its own, ``harness.scenefile.divides``), and the memory it took (resident
+  hierarchy of its own, ``scene.divides``), and the memory it took (resident
   set: its high-water mark after the load less the resident set before it);
 - ``prepare``: the tracer's ``prepare`` for the frame, once (numba: packing the world into
   arrays, building the hierarchy, loading the compiled render), and of it the hierarchy's
@@ -301,9 +301,9 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
     import numpy as np
 
     from harness.imagediff import canvas_array
-    from harness.scenefile import divides, load_scene_text
     from harness.usage import Timings, current_rss, reset_peak_rss
     from raytracer.camera import RenderSettings
+    from scene import divides, load_scene_text
     from variants.registry import load_variant
 
     variant = load_variant(job["variant"])

@@ -265,7 +265,7 @@ def run(args: argparse.Namespace) -> int:
     from harness.bench import run_bench
     from harness.report import console_table
     from harness.results import load_run
-    from harness.scenefile import SceneError
+    from scene import SceneError
 
     settings = settings_from(args)
 

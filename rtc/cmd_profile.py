@@ -64,8 +64,8 @@ def _folder(path: Path) -> Path:
 def run(args: argparse.Namespace) -> int:
     from harness.profiling import Request, is_compiled, profile, profile_size, slug
     from harness.profiling_report import text
-    from harness.scenefile import SceneError, divides, load_scene
     from harness.sizes import Size
+    from scene import SceneError, divides, load_scene
     from variants.registry import load_variant
 
     size = Size(*parse_size(args.size)) if args.size is not None else None

@@ -11,10 +11,10 @@ from pathlib import Path
 from typing import Any
 
 from harness.images import write_image
-from harness.scenefile import SceneError, divides, load_scene
 from raytracer.camera import RenderSettings
 from rtc.cli import UserError, check_output
 from rtc.cmd_demo import parse_size
+from scene import SceneError, divides, load_scene
 
 NAME = "render"
 HELP = "render a scene file (the book's YAML scene format) to a PNG or PPM image"

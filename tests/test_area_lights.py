@@ -16,7 +16,6 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from harness.scenefile import Scene, SceneError, load_scene
 from raytracer import (
     AreaLight,
     RenderSettings,
@@ -43,6 +42,7 @@ from raytracer import (
 from raytracer.camera import camera
 from raytracer.sampling import GAMMA, MASK64, light_jitter, light_jitters, mix64, sample_key
 from raytracer.tracer import NO_SAMPLE
+from scene import Scene, SceneError, load_scene
 from variants.registry import load_variant
 
 coordinate = st.floats(-5, 5, allow_nan=False)

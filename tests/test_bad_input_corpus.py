@@ -20,8 +20,8 @@ from pathlib import Path
 
 import pytest
 
-from harness.scenefile.limits import DEPTH_VARIABLE, SHAPES_VARIABLE
 from rtc.cli import main
+from scene.limits import DEPTH_VARIABLE, SHAPES_VARIABLE
 
 CORPUS = Path(__file__).parent / "data" / "bad_input"
 VARIANTS = ("naive", "cached", "numba")

@@ -13,13 +13,13 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 import raytracer as rt
-from harness.scenefile.loader import DIVIDE_THRESHOLD, divide_groups, load_scene_text
 from raytracer.bounds import EMPTY, BoundingBox, ray_meets_box, transform_box
 from raytracer.matrices import Matrix
 from raytracer.shapes.shape import Shape
 from raytracer.tolerance import EPSILON
 from raytracer.tuples import Tuple
 from rtc.scaffold import stub_source
+from scene.loader import DIVIDE_THRESHOLD, divide_groups, load_scene_text
 from variants.cached import CACHED_CLASSES, CachedComposite
 from variants.prealloc.context import TraceContext
 from variants.prealloc.shapes import GroupRecord, box_buffer, meets_box

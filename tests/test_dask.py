@@ -110,7 +110,7 @@ def test_a_local_cluster_render_is_the_inner_variants_picture_and_counts_every_r
 
 
 def test_numba_tiles_on_the_cluster_equal_numbas_own_render() -> None:
-    from harness.scenefile import load_scene
+    from scene import load_scene
 
     variant = load_variant("dask[workers=2,tile=16]:numba[threads=1]")
     own = load_variant("numba[threads=1]")

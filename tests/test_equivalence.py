@@ -15,8 +15,8 @@ from typing import Any
 
 import pytest
 
-from harness.scenefile import load_scene
 from raytracer.camera import RenderSettings
+from scene import load_scene
 from variants.registry import Variant, available_variants, load_variant
 
 SCENES_FOLDER = Path(__file__).resolve().parent.parent / "harness" / "scenes"

@@ -28,17 +28,17 @@ from hypothesis import strategies as st
 
 from harness import make_meshes
 from harness.results import ResultFileError, check_run, load_run
-from harness.scenefile import SceneError, load_scene_text
-from harness.scenefile.limits import Limits
-from harness.scenefile.loader import AREA_LIGHT_KEYS, CAMERA_KEYS, LIGHT_KEYS
-from harness.scenefile.materials import MATERIAL_KEYS, PATTERNS
-from harness.scenefile.shapes import KEYS, OPERATIONS
-from harness.scenefile.textures import FACES, MAP_KEYS, MAPPINGS, UV_KEYS
-from harness.scenefile.transforms import TRANSFORMS
 from raytracer.canvas import Canvas, canvas, canvas_to_ppm, pixel_at, write_pixel
 from raytracer.colors import color
 from raytracer.obj_file import ObjFileError, ObjParser, parse_obj_file
 from raytracer.ppm import PPMError, canvas_from_ppm
+from scene import SceneError, load_scene_text
+from scene.limits import Limits
+from scene.loader import AREA_LIGHT_KEYS, CAMERA_KEYS, LIGHT_KEYS
+from scene.materials import MATERIAL_KEYS, PATTERNS
+from scene.shapes import KEYS, OPERATIONS
+from scene.textures import FACES, MAP_KEYS, MAPPINGS, UV_KEYS
+from scene.transforms import TRANSFORMS
 from variants.registry import VariantError, VariantSpec, load_variant, parse_variant_name
 
 SCENES = make_meshes.SCENES  # harness/scenes/

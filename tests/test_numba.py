@@ -35,7 +35,6 @@ from typing import Any
 import numpy as np
 import pytest
 
-from harness.scenefile import load_scene
 from raytracer.camera import RenderSettings
 from raytracer.canvas import canvas_to_ppm, canvas_to_rgb8
 from raytracer.materials import material
@@ -43,6 +42,7 @@ from raytracer.matrices import Matrix
 from raytracer.patterns import Pattern
 from raytracer.shapes.sphere import Sphere
 from raytracer.tuples import Tuple
+from scene import load_scene
 from variants.numba import layout as L
 from variants.numba.api import EXTRA, NumbaTracer
 from variants.numba.canvas import ArrayCanvas

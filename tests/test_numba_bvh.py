@@ -19,10 +19,10 @@ from typing import Any
 import numpy as np
 import pytest
 
-from harness.scenefile import load_scene
 from raytracer.camera import RenderSettings
 from raytracer.materials import material
 from raytracer.matrices import Matrix
+from scene import load_scene
 from variants.numba import bvh, bvh_kernel, specialize
 from variants.numba import layout as L
 from variants.numba import pack as numba_pack
@@ -458,7 +458,7 @@ def test_the_matrix_helpers_agree() -> None:
 
 MESH_IN_A_FRESH_PROCESS = (
     "import sys\n"
-    "from harness.scenefile import load_scene\n"
+    "from scene import load_scene\n"
     "from variants.registry import load_variant\n"
     "from variants.numba import specialize\n"
     "v = load_variant('numba')\n"

@@ -23,13 +23,13 @@ import numpy as np
 import pytest
 
 from harness.raycount import count_rays
-from harness.scenefile import load_scene
 from raytracer.camera import RenderSettings
 from raytracer.colors import Color
 from raytracer.materials import material
 from raytracer.sampling import light_jitter, sample_key
 from raytracer.textures.uv_patterns import UVCheckers
 from raytracer.tuples import Tuple
+from scene import load_scene
 from variants.numba import layout as L
 from variants.numba.features import analyse
 from variants.numba.pack import PackError, pack_world

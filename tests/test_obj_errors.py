@@ -8,7 +8,6 @@ from pathlib import Path
 
 import pytest
 
-from harness.scenefile import SceneError, load_scene
 from raytracer.obj_file import (
     ObjNoFacesError,
     ObjParseError,
@@ -20,6 +19,7 @@ from raytracer.obj_file import (
 from raytracer.shapes.smooth_triangle import SmoothTriangle
 from raytracer.tuples import point
 from rtc.cli import main
+from scene import SceneError, load_scene
 from variants.registry import load_variant
 
 SQUARE = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"

@@ -25,8 +25,8 @@ from harness.make_meshes import (
     provide,
     write_atomically,
 )
-from harness.scenefile import SceneError, load_scene
 from raytracer.obj_file import parse_obj_file
+from scene import SceneError, load_scene
 from variants.registry import load_variant
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -20,9 +20,9 @@ from typing import Any
 import pytest
 
 import raytracer as rt
-from harness.scenefile import load_scene
 from raytracer.camera import RenderSettings
 from raytracer.tracer import BOOK_STEPS
+from scene import load_scene
 from variants.cached import to_twins
 from variants.prealloc import api as pa
 from variants.prealloc.buffers import IntersectionBuffer, new_ray

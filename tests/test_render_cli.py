@@ -7,10 +7,10 @@ from pathlib import Path
 import pytest
 
 from harness.images import read_png
-from harness.scenefile import load_scene
 from raytracer.camera import RenderSettings
 from raytracer.canvas import canvas_to_rgb8
 from rtc.cli import main
+from scene import load_scene
 from variants.registry import load_variant
 
 TINY = """\

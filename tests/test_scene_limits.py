@@ -15,9 +15,9 @@ from typing import Any
 
 import pytest
 
-from harness.scenefile import SceneError, load_scene, load_scene_text
-from harness.scenefile import progress as progress_module
-from harness.scenefile.limits import (
+from scene import SceneError, load_scene, load_scene_text
+from scene import progress as progress_module
+from scene.limits import (
     DEFAULT_MAX_DEPTH,
     DEFAULT_MAX_SHAPES,
     DEPTH_VARIABLE,
@@ -25,8 +25,8 @@ from harness.scenefile.limits import (
     Limits,
     limits_from_environment,
 )
-from harness.scenefile.progress import LoadProgress
-from harness.scenefile.reader import compose
+from scene.progress import LoadProgress
+from scene.reader import compose
 from variants.registry import load_variant
 
 HEADER = """\

@@ -12,7 +12,7 @@ from typing import Any
 import pytest
 
 from harness import make_meshes
-from harness.scenefile import Scene, SceneError, load_scene, load_scene_text
+from scene import Scene, SceneError, load_scene, load_scene_text
 from variants.registry import load_variant
 
 SCENES = make_meshes.SCENES  # harness/scenes/

@@ -16,7 +16,6 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from harness.scenefile import SceneError, load_scene
 from raytracer import (
     Canvas,
     Color,
@@ -58,6 +57,7 @@ from raytracer.camera import RenderSettings
 from raytracer.textures import CUBE_UV
 from raytracer.textures.mappings import Face
 from raytracer.tuples import Tuple
+from scene import SceneError, load_scene
 from steps.book import Book
 from steps.errors import CheckFailed
 from steps.phrases import then

@@ -23,8 +23,6 @@ import pytest
 from harness import pass_size, pass_size_report, plots
 from harness.document import Table
 from harness.presets import SceneRef
-from harness.scenefile import load_scene
-from harness.scenefile.loader import divides
 from harness.sizes import Size
 from raytracer.camera import RenderSettings, ray_for_pixel
 from raytracer.intersections import intersection, prepare_computations
@@ -34,6 +32,8 @@ from raytracer.sampling import sample_offset
 from raytracer.shapes.shape import intersect
 from raytracer.shapes.sphere import Sphere
 from raytracer.tracer import TRACER
+from scene import load_scene
+from scene.loader import divides
 from variants.registry import VariantError, load_variant
 from variants.wavefront import hits as H
 from variants.wavefront.camera import camera_rays, lens, sample_offsets

@@ -19,10 +19,10 @@ import math
 from collections.abc import Callable
 from typing import Any
 
-from harness.scenefile import SceneError, load_scene_text
 from harness.stability import oracle
 from harness.stability.model import Case, Outcome, Probe, Verdict, crashed, expected_error, graded
 from harness.stability.scenes import look, world_of
+from scene import SceneError, load_scene_text
 
 SAFETY = 64.0  # within tolerance: error <= SAFETY * κ * u
 

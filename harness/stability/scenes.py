@@ -17,7 +17,7 @@ import numpy as np
 import yaml
 
 from harness.imagediff import canvas_array
-from harness.scenefile import load_scene_text
+from scene import load_scene_text
 
 REFERENCE_SCENE = Path(__file__).resolve().parent.parent / "scenes" / "reference.yml"
 

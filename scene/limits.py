@@ -23,7 +23,7 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-from harness.scenefile.errors import SceneError
+from scene.errors import SceneError
 
 DEPTH_VARIABLE = "RTC_SCENE_MAX_DEPTH"
 SHAPES_VARIABLE = "RTC_SCENE_MAX_SHAPES"

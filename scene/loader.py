@@ -16,15 +16,15 @@ from typing import Any
 
 from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
 
-from harness.scenefile.context import Context, Definition, Kind, updated
-from harness.scenefile.errors import SceneError
-from harness.scenefile.limits import Limits, limits_from_environment
-from harness.scenefile.materials import read_color, read_material_properties
-from harness.scenefile.progress import LoadProgress
-from harness.scenefile.reader import Entry, Reader, compose, describe, line_of
-from harness.scenefile.shapes import SHAPES, ShapeSpec, build_shape, read_shape
-from harness.scenefile.transforms import read_transform, transform_problem
 from raytracer.sampling import MAX_LIGHT_STEPS
+from scene.context import Context, Definition, Kind, updated
+from scene.errors import SceneError
+from scene.limits import Limits, limits_from_environment
+from scene.materials import read_color, read_material_properties
+from scene.progress import LoadProgress
+from scene.reader import Entry, Reader, compose, describe, line_of
+from scene.shapes import SHAPES, ShapeSpec, build_shape, read_shape
+from scene.transforms import read_transform, transform_problem
 from variants.learner import is_stub
 
 CAMERA_KEYS = ("add", "width", "height", "field-of-view", "from", "to", "up")

@@ -10,10 +10,10 @@ from typing import Any, Literal
 
 from yaml.nodes import Node
 
-from harness.scenefile.limits import Limits
-from harness.scenefile.progress import LoadProgress
-from harness.scenefile.reader import Reader
 from raytracer.api import BOOK_API
+from scene.limits import Limits
+from scene.progress import LoadProgress
+from scene.reader import Reader
 
 Kind = Literal["material", "transform", "shape"]
 

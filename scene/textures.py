@@ -24,10 +24,10 @@ from typing import Any
 
 from yaml.nodes import Node
 
-from harness.scenefile.context import Context
-from harness.scenefile.images import load_image
-from harness.scenefile.materials import read_color
-from harness.scenefile.reader import Entry
+from scene.context import Context
+from scene.images import load_image
+from scene.materials import read_color
+from scene.reader import Entry
 
 # the format's mapping -> the book's function (the cube has its own pattern, cube_map)
 MAPPINGS = {

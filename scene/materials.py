@@ -13,9 +13,9 @@ from typing import Any
 
 from yaml.nodes import Node, ScalarNode
 
-from harness.scenefile.context import Context, updated
-from harness.scenefile.reader import Entry, line_of
-from harness.scenefile.transforms import read_transform, transform_problem
+from scene.context import Context, updated
+from scene.reader import Entry, line_of
+from scene.transforms import read_transform, transform_problem
 
 # the format's key -> the book's material property
 NUMBER_PROPERTIES = {
@@ -65,13 +65,13 @@ def read_color(ctx: Context, node: Node, what: str) -> Any:
 
 def read_pattern(ctx: Context, node: Node) -> Any:
     """``{type: checkers, colors: [[1, 1, 1], [0, 0, 0]], transform: [...]}`` as a pattern;
-    ``type: map`` is a texture map (``harness.scenefile.textures``)."""
+    ``type: map`` is a texture map (``scene.textures``)."""
     reader = ctx.reader
     entries = reader.mapping(node, "a pattern")
     type_node = reader.require(entries, "type", node, "the pattern")
     kind = reader.string(type_node, "the pattern's type")
     if kind == "map":
-        from harness.scenefile.textures import MAP_KEYS, read_map_pattern  # it reads colors
+        from scene.textures import MAP_KEYS, read_map_pattern  # it reads colors
 
         reader.check_keys(entries, MAP_KEYS, "a map pattern")
         pattern = read_map_pattern(ctx, node, entries)

@@ -16,10 +16,10 @@ from typing import Any
 
 from yaml.nodes import Node
 
-from harness.scenefile.context import Context
-from harness.scenefile.errors import SceneError
 from raytracer.canvas import Canvas
 from raytracer.colors import Color
+from scene.context import Context
+from scene.errors import SceneError
 
 PLAIN_PPM_SUFFIXES = (".ppm", ".pnm")
 MAX_IMAGE_BYTES = 64 * 1024 * 1024  # a larger texture file is almost certainly a mistake

@@ -12,8 +12,8 @@ from typing import Any
 
 from yaml.nodes import Node, ScalarNode, SequenceNode
 
-from harness.scenefile.context import Context
-from harness.scenefile.reader import describe
+from scene.context import Context
+from scene.reader import describe
 
 # entry -> (the book's function, the numbers it takes)
 TRANSFORMS: dict[str, tuple[str, tuple[str, ...]]] = {

@@ -21,10 +21,10 @@ from typing import Any
 
 from yaml.nodes import MappingNode, Node
 
-from harness.scenefile.context import Context
-from harness.scenefile.materials import make_material, read_material
-from harness.scenefile.reader import Entry, line_of
-from harness.scenefile.transforms import read_transform, transform_problem
+from scene.context import Context
+from scene.materials import make_material, read_material
+from scene.reader import Entry, line_of
+from scene.transforms import read_transform, transform_problem
 
 COMMON_KEYS = ("add", "transform", "material", "shadow")
 KEYS: dict[str, tuple[str, ...]] = {

@@ -43,7 +43,7 @@ limits), ``limits``, ``progress``, ``transforms``, ``materials``, ``textures`` (
 ``images`` (image files), ``shapes``, ``loader`` (the top level).
 """
 
-from harness.scenefile.errors import SceneError
-from harness.scenefile.loader import Scene, divides, load_scene, load_scene_text
+from scene.errors import SceneError
+from scene.loader import Scene, divides, load_scene, load_scene_text
 
 __all__ = ["Scene", "SceneError", "divides", "load_scene", "load_scene_text"]

@@ -18,9 +18,9 @@ import yaml
 from yaml.events import AliasEvent, ScalarEvent
 from yaml.nodes import MappingNode, Node, ScalarNode
 
-from harness.scenefile.errors import SceneError
-from harness.scenefile.limits import Limits
-from harness.scenefile.progress import LoadProgress
+from scene.errors import SceneError
+from scene.limits import Limits
+from scene.progress import LoadProgress
 
 _PROGRESS_EVERY = 1024  # nodes between two progress updates
 
