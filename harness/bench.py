@@ -643,7 +643,7 @@ def check_scene(settings: BenchSettings) -> None:
     from scene import load_scene
     from variants.registry import load_variant
 
-    load_scene(settings.scene.path, load_variant(BASELINE).api, variant=BASELINE, divide=False)
+    load_scene(settings.scene.path, load_variant(BASELINE).api, variant=BASELINE)
 
 
 def run_bench(settings: BenchSettings, log: Log) -> Path:

@@ -94,11 +94,7 @@ class Renderer:
     def scene_at(self, size: Size) -> Any:
         """(camera, world) at ``size``; the world is built once per size and reused."""
         if size not in self._scenes:
-            from scene import divides
-
-            self._scenes[size] = build_scene(
-                self.scene, self.api, self.variant.name, size, divides(self.variant)
-            )
+            self._scenes[size] = build_scene(self.scene, self.variant, size)
         return self._scenes[size]
 
     def render(self, size: Size, samples: int) -> Any:

@@ -157,7 +157,6 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
     from harness.presets import build_scene
     from harness.usage import Timings
     from raytracer.camera import RenderSettings
-    from scene import divides
     from variants.dask_cluster import DaskTracer
     from variants.pooled import make_jobs
     from variants.registry import load_variant
@@ -180,10 +179,10 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
             result["session"] = time.perf_counter() - started
             result["tiles"] = len(make_jobs(size.width, size.height, "tile", tracer.tile))
             result["tile"] = tracer.tile
-        camera, world = build_scene(ref, variant.api, variant.name, WARM, divide=divides(variant))
+        camera, world = build_scene(ref, variant, WARM)
         tracer.render(camera, world, settings_with(1))
         result["startup"] = time.perf_counter() - started
-        camera, world = build_scene(ref, variant.api, variant.name, size, divide=divides(variant))
+        camera, world = build_scene(ref, variant, size)
         samples = int(job["samples"])
         if job.get("calibrate"):
             once = time.perf_counter()

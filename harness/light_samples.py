@@ -224,7 +224,7 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
     from harness.imagediff import canvas_array
     from harness.usage import Timings
     from raytracer.camera import RenderSettings
-    from scene import divides, load_scene_text
+    from scene import load_scene_text
     from variants.registry import load_variant
 
     variant = load_variant(job["variant"])
@@ -235,13 +235,12 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
     text = path.read_text(encoding="utf-8")
     if job["cells"] is not None:
         text = configured(text, Config(job["cells"], job["jitter"]), path)
-    scene = load_scene_text(
-        text, variant.api, path=path, variant=variant.name, divide=divides(variant)
-    )
+    scene = load_scene_text(text, variant.api, path=path, variant=variant.name)
+    world = variant.world_for(scene)
     size = Size(*job["size"])
     started = time.perf_counter()
     warm = scene.resized(WARM.width, WARM.height)
-    tracer.render(warm.camera, warm.world, RenderSettings(depth=job["depth"], seed=job["seed"]))
+    tracer.render(warm.camera, world, RenderSettings(depth=job["depth"], seed=job["seed"]))
     result: dict[str, Any] = {"warm": time.perf_counter() - started, "points": []}
     scene = scene.resized(size.width, size.height)
     budget = job.get("budget")
@@ -260,7 +259,7 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
         settings = RenderSettings(depth=job["depth"], samples=samples, seed=job["seed"])
         timings = Timings()
         for attempt in range(max(1, int(job.get("repeat", 1)))):
-            canvas = timings.time(tracer.render, scene.camera, scene.world, settings)
+            canvas = timings.time(tracer.render, scene.camera, world, settings)
             if attempt == 0:
                 name = f"image-{samples}.npy"
                 np.save(folder / name, canvas_array(canvas, variant.api.get("pixel_at")))

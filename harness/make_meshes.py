@@ -363,9 +363,11 @@ def mesh_path(name: str, folder: Path = GENERATED) -> Path:
 
 
 def provide(path: Path) -> bool:
-    """For the scene loader: write the missing OBJ file ``path`` if its name is a generated
-    mesh's; whether it exists now (False for any other name, or a folder not writable)."""
-    if path.name not in CATALOGUE:
+    """For the scene loader: write the missing OBJ file ``path`` if it is a generated mesh
+    in the project's own mesh folder (``GENERATED``); whether it exists now (False for any
+    other name or folder: a scene elsewhere never makes the loader write, or for a folder
+    not writable)."""
+    if path.name not in CATALOGUE or path.parent.resolve() != GENERATED.resolve():
         return False
     try:
         mesh_path(path.name, path.parent)

@@ -63,14 +63,15 @@ EPSILONS = (0.0001, 0.001)  # the project's (the book's) and the Go renderer's
 def _load(
     variant_name: str, path: Path, size: tuple[int, int] | None = None
 ) -> tuple[Any, Any, Any]:
-    from scene import divides, load_scene
+    from harness.make_meshes import provide
+    from scene import load_scene
     from variants.registry import load_variant
 
     variant = load_variant(variant_name)
-    scene = load_scene(path, variant.api, variant=variant.name, divide=divides(variant))
+    scene = load_scene(path, variant.api, variant=variant.name, provide_mesh=provide)
     if size is not None:
         scene = scene.resized(*size)
-    return variant, scene.camera, scene.world
+    return variant, scene.camera, variant.world_for(scene)
 
 
 def _timed(action: Callable[[], Any]) -> tuple[float, float, Any]:
@@ -210,19 +211,20 @@ STARTUP = """
 import time
 t0 = time.perf_counter()
 from harness.images import write_image
-from scene import divides, load_scene
+from scene import load_scene
 from raytracer.camera import RenderSettings
 from variants.registry import load_variant
 t1 = time.perf_counter()
 variant = load_variant("numba")
 t2 = time.perf_counter()
-scene = load_scene({scene!r}, variant.api, variant=variant.name, divide=divides(variant))
+scene = load_scene({scene!r}, variant.api, variant=variant.name)
+world = variant.world_for(scene)
 t3 = time.perf_counter()
-image = variant.api["render"](scene.camera, scene.world, RenderSettings())
+image = variant.api["render"](scene.camera, world, RenderSettings())
 t4 = time.perf_counter()
 write_image(image, {png!r})
 t5 = time.perf_counter()
-image = variant.api["render"](scene.camera, scene.world, RenderSettings())
+image = variant.api["render"](scene.camera, world, RenderSettings())
 t6 = time.perf_counter()
 import sys
 print(t1 - t0, t2 - t1, t3 - t2, t4 - t3, t5 - t4, t6 - t5, "numba" in sys.modules)

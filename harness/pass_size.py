@@ -188,7 +188,6 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
     from harness.presets import build_scene
     from harness.usage import Timings, current_rss, peak_memory, reset_peak_rss
     from raytracer.camera import RenderSettings
-    from scene import divides
     from variants.registry import load_variant
 
     variant = load_variant(job["variant"])
@@ -200,10 +199,10 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
     settings = RenderSettings(depth=job["depth"], samples=job["samples"], seed=job["seed"], **extra)
     ref = SceneRef.from_dict(job["scene"])
     started = time.perf_counter()
-    camera, world = build_scene(ref, variant.api, variant.name, WARM, divide=divides(variant))
+    camera, world = build_scene(ref, variant, WARM)
     tracer.render(camera, world, settings)
     result: dict[str, Any] = {"warm": time.perf_counter() - started}
-    camera, world = build_scene(ref, variant.api, variant.name, size, divide=divides(variant))
+    camera, world = build_scene(ref, variant, size)
     options = getattr(tracer, "options", None)
     cap = options.cap() if options is not None else None
     pixels = size.width * size.height

@@ -101,20 +101,20 @@ def resolve_scene(text: str) -> SceneRef:
     return SceneRef(path.stem, path.resolve())
 
 
-def build_scene(
-    ref: SceneRef, api: Mapping[str, Any], variant: str, size: Size, divide: bool = True
-) -> Any:
-    """(camera, world) for ``ref`` built through ``api``, the camera ``size`` pixels;
-    divide: the loader divides the scene's groups (``scene.divides``)."""
+def build_scene(ref: SceneRef, variant: Any, size: Size) -> Any:
+    """(camera, world) for ``ref`` as ``variant`` (a registry ``Variant``) renders it: the
+    world its tracer makes of the scene (``Variant.world_for``), the camera ``size``
+    pixels."""
     if ref.path is None:
         if ref.name != BUILTIN_DEFAULT_WORLD:
             raise ValueError(f"scene {ref.name!r} has no file and is not built in")
-        return _default_world_scene(api, size)
+        return _default_world_scene(variant.api, size)
+    from harness.make_meshes import provide
     from scene import load_scene
 
-    scene = load_scene(ref.path, api, variant=variant, divide=divide)
+    scene = load_scene(ref.path, variant.api, variant=variant.name, provide_mesh=provide)
     scene = scene.resized(size.width, size.height)
-    return scene.camera, scene.world
+    return scene.camera, variant.world_for(scene)
 
 
 def _default_world_scene(api: Mapping[str, Any], size: Size) -> Any:

@@ -317,9 +317,10 @@ def findings(entry: Mapping[str, Any]) -> str:
 
 
 def _load(job: Mapping[str, Any], variant: Any) -> Any:
-    from scene import divides, load_scene
+    from harness.make_meshes import provide
+    from scene import load_scene
 
-    scene = load_scene(job["scene"], variant.api, variant=variant.name, divide=divides(variant))
+    scene = load_scene(job["scene"], variant.api, variant=variant.name, provide_mesh=provide)
     return scene.resized(*job["size"])
 
 
@@ -356,25 +357,34 @@ def stages_job(job: Mapping[str, Any]) -> dict[str, Any]:
 
     scene = _load(job, variant)
     stages["load"] = lap()
-    c, w, tracer = scene.camera, scene.world, variant.tracer
+    tracer = variant.tracer
+    before: set[str] = set()
+    builder = 0.0
+    if tracer is not None and compiled:
+        before = _kernel_files()
+        if getattr(getattr(tracer, "options", None), "bvh", None) == "sah":
+            from variants.numba.specialize import load_bvh_builder
+
+            load_bvh_builder()  # loaded (built if missing) here, not inside the packing
+        builder = lap()
+    c, w = scene.camera, variant.world_for(scene)
+    made = lap()  # the tracer's world: the book's shapes built, or the scene packed
+    packed_early = getattr(w, "seconds", None)
+    if packed_early is None:
+        stages["load"] += made
+    else:
+        stages["pack"] = made
     if tracer is None:  # a learner's tracer: the book's render, whole
         image = variant.api["render"](c, w, settings)
         stages["render"] = lap()
     else:
         tracer.forget()
-        before: set[str] = set()
-        builder = 0.0
-        if compiled:
-            before = _kernel_files()
-            if getattr(getattr(tracer, "options", None), "bvh", None) == "sah":
-                from variants.numba.specialize import load_bvh_builder
-
-                load_bvh_builder()  # loaded (built if missing) here, not inside the packing
-            builder = lap()
         frame = tracer.prepared(c, w, settings)
         prepare = lap()
         packed = getattr(getattr(frame, "packed", None), "seconds", None)
-        if compiled and packed is not None:
+        if compiled and packed_early is not None:
+            stages["compile"] = builder + prepare
+        elif compiled and packed is not None:
             stages["pack"] = float(packed)
             stages["compile"] = builder + prepare - float(packed)
         else:
@@ -420,7 +430,7 @@ def cprofile_job(job: Mapping[str, Any]) -> dict[str, Any]:
     variant = load_variant(job["variant"])
     settings = _settings(job)
     scene = _load(job, variant)
-    c, w, tracer = scene.camera, scene.world, variant.tracer
+    c, w, tracer = scene.camera, variant.world_for(scene), variant.tracer
     if tracer is not None:
         tracer.forget()
     profile = cProfile.Profile()

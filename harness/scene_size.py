@@ -5,10 +5,10 @@ The same scene (a floor, one light, a noisy torus of 1,000 to 1,000,000 flat tri
 ``--mesh-variants`` (default ``numba`` and ``numba[bvh=off]``: the hierarchy against the flat
 loop), one fresh process per (variant, mesh), with its costs apart:
 
-- ``load``: ``load_scene`` of the scene file (reading the OBJ file, chapter 15's parser, the
-  group, the scene's material given to every triangle, and ``divide`` for a tracer without a
-  hierarchy of its own, ``scene.divides``), and the memory it took (resident
-  set: its high-water mark after the load less the resident set before it);
+- ``load``: from the scene file to what the tracer renders: ``load_scene`` (the YAML, the OBJ
+  file read into arrays) and the tracer's ``world_for`` (``world``: the book's shapes built
+  and divided for a Python tracer; the tables packed for a compiled one), and the memory it
+  took (resident set: its high-water mark after the load less the resident set before it);
 - ``prepare``: the tracer's ``prepare`` for the frame, once (numba: packing the world into
   arrays, building the hierarchy, loading the compiled render), and of it the hierarchy's
   build when the tracer reports it (``frame.packed.hierarchy.seconds``);
@@ -286,11 +286,15 @@ def parse_job(job: dict[str, Any]) -> dict[str, Any]:
     return result
 
 
-def _count_primitives(shapes: Any) -> int:
+def _count_primitives(specs: Any) -> int:
+    """The leaf shapes a scene description holds (an OBJ model's triangles each)."""
     total = 0
-    for shape in shapes:
-        children = getattr(shape, "children", None)
-        total += _count_primitives(children) if children is not None else 1
+    for spec in specs:
+        if spec.mesh is not None:
+            total += spec.mesh.count
+        else:
+            parts = spec.parts()
+            total += _count_primitives(parts) if parts else 1
     return total
 
 
@@ -303,7 +307,7 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
     from harness.imagediff import canvas_array
     from harness.usage import Timings, current_rss, reset_peak_rss
     from raytracer.camera import RenderSettings
-    from scene import divides, load_scene_text
+    from scene import load_scene_text
     from variants.registry import load_variant
 
     variant = load_variant(job["variant"])
@@ -316,13 +320,11 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
     def load(mesh: Path, at: Size) -> Any:
         text = scene_text(mesh.name, at)
         path = mesh.parent / "scene.yml"  # not written: its OBJ file is beside it
-        return load_scene_text(
-            text, variant.api, path=path, variant=variant.name, divide=divides(variant)
-        )
+        return load_scene_text(text, variant.api, path=path, variant=variant.name)
 
     started = time.perf_counter()
     warm = load(Path(job["warm_mesh"]), WARM)
-    tracer.render(warm.camera, warm.world, settings)
+    tracer.render(warm.camera, variant.world_for(warm), settings)
     result: dict[str, Any] = {"warm": time.perf_counter() - started}
     del warm
     tracer.forget()
@@ -331,10 +333,12 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
     was_reset = reset_peak_rss()
     started = time.perf_counter()
     scene = load(Path(job["mesh"]), size)
+    loaded = time.perf_counter()
+    c, w = scene.camera, variant.world_for(scene)
     result["load"] = time.perf_counter() - started
+    result["world"] = time.perf_counter() - loaded
     result["load_rss"] = max(_peak_since_reset(was_reset) - before, 0)
-    result["primitives"] = _count_primitives(scene.world.objects)
-    c, w = scene.camera, scene.world
+    result["primitives"] = _count_primitives(scene.objects)
     started = time.perf_counter()
     frame = tracer.prepared(c, w, settings)
     result["prepare"] = time.perf_counter() - started

@@ -82,7 +82,7 @@ BOOK_STEPS = (
 
 STEPS = (
     *BOOK_STEPS, "pixel_color", "prepare", "render_region", "render_into", "new_canvas",
-    "write_region", "light_for_sample",
+    "write_region", "light_for_sample", "world_for",
 )  # fmt: skip
 """Every overridable step of the interface, book names first."""
 
@@ -109,10 +109,6 @@ class Tracer:
     ``render_region`` runs (a pool, a cluster)."""
 
     __slots__ = ("_frame", "_sample")
-
-    builds_hierarchy = False
-    """True for a tracer that builds its own bounding volume hierarchy over every
-    primitive of a world (the scene loader then leaves the scene's groups undivided)."""
 
     def __init__(self) -> None:
         self._frame: tuple[Camera, World, RenderSettings, Any] | None = None
@@ -351,6 +347,15 @@ class Tracer:
         write_region(image, region, values)
 
     # -- what the harness asks of a tracer
+
+    def world_for(self, scene: Any) -> Any:
+        """What a render of a loaded scene file (``scene.Scene``: a description, nothing
+        built) runs on: the world ``render`` is then given. The reference's is the book's
+        ``World``, built through the scene's API, with every top-level group, OBJ model and
+        CSG shape divided (the bonus chapter 'Bounding boxes and hierarchies'), since a
+        Python tracer walks the book's groups. A tracer that packs a scene its own way
+        returns its own world, and no book shape need be built."""
+        return scene.book_world(divide=True)
 
     def explain(self, w: World) -> str:
         """What a render of ``w`` would run (``rtc render --explain``)."""

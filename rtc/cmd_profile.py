@@ -62,10 +62,11 @@ def _folder(path: Path) -> Path:
 
 
 def run(args: argparse.Namespace) -> int:
+    from harness.make_meshes import provide
     from harness.profiling import Request, is_compiled, profile, profile_size, slug
     from harness.profiling_report import text
     from harness.sizes import Size
-    from scene import SceneError, divides, load_scene
+    from scene import SceneError, load_scene
     from variants.registry import load_variant
 
     size = Size(*parse_size(args.size)) if args.size is not None else None
@@ -78,7 +79,7 @@ def run(args: argparse.Namespace) -> int:
     except LookupError as error:
         raise UserError(f"--variant: {error.args[0] if error.args else error}") from None
     try:
-        scene = load_scene(args.scene, variant.api, variant=variant.name, divide=divides(variant))
+        scene = load_scene(args.scene, variant.api, variant=variant.name, provide_mesh=provide)
     except SceneError as error:
         raise UserError(str(error)) from None
     for warning in scene.warnings:

@@ -11,10 +11,11 @@ from pathlib import Path
 from typing import Any
 
 from harness.images import write_image
+from harness.make_meshes import provide
 from raytracer.camera import RenderSettings
 from rtc.cli import UserError, check_output
 from rtc.cmd_demo import parse_size
-from scene import SceneError, divides, load_scene
+from scene import SceneError, load_scene
 
 NAME = "render"
 HELP = "render a scene file (the book's YAML scene format) to a PNG or PPM image"
@@ -115,11 +116,12 @@ def run(args: argparse.Namespace) -> int:
     except LookupError as error:
         raise UserError(f"--variant: {error.args[0] if error.args else error}") from None
     try:
-        scene = load_scene(args.scene, variant.api, variant=variant.name, divide=divides(variant))
+        scene = load_scene(args.scene, variant.api, variant=variant.name, provide_mesh=provide)
+        if size is not None:
+            scene = scene.resized(*size)
+        world = variant.world_for(scene)
     except SceneError as error:
         raise UserError(str(error)) from None
-    if size is not None:
-        scene = scene.resized(*size)
     for warning in scene.warnings:
         print(f"rtc render: warning: {warning}", file=sys.stderr, flush=True)
     camera = scene.camera
@@ -132,7 +134,7 @@ def run(args: argparse.Namespace) -> int:
     if args.explain:
         tracer = variant.tracer
         print(
-            tracer.explain(scene.world)
+            tracer.explain(world)
             if tracer is not None
             else f"{variant.name}: nothing to explain"
         )
@@ -142,7 +144,7 @@ def run(args: argparse.Namespace) -> int:
     update, close = _progress_bar(camera.vsize)
     start = time.perf_counter()
     try:
-        image = variant.api["render"](camera, scene.world, settings, update)
+        image = variant.api["render"](camera, world, settings, update)
     except RenderError as error:
         raise UserError(f"{variant.name} could not render {args.scene}: {error}") from None
     finally:

@@ -44,6 +44,6 @@ limits), ``limits``, ``progress``, ``transforms``, ``materials``, ``textures`` (
 """
 
 from scene.errors import SceneError
-from scene.loader import Scene, divides, load_scene, load_scene_text
+from scene.loader import Scene, load_scene, load_scene_text
 
-__all__ = ["Scene", "SceneError", "divides", "load_scene", "load_scene_text"]
+__all__ = ["Scene", "SceneError", "load_scene", "load_scene_text"]

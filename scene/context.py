@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
@@ -42,8 +42,10 @@ class Context:
     reports (triangles skipped ...); images: the image textures decoded so far, by path
     (a scene may put one image on many faces); limits: how deep and how big the scene may be
     (``limits``); shapes: the shapes the world will hold so far, counted before they are
-    built (OBJ triangles included); triangles: each OBJ model's triangles, once parsed;
-    progress: the load's progress bar (None: no bar).
+    built (OBJ triangles included); meshes: each OBJ model, once read (``scene.obj_mesh``);
+    progress: the load's progress bar (None: no bar); provide_mesh: writes a missing OBJ
+    file that the project generates (``harness.make_meshes.provide``), saying whether it
+    exists now (None: never).
     """
 
     reader: Reader
@@ -55,8 +57,9 @@ class Context:
     images: dict[Path, Any] = field(default_factory=dict)
     limits: Limits = field(default_factory=Limits)
     shapes: int = 0
-    triangles: dict[Path, int] = field(default_factory=dict)
+    meshes: dict[Path, Any] = field(default_factory=dict)
     progress: LoadProgress | None = None
+    provide_mesh: Callable[[Path], bool] | None = None
 
     def count_shapes(self, count: int, node: Node | int | None, what: str) -> None:
         """``count`` more shapes for the world (``what`` names them); past the limit, a

@@ -4,12 +4,19 @@
 scenes use several), shapes added to the world as they come, and ``- define: NAME`` for
 materials, transforms and shapes used further down (``extend: OTHER`` builds on an earlier
 definition).
+
+The result is a ``Scene``: a description (pbrt's ``BasicScene``), not a world. Its camera and
+lights are the variant's values; its shapes are ``ShapeSpec`` entities, OBJ models read into
+arrays (``Mesh``). Each tracer makes what it renders from it (``Tracer.world_for``): the
+Python tracers the book's ``World`` (``Scene.book_world``), the compiled ones their packed
+tables, with no object per triangle.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -17,15 +24,15 @@ from typing import Any
 from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
 
 from raytracer.sampling import MAX_LIGHT_STEPS
+from scene.build import Builder, divide_groups
 from scene.context import Context, Definition, Kind, updated
 from scene.errors import SceneError
 from scene.limits import Limits, limits_from_environment
 from scene.materials import read_color, read_material_properties
 from scene.progress import LoadProgress
 from scene.reader import Entry, Reader, compose, describe, line_of
-from scene.shapes import SHAPES, ShapeSpec, build_shape, read_shape
+from scene.shapes import SHAPES, ShapeSpec, read_shape, with_meshes
 from scene.transforms import read_transform, transform_problem
-from variants.learner import is_stub
 
 CAMERA_KEYS = ("add", "width", "height", "field-of-view", "from", "to", "up")
 LIGHT_KEYS = ("add", "at", "intensity")
@@ -33,46 +40,83 @@ AREA_LIGHT_KEYS = ("add", "corner", "uvec", "usteps", "vvec", "vsteps", "intensi
 AREA_LIGHT_REQUIRED = AREA_LIGHT_KEYS[1:-1]  # all but add and jitter
 DEFINE_KEYS = ("define", "value", "extend")
 MAX_SIDE = 16384  # as the canvas allows
-# After loading, every top-level group, OBJ model and CSG shape is divided (the bonus chapter
-# 'Bounding boxes and hierarchies'): a group of this many children or more is split into
-# subgroups by where they lie. 8: a box test costs about what a triangle test costs in
-# Python, so leaves of a few shapes keep the boxes a ray meets few while a missed box still
-# skips several shapes. Timed on a 1,280-triangle icosphere at 40x30 (cached, prealloc):
-# thresholds 2 to 16 within about 10% of each other, 32 slower; 8 was at or near the best
-# for both, with half the groups of 2.
-DIVIDE_THRESHOLD = 8
 
 
 @dataclass
 class Scene:
-    """A loaded scene file.
+    """A loaded scene file: what it describes, nothing built.
 
-    path: the scene file; camera and world: built with the variant's API; variant: its name;
-    api: the variant's API (to resize the camera); camera_line, light_line: where the camera
-    and the first light are; obj_files: the OBJ models the scene reads; warnings: what the
-    file asks that is allowed but probably not meant (``rtc render`` prints them); notes:
-    what the loader did to the scene beyond the file (the groups it divided).
+    path: the scene file; camera: built with the variant's API; lights: the world's lights
+    (the variant's values); objects: the shapes added to the world, in order (``ShapeSpec``,
+    OBJ models read); variant: its name; api: the variant's API (to resize the camera, to
+    build the book's world); camera_line, light_line: where the camera and the first light
+    are; obj_files: the OBJ models the scene reads; warnings: what the file asks that is
+    allowed but probably not meant (``rtc render`` prints them); notes: what the loader did
+    beyond the file (triangles left out), and what building a world did (groups divided).
     """
 
     path: Path
     camera: Any
-    world: Any
+    lights: list[Any]
+    objects: tuple[ShapeSpec, ...]
     variant: str
     api: Mapping[str, Any] = field(repr=False, compare=False)
     camera_line: int = 0
     light_line: int = 0
     obj_files: tuple[Path, ...] = ()
     warnings: tuple[str, ...] = ()
-    notes: tuple[str, ...] = ()
+    notes: list[str] = field(default_factory=list)
+    _world: Any = field(default=None, repr=False, compare=False)
 
     def resized(self, width: int, height: int) -> Scene:
         """The same scene seen by a camera of another size, with the same field of view."""
         c = self.camera
         camera = updated(self.api["camera"](width, height, c.field_of_view), transform=c.transform)
-        return Scene(
-            self.path, camera, self.world, self.variant, self.api,
-            self.camera_line, self.light_line, self.obj_files, self.warnings, self.notes,
-        )  # fmt: skip
+        return dataclasses.replace(self, camera=camera)
+
+    @property
+    def world(self) -> Any:
+        """The book's world as the file builds it (groups not divided), made once."""
+        if self._world is None:
+            self._world = self.book_world()
+        return self._world
+
+    def book_world(
+        self, divide: Callable[[Any, int], object] | bool | None = False,
+        progress: bool | None = None,
+    ) -> Any:  # fmt: skip
+        """Chapter 7: a new world of the book's shapes, built through the scene's API
+        (``scene.build``). ``divide``: the variant's ``divide`` (True: the API's), to divide
+        every top-level group, OBJ model and CSG shape with (the bonus chapter 'Bounding
+        boxes and hierarchies', ``divide_groups``), as a tracer that walks the book's groups
+        wants; None: the variant has none (a note says so); False: keep the groups as the
+        file builds them. What was divided joins ``notes``."""
+        bar = LoadProgress(f"building {self.path.name}", enabled=progress)
+        try:
+            bar.phase("building shapes", sum(o.count for o in self.objects), "shape")
+            world = _empty_world(self)
+            builder = Builder(self.api, self.path, bar)
+            world.objects.extend(builder.shape(spec) for spec in self.objects)
+            if divide is not False:
+                function = self.api.get("divide") if divide is True else divide
+                done = divide_groups(world.objects, function, self.variant, progress=bar)
+                self.notes.extend(note for note in done if note not in self.notes)
+            return world
+        finally:
+            bar.close()
+
+
+def _empty_world(scene: Scene) -> Any:
+    """A world holding the scene's lights (a variant whose world has a single ``light``
+    takes the one)."""
+    world = scene.api["world"]()
+    lights = getattr(world, "lights", None)
+    if lights is None:
+        if scene.lights:
+            world.light = scene.lights[0]
+    else:
+        lights.extend(scene.lights)
+    return world
 
 
 @dataclass
@@ -80,8 +124,9 @@ class _Loading:
     """What the top level has seen so far."""
 
     ctx: Context
-    world: Any
+    world: Any  # a world of the variant's, holding the lights
     camera: Any = None
+    objects: list[ShapeSpec] = field(default_factory=list)
     camera_line: int = 0
     light_line: int = 0
     obj_files: list[Path] = field(default_factory=list)
@@ -89,16 +134,18 @@ class _Loading:
 
 
 def load_scene(
-    path: str | Path, api: Mapping[str, Any], *, variant: str = "this variant", divide: bool = True,
+    path: str | Path, api: Mapping[str, Any], *, variant: str = "this variant",
     limits: Limits | None = None, progress: bool | None = None,
+    provide_mesh: Callable[[Path], bool] | None = None,
 ) -> Scene:  # fmt: skip
-    """Chapter 7's camera and world from a scene file in the book's YAML format.
+    """Chapter 7's camera, lights and shapes from a scene file in the book's YAML format.
 
-    api: a variant's book API (every object is built with it); variant: its name, for errors;
-    divide: False keeps groups as the file builds them (no ``divide_groups``); limits: how
-    deep and how big the scene may be (default: ``limits_from_environment``); progress: a
-    progress bar on stderr if the load takes more than a second (default: when stderr is a
-    terminal). Any mistake in the file is a ``SceneError`` naming the file and line.
+    api: a variant's book API (the camera, lights, colors, transforms and patterns are made
+    with it, the shapes described for it); variant: its name, for errors; limits: how deep
+    and how big the scene may be (default: ``limits_from_environment``); progress: a progress
+    bar on stderr if the load takes more than a second (default: when stderr is a terminal);
+    provide_mesh: writes a missing OBJ file the project generates (``Context``). Any mistake
+    in the file is a ``SceneError`` naming the file and line.
     """
     path = Path(path)
     try:
@@ -112,14 +159,15 @@ def load_scene(
             f"({error.reason}); save it as UTF-8",
         ) from None  # fmt: skip
     return load_scene_text(
-        text, api, path=path, variant=variant, divide=divide, limits=limits, progress=progress
-    )
+        text, api, path=path, variant=variant, limits=limits, progress=progress,
+        provide_mesh=provide_mesh,
+    )  # fmt: skip
 
 
 def load_scene_text(
     text: str, api: Mapping[str, Any], *, path: str | Path = "<scene>",
-    variant: str = "this variant", divide: bool = True, limits: Limits | None = None,
-    progress: bool | None = None,
+    variant: str = "this variant", limits: Limits | None = None, progress: bool | None = None,
+    provide_mesh: Callable[[Path], bool] | None = None,
 ) -> Scene:  # fmt: skip
     """Like ``load_scene`` for text already read; ``path`` names it and locates OBJ files."""
     path = Path(path)
@@ -127,14 +175,14 @@ def load_scene_text(
     limits.make_room()
     bar = LoadProgress(f"loading {path.name}", enabled=progress)
     try:
-        return _load(text, api, path, variant, divide, limits, bar)
+        return _load(text, api, path, variant, limits, bar, provide_mesh)
     finally:
         bar.close()
 
 
 def _load(
-    text: str, api: Mapping[str, Any], path: Path, variant: str, divide: bool, limits: Limits,
-    bar: LoadProgress,
+    text: str, api: Mapping[str, Any], path: Path, variant: str, limits: Limits,
+    bar: LoadProgress, provide_mesh: Callable[[Path], bool] | None,
 ) -> Scene:  # fmt: skip
     reader = Reader(path)
     bar.phase("reading YAML", len(text), "char")
@@ -142,9 +190,9 @@ def _load(
     if root is None:
         reader.fail(None, "the scene file is empty; expected a list of '- add:' and '- define:'")
     items = reader.sequence(root, "a scene file (its top level)")
-    ctx = Context(reader, api, variant, limits=limits, progress=bar)
+    ctx = Context(reader, api, variant, limits=limits, progress=bar, provide_mesh=provide_mesh)
     state = _Loading(ctx, ctx.need("world", root, "the scene")())
-    bar.phase("building shapes", shapes, "shape")
+    bar.phase("reading shapes", shapes, "shape")
     for item in items:
         _item(state, item)
     if state.camera is None:
@@ -157,56 +205,13 @@ def _load(
             f"{path}: the scene has no light, so every surface renders black; add one with "
             "'- add: light' (at, intensity)"
         )
-    notes = divide_groups(state.world.objects, api, variant, progress=bar) if divide else ()
+    world = state.world
+    lights = list(world.lights) if hasattr(world, "lights") else [world.light]
     return Scene(
-        path, state.camera, state.world, variant, api,
-        state.camera_line, state.light_line, tuple(state.obj_files), tuple(state.warnings),
-        (*ctx.notes, *notes),
+        path, state.camera, [light for light in lights if light is not None],
+        tuple(state.objects), variant, api, state.camera_line, state.light_line,
+        tuple(state.obj_files), tuple(state.warnings), list(ctx.notes),
     )  # fmt: skip
-
-
-def _count_groups(shape: Any) -> int:
-    """The groups in ``shape`` (itself included), through children and CSG operands."""
-    children = getattr(shape, "children", None)
-    count = 0 if children is None else 1 + sum(_count_groups(c) for c in children)
-    for operand in ("left", "right"):
-        inside = getattr(shape, operand, None)
-        if inside is not None:
-            count += _count_groups(inside)
-    return count
-
-
-def divides(variant: Any) -> bool:
-    """Whether scenes loaded for ``variant`` (a registry ``Variant``) are divided: yes,
-    unless its tracer builds a hierarchy of its own (``Tracer.builds_hierarchy``)."""
-    return not getattr(getattr(variant, "tracer", None), "builds_hierarchy", False)
-
-
-def divide_groups(
-    objects: list[Any], api: Mapping[str, Any], variant: str, threshold: int = DIVIDE_THRESHOLD,
-    progress: LoadProgress | None = None,
-) -> tuple[str, ...]:  # fmt: skip
-    """Divide every group, OBJ model and CSG shape among ``objects`` with the variant's
-    ``divide`` (the bonus chapter); what was done, as notes (none without such a shape)."""
-    composite = [s for s in objects if hasattr(s, "children") or hasattr(s, "left")]
-    if not composite:
-        return ()
-    divide = api.get("divide")
-    if divide is None or is_stub(divide):
-        return (f"groups not divided: {variant!r} has no divide() (the bonus chapter)",)
-    before = sum(_count_groups(s) for s in composite)
-    if progress is not None:
-        progress.phase("dividing groups", len(composite), "group")
-    for shape in composite:
-        divide(shape, threshold)
-        if progress is not None:
-            progress.advance()
-    made = sum(_count_groups(s) for s in composite) - before
-    what = f"divide (threshold {threshold}) on {len(composite)} top-level group"
-    what += "s, OBJ models or CSG shapes" if len(composite) > 1 else ", OBJ model or CSG shape"
-    if made == 0:
-        return (f"{what}: no group had {threshold} children or more; nothing to divide",)
-    return (f"{what}: {made} subgroups made (groups: {before} before, {before + made} after)",)
 
 
 def _item(state: _Loading, node: Node) -> None:
@@ -239,7 +244,7 @@ def _item(state: _Loading, node: Node) -> None:
         for obj_file in _obj_files(spec):
             if obj_file not in state.obj_files:
                 state.obj_files.append(obj_file)
-        state.world.objects.append(build_shape(state.ctx, spec))
+        state.objects.append(with_meshes(state.ctx, spec))
 
 
 def _obj_files(spec: ShapeSpec) -> list[Path]:

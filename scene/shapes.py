@@ -1,52 +1,53 @@
 """Shapes (chapters 5, 9, 12-16) as the scene format writes them.
 
 Reading a ``- add: ...`` mapping gives a ``ShapeSpec``: a checked, fully resolved description
-(names looked up, transforms multiplied, OBJ path found) that builds fresh shapes through the
-variant's API as often as it is added. ``- add: NAME`` starts from a defined shape: its keys
-override the definition's, and its transform is applied after the definition's.
+(names looked up, transforms multiplied, OBJ path found) of a shape, with nothing built: the
+scene description's entity (pbrt's ``ShapeSceneEntity``). ``scene.build`` makes the book's
+shapes of it through a variant's API, as often as it is added; a compiled or vectorized
+tracer packs it directly. ``- add: NAME`` starts from a defined shape: its keys override the
+definition's, and its transform is applied after the definition's.
 
-A material or ``shadow: false`` on a group, an OBJ model or a CSG applies to every shape
-inside it that does not set its own (the book's groups have no material of their own to show).
+The leaf kinds and their keys come from the kind table (``scene.kinds``); ``STRUCTURES`` are
+the shapes that hold others. A material or ``shadow: false`` on a group, an OBJ model or a
+CSG applies to every shape inside it that does not set its own (the book's groups have no
+material of their own to show).
 """
 
 from __future__ import annotations
 
 import dataclasses
-import inspect
 import math
-from collections.abc import Callable
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from yaml.nodes import MappingNode, Node
 
 from scene.context import Context
-from scene.materials import make_material, read_material
+from scene.kinds import ADDABLE, BY_NAME
+from scene.materials import read_material
+from scene.obj_mesh import Mesh, read_mesh
 from scene.reader import Entry, line_of
 from scene.transforms import read_transform, transform_problem
 
 COMMON_KEYS = ("add", "transform", "material", "shadow")
+STRUCTURES: dict[str, tuple[str, ...]] = {
+    "group": ("children",),
+    "obj": ("file",),
+    "csg": ("operation", "left", "right"),
+}
+"""The shapes that hold others (chapters 14, 15, 16) and their own keys."""
 KEYS: dict[str, tuple[str, ...]] = {
-    "sphere": COMMON_KEYS,
-    "plane": COMMON_KEYS,
-    "cube": COMMON_KEYS,
-    "cylinder": (*COMMON_KEYS, "min", "max", "closed"),
-    "cone": (*COMMON_KEYS, "min", "max", "closed"),
-    "group": (*COMMON_KEYS, "children"),
-    "obj": (*COMMON_KEYS, "file"),
-    "csg": (*COMMON_KEYS, "operation", "left", "right"),
+    **{k.name: (*COMMON_KEYS, *k.keys) for k in ADDABLE},
+    **{name: (*COMMON_KEYS, *own) for name, own in STRUCTURES.items()},
 }
 SHAPES = tuple(KEYS)
-# the book functions each kind of shape is built with
+# the book functions each kind of shape is built with (``scene.build``)
 FACTORIES: dict[str, tuple[str, ...]] = {
-    "sphere": ("sphere",),
-    "plane": ("plane",),
-    "cube": ("cube",),
-    "cylinder": ("cylinder",),
-    "cone": ("cone",),
+    **{k.name: (k.name,) for k in ADDABLE},
     "group": ("group", "add_child"),
-    "obj": ("parse_obj_file", "obj_to_group"),
+    "obj": ("group", "add_child", "triangle"),
     "csg": ("csg",),
 }
 OPERATIONS = ("union", "intersection", "difference")
@@ -58,10 +59,12 @@ class ShapeSpec:
 
     kind: one of ``SHAPES``; line: where it was added; label: how errors name it;
     transform: a matrix; material: book material properties; shadow: casts a shadow;
-    minimum, maximum, closed: cylinders and cones; children: a group's; obj_file: the OBJ
-    model's resolved path; operation, left, right: a CSG's; height: levels of shapes, itself
-    included (a sphere 1, a group of spheres 2); count: the shapes it builds, itself included
-    (an OBJ model counts 1 here, its triangles once it is parsed).
+    params: a leaf kind's parameters given (by the shape's attribute, ``scene.kinds``);
+    children: a group's; obj_file: the OBJ model's resolved path; mesh: its triangles
+    (``scene.obj_mesh``), read when the shape is added to the world; operation, left, right:
+    a CSG's; height: levels of shapes, itself included (a sphere 1, a group of spheres 2);
+    count: the shapes it builds, itself included (an OBJ model counts 1 here, its triangles
+    once it is read).
     """
 
     kind: str
@@ -70,16 +73,19 @@ class ShapeSpec:
     transform: Any = None
     material: dict[str, Any] | None = None
     shadow: bool | None = None
-    minimum: float | None = None
-    maximum: float | None = None
-    closed: bool | None = None
+    params: Mapping[str, Any] = field(default_factory=dict)
     children: tuple[ShapeSpec, ...] = ()
     obj_file: Path | None = None
+    mesh: Mesh | None = field(default=None, repr=False)
     operation: str | None = None
     left: ShapeSpec | None = None
     right: ShapeSpec | None = None
     height: int = 1
     count: int = 1
+
+    def parts(self) -> tuple[ShapeSpec, ...]:
+        """The shapes directly inside it: a group's children, a CSG's operands."""
+        return (*self.children, *(s for s in (self.left, self.right) if s is not None))
 
 
 def _start(ctx: Context, node: Node, add_node: Node) -> ShapeSpec:
@@ -103,7 +109,8 @@ def _start(ctx: Context, node: Node, add_node: Node) -> ShapeSpec:
     also = f", or a defined shape: {', '.join(defined)}" if defined else ""
     reader.fail(
         add_node,
-        f"unknown thing to add: {name!r}; known: camera, light, {', '.join(SHAPES)}{also}",
+        f"unknown thing to add: {name!r}; known: camera, light, area_light, "
+        f"{', '.join(SHAPES)}{also}",
     )
 
 
@@ -126,9 +133,8 @@ def _child(ctx: Context, node: Node, what: str) -> ShapeSpec:
 def _obj_path(ctx: Context, entry: Entry) -> Path:
     name = ctx.reader.string(entry.value, "file")
     path = (ctx.reader.path.parent / name).resolve()
-    from harness.make_meshes import provide  # a generated mesh is written when first needed
-
-    if not path.is_file() and not provide(path):
+    provide = ctx.provide_mesh  # a generated mesh is written when first needed
+    if not path.is_file() and not (provide is not None and provide(path)):
         ctx.reader.fail(
             entry.value,
             f"OBJ file not found: {path} ('{name}' is read relative to the scene file's folder)",
@@ -153,11 +159,9 @@ def read_shape(ctx: Context, node: Node) -> ShapeSpec:
             changes["material"] = read_material(ctx, value, what)
         elif key == "shadow":
             changes["shadow"] = reader.boolean(value, what)
-        elif key in ("min", "max"):
-            bound = reader.number(value, what, allow_infinity=True)
-            changes["minimum" if key == "min" else "maximum"] = bound
-        elif key == "closed":
-            changes["closed"] = reader.boolean(value, what)
+        elif spec.kind in BY_NAME and key in BY_NAME[spec.kind].keys:
+            changes.setdefault("params", dict(spec.params))
+            changes["params"].update(_parameter(ctx, spec.kind, key, value, what))
         elif key == "children":
             items = reader.sequence(value, what)
             changes["children"] = tuple(_child(ctx, item, f"{what} item") for item in items)
@@ -177,10 +181,19 @@ def read_shape(ctx: Context, node: Node) -> ShapeSpec:
     return _measured(ctx, spec, node)
 
 
+def _parameter(ctx: Context, kind: str, key: str, value: Node, what: str) -> dict[str, Any]:
+    """One parameter of a leaf kind (``scene.kinds``), by the shape's attribute."""
+    parameter = next(p for p in BY_NAME[kind].parameters if p.key == key)
+    if parameter.boolean:
+        return {parameter.attribute: ctx.reader.boolean(value, what)}
+    number = ctx.reader.number(value, what, allow_infinity=parameter.infinite)
+    return {parameter.attribute: number}
+
+
 def _measured(ctx: Context, spec: ShapeSpec, node: Node) -> ShapeSpec:
     """``spec`` with its height and count; nesting or a count past the limits (through
     defined shapes added by name, which the YAML reader cannot see) is a ``SceneError``."""
-    inside = [c for c in (*spec.children, spec.left, spec.right) if c is not None]
+    inside = spec.parts()
     height = 1 + max((c.height for c in inside), default=0)
     count = 1 + sum(c.count for c in inside)
     limits = ctx.limits
@@ -203,8 +216,8 @@ def _measured(ctx: Context, spec: ShapeSpec, node: Node) -> ShapeSpec:
 def _check_bounds(ctx: Context, spec: ShapeSpec, node: Node, entries: dict[str, Entry]) -> None:
     """A cylinder's or cone's ``min`` (default -infinity) must not be above its ``max``
     (default infinity): such a shape has no side (the book's functions allow it)."""
-    low = -math.inf if spec.minimum is None else spec.minimum
-    high = math.inf if spec.maximum is None else spec.maximum
+    low = spec.params.get("minimum", -math.inf)
+    high = spec.params.get("maximum", math.inf)
     at = next((entries[k].value for k in ("min", "max") if k in entries), node)
     if low == math.inf or high == -math.inf:
         ctx.reader.fail(
@@ -234,119 +247,44 @@ def _check_complete(ctx: Context, spec: ShapeSpec, node: Node, entries: dict[str
         ctx.reader.fail(at, f"the transform of {spec.label} {problem}")
 
 
-@dataclass(frozen=True)
-class Inherited:
-    """What a group, OBJ model or CSG passes down to the shapes inside it."""
-
-    material: dict[str, Any] | None = None
-    shadow: bool = True
-
-
-def build_shape(ctx: Context, spec: ShapeSpec, inherited: Inherited = Inherited()) -> Any:
-    """A new shape (with new children) from ``spec``, through the variant's API."""
-    api = ctx.api
-    if ctx.progress is not None:
-        ctx.progress.advance()
-    material = spec.material if spec.material is not None else inherited.material
-    shadow = spec.shadow if spec.shadow is not None else inherited.shadow
-    passed = Inherited(material, shadow)
-    if spec.kind == "group":
-        shape = api["group"]()
-        for child in spec.children:
-            api["add_child"](shape, build_shape(ctx, child, passed))
-    elif spec.kind == "obj":
-        shape = _build_obj(ctx, spec)
-        _pass_down(ctx, shape, passed, spec)
-    elif spec.kind == "csg":
-        assert spec.left is not None and spec.right is not None
-        left, right = build_shape(ctx, spec.left, passed), build_shape(ctx, spec.right, passed)
-        shape = api["csg"](spec.operation, left, right)
-    else:
-        shape = api[spec.kind]()
-        for name in ("minimum", "maximum", "closed"):
-            if getattr(spec, name) is not None:
-                setattr(shape, name, getattr(spec, name))
-    _finish(ctx, shape, spec.transform, material, shadow, spec)
-    return shape
+def with_meshes(ctx: Context, spec: ShapeSpec) -> ShapeSpec:
+    """``spec`` (a shape being added to the world) with every OBJ model inside it read
+    (``scene.obj_mesh``, each file once) and its triangles counted against the limits: each
+    copy counts."""
+    if spec.kind == "obj":
+        return dataclasses.replace(spec, mesh=_mesh(ctx, spec))
+    parts = spec.parts()
+    if not parts:
+        return spec
+    children = tuple(with_meshes(ctx, child) for child in spec.children)
+    left = with_meshes(ctx, spec.left) if spec.left is not None else None
+    right = with_meshes(ctx, spec.right) if spec.right is not None else None
+    return dataclasses.replace(spec, children=children, left=left, right=right)
 
 
-def _finish(
-    ctx: Context, shape: Any, transform: Any, material: dict[str, Any] | None, shadow: bool,
-    spec: ShapeSpec,
-) -> None:  # fmt: skip
-    if transform is not None:
-        try:
-            ctx.api["set_transform"](shape, transform)
-        except ValueError as error:  # already checked; a variant may be stricter
-            ctx.reader.fail(spec.line, f"{spec.label}: {error}")
-    if material is not None:
-        shape.material = make_material(ctx, material)
-    if not shadow:
-        shape.casts_shadow = False
-
-
-def _pass_down(ctx: Context, group: Any, inherited: Inherited, spec: ShapeSpec) -> None:
-    """Give every shape inside an OBJ model's group the model's material (one material
-    value, made once, shared by every triangle) and shadow."""
-    made = None if inherited.material is None else make_material(ctx, inherited.material)
-    stack = list(getattr(group, "children", ()))
-    while stack:
-        child = stack.pop()
-        if made is not None:
-            child.material = made
-        if not inherited.shadow:
-            child.casts_shadow = False
-        stack.extend(getattr(child, "children", ()))
-
-
-def _build_obj(ctx: Context, spec: ShapeSpec) -> Any:
-    """Chapter 15: the OBJ model's triangles in a group (``parse_obj_file``, ``obj_to_group``)."""
-    assert spec.obj_file is not None
+def _mesh(ctx: Context, spec: ShapeSpec) -> Mesh:
+    """Chapter 15: the OBJ model's triangles, read once per file; a broken file is one
+    error naming the model's line and the file's."""
+    path = spec.obj_file
+    assert path is not None
+    known: Mesh | None = ctx.meshes.get(path)
+    if known is not None:  # read before: count its triangles again for this copy
+        ctx.count_shapes(known.count, spec.line, f"the {known.count:,} triangles of {spec.label}")
+        return known
     try:
-        text = spec.obj_file.read_text(encoding="utf-8", errors="replace")
+        data = path.read_bytes()
     except OSError as error:
-        ctx.reader.fail(
-            spec.line, f"{spec.label}: cannot read OBJ file {spec.obj_file}: {error.strerror}"
-        )
-    known = ctx.triangles.get(spec.obj_file)
-    if known is not None:  # parsed before: count its triangles before parsing it again
-        ctx.count_shapes(known, spec.line, f"the {known:,} triangles of {spec.label}")
-    api = ctx.api
-    parse, to_group = api["parse_obj_file"], api["obj_to_group"]
-    factories = {
-        "make_triangle": api.get("triangle"),
-        "make_smooth_triangle": api.get("smooth_triangle"),
-        "make_group": api.get("group"),
-        "source": str(spec.obj_file),
-        "require_faces": True,  # a model without a face would draw nothing
-    }
+        ctx.reader.fail(spec.line, f"{spec.label}: cannot read OBJ file {path}: {error.strerror}")
     try:
-        parser = parse(text, **_accepted(parse, factories))
+        mesh = read_mesh(data, str(path))
     except ValueError as error:
         ctx.reader.fail(spec.line, f"the OBJ file of {spec.label} is broken: {error}")
-    if known is None:
-        triangles = int(getattr(parser, "triangles", 0))
-        ctx.triangles[spec.obj_file] = triangles
-        ctx.count_shapes(triangles, spec.line, f"the {triangles:,} triangles of {spec.label}")
-    skipped = getattr(parser, "degenerate_triangles", 0)
-    if skipped:
-        first = getattr(parser, "first_degenerate_line", 0)
+    ctx.meshes[path] = mesh
+    ctx.count_shapes(mesh.count, spec.line, f"the {mesh.count:,} triangles of {spec.label}")
+    if mesh.degenerate:
+        plural = "s" if mesh.degenerate > 1 else ""
         ctx.notes.append(
-            f"{spec.obj_file}: {skipped} degenerate triangle{'s' if skipped > 1 else ''} "
-            f"(zero area) skipped, the first at line {first}"
+            f"{path}: {mesh.degenerate} degenerate triangle{plural} (zero area) skipped, the "
+            f"first at line {mesh.first_degenerate_line}"
         )
-    return to_group(parser, **_accepted(to_group, {"make_group": api.get("group")}))
-
-
-def _accepted(function: Callable[..., Any], keywords: dict[str, Any]) -> dict[str, Any]:
-    """The keywords (a variant's own shape factories) that ``function`` takes."""
-    try:
-        parameters = inspect.signature(function).parameters
-    except (TypeError, ValueError):
-        return {}
-    takes_any = any(p.kind is inspect.Parameter.VAR_KEYWORD for p in parameters.values())
-    return {
-        name: value
-        for name, value in keywords.items()
-        if value is not None and (takes_any or name in parameters)
-    }
+    return mesh

@@ -453,10 +453,10 @@ def test_the_loader_reads_an_area_light(tmp_path: Path) -> None:
     )
     assert light.uvec == vector(0.5, 0, 0) and light.position == point(0, 4, 0)
     assert scene.light_line == 8 and scene.warnings == ()
-    assert scene.notes == (
+    assert scene.notes == [
         "area light at line 8: 4x2 = 8 cells, 8 shadow rays per shaded point, jittered at "
         "random per pixel sample",
-    )
+    ]
     plain = load(tmp_path, AREA).world.lights[0]
     assert plain.jitter is False and plain.jitter_by == sequence(0.5)
 

@@ -19,7 +19,8 @@ from raytracer.shapes.shape import Shape
 from raytracer.tolerance import EPSILON
 from raytracer.tuples import Tuple
 from rtc.scaffold import stub_source
-from scene.loader import DIVIDE_THRESHOLD, divide_groups, load_scene_text
+from scene.build import DIVIDE_THRESHOLD, divide_groups
+from scene.loader import load_scene_text
 from variants.cached import CACHED_CLASSES, CachedComposite
 from variants.prealloc.context import TraceContext
 from variants.prealloc.shapes import GroupRecord, box_buffer, meets_box
@@ -490,42 +491,43 @@ def _row_of_spheres(count: int) -> str:
     )
 
 
-def test_the_loader_divides_top_level_groups_and_notes_it() -> None:
+def test_the_python_tracers_divide_top_level_groups_and_note_it() -> None:
     # ten spheres from x = -1 to 28: cut at 13.5 into two subgroups of five (< 8 each)
     scene = load_scene_text(_row_of_spheres(10), APIS["cached"], variant="cached")
     assert DIVIDE_THRESHOLD == 8
-    assert scene.notes == (
+    world = load_variant("cached").world_for(scene)
+    assert scene.notes == [
         "divide (threshold 8) on 1 top-level group, OBJ model or CSG shape: 2 subgroups made "
         "(groups: 1 before, 3 after)",
-    )
-    group = scene.world.objects[1]
+    ]
+    group = world.objects[1]
     assert [len(sub.children) for sub in group.children] == [5, 5]
     assert scene.resized(4, 3).notes == scene.notes
+    assert len(scene.world.objects[1].children) == 10  # the book's world as the file has it
 
 
-def test_the_loader_notes_when_there_is_nothing_to_divide() -> None:
+def test_the_python_tracers_note_when_there_is_nothing_to_divide() -> None:
     small = load_scene_text(_row_of_spheres(7), APIS["naive"], variant="naive")
-    assert small.notes == (
+    world = load_variant("naive").world_for(small)
+    assert small.notes == [
         "divide (threshold 8) on 1 top-level group, OBJ model or CSG shape: no group had 8 "
         "children or more; nothing to divide",
-    )
-    assert len(small.world.objects[1].children) == 7
-    assert divide_groups([rt.sphere()], APIS["naive"], "naive") == ()  # no group at all
-    without = {name: value for name, value in APIS["naive"].items() if name != "divide"}
-    assert divide_groups([rt.group()], without, "mine") == (
+    ]
+    assert len(world.objects[1].children) == 7
+    assert divide_groups([rt.sphere()], APIS["naive"]["divide"], "naive") == ()  # no group
+    assert divide_groups([rt.group()], None, "mine") == (
         "groups not divided: 'mine' has no divide() (the bonus chapter)",
     )
 
 
 @pytest.mark.parametrize("variant", list(APIS))
-def test_dividing_on_load_never_changes_the_picture(variant: str) -> None:
+def test_dividing_never_changes_the_picture(variant: str) -> None:
     api = APIS[variant]
-    divided = load_scene_text(_row_of_spheres(12), api, variant=variant)
-    whole = load_scene_text(_row_of_spheres(12), api, variant=variant, divide=False)
-    assert len(whole.world.objects[1].children) == 12 and whole.notes == ()
-    assert len(divided.world.objects[1].children) < 12
-    images = [
-        rt.canvas_to_rgb8(api["render"](scene.camera, scene.world)) for scene in (whole, divided)
-    ]
+    scene = load_scene_text(_row_of_spheres(12), api, variant=variant)
+    whole = scene.book_world()
+    assert len(whole.objects[1].children) == 12 and scene.notes == []
+    divided = scene.book_world(divide=True)
+    assert len(divided.objects[1].children) < 12
+    images = [rt.canvas_to_rgb8(api["render"](scene.camera, w)) for w in (whole, divided)]
     assert images[0] == images[1]
     assert len(set(images[0])) > 2  # not a blank picture

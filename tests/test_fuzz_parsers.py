@@ -120,14 +120,15 @@ def load_or_clear_error(text: str, path: Path, limits: Limits | None = None,
                         divide: bool = False) -> Any:  # fmt: skip
     """The loaded scene (checked against ``limits``), or None after a clear ``SceneError``."""
     try:
-        scene = load_scene_text(text, API, path=path, limits=limits, divide=divide, progress=False)
+        scene = load_scene_text(text, API, path=path, limits=limits, progress=False)
+        world = scene.book_world(divide=divide)
     except SceneError as error:
         one_line(error, str(path))
         event("clear error")
         return None
     event("parsed")
     if limits is not None and not divide:
-        totals = [_shapes_and_depth(shape) for shape in scene.world.objects]
+        totals = [_shapes_and_depth(shape) for shape in world.objects]
         assert sum(count for count, _ in totals) <= limits.max_shapes
         assert max((depth for _, depth in totals), default=0) <= limits.max_depth
     return scene

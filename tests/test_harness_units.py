@@ -118,9 +118,7 @@ def test_variant_lists_split_on_commas_outside_brackets():
 
 def test_rays_of_the_reference_are_counted_by_kind():
     naive = load_variant("naive")
-    camera, world = build_scene(
-        SceneRef(BUILTIN_DEFAULT_WORLD, None), naive.api, "naive", Size(8, 6)
-    )
+    camera, world = build_scene(SceneRef(BUILTIN_DEFAULT_WORLD, None), naive, Size(8, 6))
     counted = count_rays(naive, camera, world, RenderSettings(samples=2))
     assert counted is not None
     assert counted["camera"] == 8 * 6 * 2
@@ -134,9 +132,7 @@ def test_cached_and_robust_cast_the_rays_naive_casts_and_nothing_global_changes(
     counts = {}
     for name in ("naive", "cached", "robust"):
         variant = load_variant(name)
-        camera, world = build_scene(
-            SceneRef(BUILTIN_DEFAULT_WORLD, None), variant.api, name, Size(6, 4)
-        )
+        camera, world = build_scene(SceneRef(BUILTIN_DEFAULT_WORLD, None), variant, Size(6, 4))
         counted = count_rays(variant, camera, world, RenderSettings())
         assert counted is not None
         counts[name] = {kind: counted[kind] for kind in ("camera", "shadow", "secondary")}

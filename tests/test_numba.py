@@ -224,7 +224,7 @@ def _world_with(shape: Any) -> Any:
 
 def test_an_unknown_shape_is_refused_naming_it() -> None:
     api = load_variant("numba").api
-    with pytest.raises(PackError, match=r"world object 2 \(a OddSphere\).*changes how a Sphere"):
+    with pytest.raises(PackError, match=r"world object 2 \(an OddSphere\).*changes how a Sphere"):
         api["render"](api["camera"](4, 4, 1.0), _world_with(OddSphere()))
 
 

@@ -23,6 +23,7 @@ from raytracer.camera import RenderSettings
 from raytracer.materials import material
 from raytracer.matrices import Matrix
 from scene import load_scene
+from variants import flatten
 from variants.numba import bvh, bvh_kernel, specialize
 from variants.numba import layout as L
 from variants.numba import pack as numba_pack
@@ -190,10 +191,15 @@ def test_the_scenes_use_what_they_should() -> None:
 
 
 def _world_box(shape: Any) -> np.ndarray:
-    """A leaf shape's world-space box from its corners (through every parent)."""
-    kind = numba_pack.shape_kind(shape, "a shape")
-    points = numba_pack._local_bounds(shape, kind)
-    assert points is not None
+    """A leaf shape's world-space box from its corners (through every parent): a
+    triangle's three, any other shape's box's eight (the reference's ``local_bounds``)."""
+    if hasattr(shape, "p1"):
+        points = [(p.x, p.y, p.z) for p in (shape.p1, shape.p2, shape.p3)]
+    else:
+        box = shape.local_bounds()
+        lo, hi = box.min, box.max
+        points = [(x, y, z) for x in (lo.x, hi.x) for y in (lo.y, hi.y) for z in (lo.z, hi.z)]
+    assert all(math.isfinite(v) for p in points for v in p)
     inv = np.array(world_inverse(shape).rows, dtype=np.float64)
     fwd = np.linalg.inv(inv)
     corners = np.array([fwd @ np.array([*p, 1.0]) for p in points])[:, :3]
@@ -322,7 +328,7 @@ def test_a_mesh_packs_to_the_same_rows_one_at_a_time_and_at_once(
         api["set_transform"](mesh.children[7], api["translation"](0, 0.1, 0))  # not plain
         w.objects.append(mesh)
     fast = pack_world(w, structure="off")
-    monkeypatch.setattr(numba_pack, "FAST_TRIANGLES", {})
+    monkeypatch.setattr(flatten, "_triangle_kind", lambda shape: None)  # every one alone
     slow = pack_world(w, structure="off")
     assert [id(s) for s in fast.shapes] == [id(s) for s in slow.shapes]
     assert np.array_equal(fast.pi, slow.pi)
@@ -446,12 +452,15 @@ def test_the_book_api_answers_alike_through_every_structure() -> None:
 
 
 def test_the_matrix_helpers_agree() -> None:
-    """``_apply_array`` adds its terms as ``_apply`` does."""
+    """``flatten.apply`` adds its terms as Python adds them, one point at a time."""
     m = Matrix([[1.5, 0.2, -0.3, 4.0], [0.1, 2.0, 0.7, -1.0], [0.0, -0.4, 0.9, 0.5], [0, 0, 0, 1]])
     points = np.array([[[0.1, 0.2, 0.3], [1.0, -2.0, 3.5], [1e3, 1e-3, -7.0]]])
-    got = numba_pack._apply_array(m, points)
+    got = flatten.apply(m, points)
+    r = m.rows
     for k in range(3):
-        assert tuple(got[0, k]) == numba_pack._apply(m, *points[0, k])
+        x, y, z = (float(v) for v in points[0, k])
+        expected = tuple(r[j][0] * x + r[j][1] * y + r[j][2] * z + r[j][3] for j in range(3))
+        assert tuple(got[0, k]) == expected
 
 
 # ------------------------------------------------------------- where the builder comes from

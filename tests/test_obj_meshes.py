@@ -204,14 +204,25 @@ def _leaves(shape: object) -> int:
     return 1 if children is None else sum(_leaves(child) for child in children)
 
 
-def test_a_scene_naming_a_generated_mesh_gets_it_written_when_missing(tmp_path: Path) -> None:
+def test_a_scene_naming_a_generated_mesh_gets_it_written_when_missing(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(make_meshes, "GENERATED", tmp_path / "meshes")  # the project's, here
     scene = tmp_path / "scene.yml"
     scene.write_text(SCENE.format(name="ring-1k.obj"), encoding="utf-8")
-    loaded = load_scene(scene, load_variant("naive").api)
+    loaded = load_scene(scene, load_variant("naive").api, provide_mesh=provide)
     assert (tmp_path / "meshes" / "ring-1k.obj").is_file()
-    (model,) = loaded.world.objects
-    assert _leaves(model) == 1_000  # however the loader divided the groups
+    (model,) = load_variant("naive").world_for(loaded).objects
+    assert _leaves(model) == 1_000  # however the tracer divided the groups
     assert loaded.obj_files == ((tmp_path / "meshes" / "ring-1k.obj").resolve(),)
+
+
+def test_a_generated_mesh_is_written_only_into_the_projects_mesh_folder(tmp_path: Path) -> None:
+    scene = tmp_path / "scene.yml"
+    scene.write_text(SCENE.format(name="ring-1k.obj"), encoding="utf-8")
+    with pytest.raises(SceneError, match=r"scene.yml:12: OBJ file not found: .*ring-1k\.obj"):
+        load_scene(scene, load_variant("naive").api, provide_mesh=provide)
+    assert not (tmp_path / "meshes").exists()
 
 
 def test_a_scene_naming_another_missing_file_is_still_an_error(tmp_path: Path) -> None:

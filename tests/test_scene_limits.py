@@ -56,7 +56,7 @@ def _default_limits(monkeypatch: pytest.MonkeyPatch) -> None:
 
 def load(api: Mapping[str, Any], body: str, tmp_path: Path | None = None, **options: Any) -> Any:
     path = (tmp_path or Path("/nowhere")) / "scene.yml"
-    return load_scene_text(HEADER + dedent(body), api, path=path, divide=False, **options)
+    return load_scene_text(HEADER + dedent(body), api, path=path, **options)
 
 
 def error(api: Mapping[str, Any], body: str, tmp_path: Path | None = None, **options: Any) -> str:
@@ -238,12 +238,15 @@ def test_a_slow_load_shows_its_phases_on_stderr(
     api: Any, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
     monkeypatch.setattr(progress_module, "DELAY", 0.0)  # every load is "slow"
-    load_scene_text(HEADER + "- add: group\n  children:\n" + "    - add: sphere\n" * 3000, api,
-                    path="big.yml", progress=True)  # fmt: skip
+    scene = load_scene_text(HEADER + "- add: group\n  children:\n" + "    - add: sphere\n" * 3000,
+                            api, path="big.yml", progress=True)  # fmt: skip
+    scene.book_world(divide=True, progress=True)
     out, err = capsys.readouterr()
     assert out == ""
-    for phase in ("reading YAML", "building shapes", "dividing groups"):
+    for phase in ("reading YAML", "reading shapes"):
         assert f"loading big.yml: {phase}" in err
+    for phase in ("building shapes", "dividing groups"):
+        assert f"building big.yml: {phase}" in err
 
 
 def test_a_fast_load_shows_nothing(api: Any, capsys: pytest.CaptureFixture[str]) -> None:

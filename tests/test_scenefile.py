@@ -86,7 +86,7 @@ def test_resizing_keeps_the_field_of_view_and_the_view(tmp_path: Path, api: Any)
     bigger = scene.resized(160, 80)
     assert (bigger.camera.hsize, bigger.camera.vsize) == (160, 80)
     assert bigger.camera.field_of_view == 0.8 and bigger.camera.transform == scene.camera.transform
-    assert bigger.world is scene.world and scene.camera.hsize == 40
+    assert bigger.objects is scene.objects and scene.camera.hsize == 40  # nothing read again
 
 
 @pytest.mark.parametrize(
@@ -453,7 +453,7 @@ def test_an_unknown_thing_to_add_lists_the_known_ones(tmp_path: Path, api: Any) 
     message = error(tmp_path, api, "- add: sphere\n- add: spere\n")
     assert message == (
         f"{tmp_path / 'scene.yml'}:12: unknown thing to add: 'spere'; known: camera, light, "
-        "sphere, plane, cube, cylinder, cone, group, obj, csg"
+        "area_light, sphere, plane, cube, cylinder, cone, group, obj, csg"
     )
 
 

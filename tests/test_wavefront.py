@@ -33,7 +33,6 @@ from raytracer.shapes.shape import intersect
 from raytracer.shapes.sphere import Sphere
 from raytracer.tracer import TRACER
 from scene import load_scene
-from scene.loader import divides
 from variants.registry import VariantError, load_variant
 from variants.wavefront import hits as H
 from variants.wavefront.camera import camera_rays, lens, sample_offsets
@@ -60,10 +59,9 @@ def _pixels(name: str, build: Any, settings: RenderSettings | None = None) -> np
 
 def scene_file(name: str, width: int, height: int) -> Any:
     def build(variant: Any) -> tuple[Any, Any]:
-        scene = load_scene(
-            SCENES / name, variant.api, variant=variant.name, divide=divides(variant)
-        ).resized(width, height)
-        return scene.camera, scene.world
+        scene = load_scene(SCENES / name, variant.api, variant=variant.name)
+        scene = scene.resized(width, height)
+        return scene.camera, variant.world_for(scene)
 
     return build
 

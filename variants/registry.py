@@ -90,6 +90,17 @@ class Variant:
     tolerance: float = 0.0
     differences: Mapping[str, str] = field(default_factory=dict, compare=False)
 
+    def world_for(self, scene: Any) -> Any:
+        """What this variant renders a loaded scene file on (``Tracer.world_for``); for a
+        variant without a tracer (a learner's), the book's world through its API, divided
+        with its ``divide`` once it has written one."""
+        if self.tracer is not None:
+            return self.tracer.world_for(scene)
+        from variants.learner import is_stub
+
+        divide = self.api.get("divide")
+        return scene.book_world(divide=None if divide is None or is_stub(divide) else divide)
+
 
 def tracer_variant(
     name: str,

@@ -34,11 +34,6 @@ class Wrapper(Tracer):
         super().__init__()
         self.inner = inner
 
-    @property
-    def builds_hierarchy(self) -> bool:  # type: ignore[override]
-        """The inner tracer's."""
-        return self.inner.builds_hierarchy
-
 
 for _name in FORWARDED:
     setattr(Wrapper, _name, _forward(_name))

@@ -47,6 +47,7 @@ from variants.numba.lights import light_rows, move_on
 from variants.numba.pack import (
     Packed,
     pack_camera,
+    pack_scene,
     pack_shapes,
     pack_surface,
     pack_world,
@@ -133,11 +134,16 @@ class NumbaTracer(Tracer):
         self.dtype = options.dtype
         self._kernels: ModuleType | None = None
 
-    @property
-    def builds_hierarchy(self) -> bool:  # type: ignore[override]
-        """True unless ``bvh=groups``: the packer flattens every group (``sah``: into its
-        own hierarchy; ``off``: a flat loop), so the scene loader need not divide them."""
-        return self.options.bvh != "groups"
+    def world_for(self, scene: Any) -> Packed:
+        """The scene packed straight from its description (``pack_scene``): no book shape
+        is built, an OBJ model's triangles go from its arrays to the tables. With
+        ``bvh=groups`` the book's world is built and divided first (its groups' boxes are
+        the hierarchy); else every group is flattened (``sah``: into a hierarchy of its
+        own; ``off``: a flat loop)."""
+        if self.options.bvh == "groups":
+            world = scene.book_world(divide=True)
+            return pack_world(world, self.dtype, structure="groups")
+        return pack_scene(scene, self.dtype, structure=self.options.bvh)
 
     @property
     def k(self) -> ModuleType:

@@ -1,23 +1,21 @@
 """Packing a world, a shape or a camera into the flat arrays the kernels read (``layout``).
 
-A world is packed once per render: every leaf shape becomes one row of ``pf``/``pi`` with
-its transform composed through its groups and CSG parents (chapter 14), its material and
-its pattern (chapters 6, 10, 11) and its own parameters (chapters 12, 13, 15); CSG trees
+A world is packed once per render, from the tree ``variants.flatten`` makes of it (of a scene
+description, with no book shape built, or of the book's shapes for the book's API): every
+leaf becomes one row of ``pf``/``pi`` with its composed transform (chapter 14), its material
+and pattern (chapters 6, 10, 11) and its own parameters (chapters 12, 13, 15); CSG trees
 become a range of rows plus their operations in post-order (chapter 16). How the items are
-arranged is the ``bvh`` option (``variants.numba.bvh``): by default the groups are
-flattened and a bounding-volume hierarchy is built over the items with a box (``sah``);
-``groups`` keeps each group's box as an item the ray can skip (chapter 14); ``off`` none.
-Every light is packed (one row each).
+arranged is the ``bvh`` option (``variants.numba.bvh``): by default the groups are flattened
+and a bounding-volume hierarchy is built over the items with a box (``sah``); ``groups``
+keeps each group's box as an item the ray can skip (chapter 14); ``off`` none. Every light
+is packed (one row each).
 
-A group's run of plain triangles (a mesh: ``Triangle`` or ``SmoothTriangle`` with no
-transform of their own) is packed at once with numpy (``add_triangles``): the rows
-``leaf_row`` would make one at a time, about ten times faster (a million triangles in
-seconds, not a minute).
+A run of triangles (an OBJ model's group, a group's run of the book's triangles) is packed
+at once with numpy (``_Packer.triangles``): a million triangles in a fraction of a second.
 
-Only the reference's own shape and pattern classes are packed (or subclasses that do not
-change how they intersect, shade or color); anything else is refused with a ``PackError``
-naming the object, never approximated. Inverses are the reference's ``inverse`` (cofactor
-expansion), so the kernels start from the very numbers the reference uses.
+Only what the kernels know is packed: the kinds of ``scene.kinds`` (the test shape for the
+book's API only) and the reference's pattern classes; anything else is refused with a
+``PackError`` naming the object, never approximated.
 
 Two precomputed values let the kernels take shortcuts (see their docstrings for the
 effect on the picture):
@@ -32,9 +30,8 @@ effect on the picture):
 
 from __future__ import annotations
 
-import itertools
+import dataclasses
 import math
-import operator
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
@@ -46,7 +43,7 @@ from raytracer.camera import Camera
 from raytracer.colors import Color
 from raytracer.lights import Light
 from raytracer.materials import Material
-from raytracer.matrices import Matrix, identity_matrix, inverse
+from raytracer.matrices import Matrix, identity_matrix
 from raytracer.patterns import (
     CheckersPattern,
     GradientPattern,
@@ -55,36 +52,17 @@ from raytracer.patterns import (
     StripePattern,
     TestPattern,
 )
-from raytracer.shapes.cone import Cone
-from raytracer.shapes.csg import CSG
-from raytracer.shapes.cube import Cube
-from raytracer.shapes.cylinder import Cylinder
-from raytracer.shapes.group import Group
-from raytracer.shapes.plane import Plane
 from raytracer.shapes.shape import Shape
-from raytracer.shapes.smooth_triangle import SmoothTriangle
 from raytracer.shapes.sphere import Sphere
-from raytracer.shapes.test_shape import TestShape
-from raytracer.shapes.triangle import Triangle
 from raytracer.tuples import Tuple
 from raytracer.world import World
-from variants.kinds import PATTERN_METHODS, SHAPE_METHODS, reference_kind, unchanged
+from scene.kinds import BY_NAME, KINDS, reference_kind
+from variants import flatten as F
 from variants.numba import layout as L
 from variants.numba.bvh import BALLS_MAX, DEFAULT, STRUCTURES, Hierarchy, build_tree
 from variants.numba.lights import light_rows
 from variants.numba.textures import TextureTable, texture_kind
 
-# leaf classes, most derived first (a smooth triangle is a triangle)
-SHAPE_KINDS: tuple[tuple[type[Shape], int], ...] = (
-    (SmoothTriangle, L.K_SMOOTH_TRIANGLE),
-    (Triangle, L.K_TRIANGLE),
-    (Sphere, L.K_SPHERE),
-    (Plane, L.K_PLANE),
-    (Cube, L.K_CUBE),
-    (Cylinder, L.K_CYLINDER),
-    (Cone, L.K_CONE),
-    (TestShape, L.K_TEST),
-)
 PATTERN_KINDS: tuple[tuple[type[Pattern], int], ...] = (
     (StripePattern, L.P_STRIPE),
     (GradientPattern, L.P_GRADIENT),
@@ -92,16 +70,7 @@ PATTERN_KINDS: tuple[tuple[type[Pattern], int], ...] = (
     (CheckersPattern, L.P_CHECKERS),
     (TestPattern, L.P_TEST),
 )
-KIND_NAMES = {
-    L.K_SPHERE: "sphere",
-    L.K_PLANE: "plane",
-    L.K_CUBE: "cube",
-    L.K_CYLINDER: "cylinder",
-    L.K_CONE: "cone",
-    L.K_TRIANGLE: "triangle",
-    L.K_SMOOTH_TRIANGLE: "smooth_triangle",
-    L.K_TEST: "test_shape",
-}
+KIND_NAMES = {kind.number: kind.name for kind in KINDS}
 PATTERN_NAMES = {
     L.P_STRIPE: "stripe",
     L.P_GRADIENT: "gradient",
@@ -111,42 +80,38 @@ PATTERN_NAMES = {
     L.P_MAP: "texture_map",
     L.P_CUBE_MAP: "cube_map",
 }
-# how many intersections one primitive can give at most
-MAX_HITS = {
-    L.K_SPHERE: 2,
-    L.K_PLANE: 1,
-    L.K_CUBE: 2,
-    L.K_CYLINDER: 4,
-    L.K_CONE: 4,
-    L.K_TRIANGLE: 1,
-    L.K_SMOOTH_TRIANGLE: 1,
-    L.K_TEST: 0,
-}
 OPERATIONS = {"union": L.OP_UNION, "intersection": L.OP_INTERSECTION, "difference": L.OP_DIFFERENCE}
-UNBOUNDED = None
-
-Box = tuple[tuple[float, float, float], tuple[float, float, float]] | None
+TEST_SHAPE = BY_NAME["test_shape"]
 
 
 class PackError(ValueError):
     """Something the numba kernels cannot compile; the message names the object."""
 
 
-def shape_kind(shape: Shape, where: str) -> int:
-    """The kernel kind of a leaf shape; a ``PackError`` for anything the kernels do not know."""
-    kind, changed = reference_kind(shape, SHAPE_KINDS, SHAPE_METHODS)
-    if kind is not None:
-        return kind
-    if changed is not None:
-        raise PackError(
-            f"numba: cannot compile {where}, a {type(shape).__name__}: it changes how a "
-            f"{changed.__name__} intersects or computes normals, and the kernels only know "
-            "the reference's"
+def _refusal(error: F.FlattenError) -> PackError:
+    """A flattening error in the kernels' words."""
+    if isinstance(error, F.UnknownShape):
+        if error.changed is not None:
+            return PackError(
+                f"numba: cannot compile {error.where}, a {type(error.shape).__name__}: it "
+                f"changes how a {error.changed.__name__} intersects or computes normals, and "
+                "the kernels only know the reference's"
+            )
+        known = ", ".join(k.name for k in KINDS) + ", group, csg"
+        return PackError(
+            f"numba: cannot compile {error.where}, a {type(error.shape).__name__}: the "
+            f"kernels know {known}"
         )
-    known = ", ".join(sorted(KIND_NAMES.values())) + ", group, csg"
-    raise PackError(
-        f"numba: cannot compile {where}, a {type(shape).__name__}: the kernels know {known}"
-    )
+    return PackError(f"numba: {error}")
+
+
+def shape_kind(shape: Shape, where: str) -> int:
+    """The kernel kind of a leaf shape (its number in ``scene.kinds``); a ``PackError``
+    for anything the kernels do not know."""
+    kind, changed = reference_kind(shape)
+    if kind is None:
+        raise _refusal(F.UnknownShape(where, shape, changed))
+    return kind.number
 
 
 def pattern_kind(pattern: Pattern, where: str) -> int:
@@ -154,7 +119,7 @@ def pattern_kind(pattern: Pattern, where: str) -> int:
     texture = texture_kind(pattern)
     if texture is not None:
         return texture
-    kind, _ = reference_kind(pattern, PATTERN_KINDS, PATTERN_METHODS)
+    kind = F.pattern_kind(pattern, PATTERN_KINDS)
     if kind is not None:
         return kind
     known = ", ".join(PATTERN_NAMES.values())
@@ -164,36 +129,12 @@ def pattern_kind(pattern: Pattern, where: str) -> int:
     )
 
 
-def _affine(m: Matrix, what: str) -> Matrix:
-    """``m`` if it is a 4x4 affine matrix (bottom row 0 0 0 1), else a ``PackError``."""
-    if not isinstance(m, Matrix) or m.size != 4:
-        raise PackError(f"numba: {what} is not a 4x4 matrix")
-    if tuple(m.rows[3]) != (0.0, 0.0, 0.0, 1.0):
-        raise PackError(
-            f"numba: {what} is not affine (its bottom row is {list(m.rows[3])}, not "
-            "[0, 0, 0, 1]); the kernels only apply affine transforms"
-        )
-    return m
-
-
 def _inverse(m: Matrix, what: str) -> Matrix:
     """The reference's inverse of an affine ``m``; a ``PackError`` when it has none."""
-    _affine(m, what)
-    if m == identity_matrix:
-        return identity_matrix
     try:
-        return inverse(m)
-    except ValueError:
-        raise PackError(f"numba: {what} is not invertible (determinant 0)") from None
-
-
-def _compose(a: Matrix, b: Matrix) -> Matrix:
-    """``a * b``, skipping identities (so a shape outside groups keeps its exact inverse)."""
-    if b is identity_matrix or b == identity_matrix:
-        return a
-    if a is identity_matrix or a == identity_matrix:
-        return b
-    return a * b
+        return F.inverse_affine(m, what)
+    except F.FlattenError as error:
+        raise _refusal(error) from None
 
 
 SPECULAR_CUTOFF = 1e-9  # the specular factor below which the kernels leave the term out
@@ -248,64 +189,6 @@ def _rgb(c: Color) -> list[float]:
     return [float(c.red), float(c.green), float(c.blue)]
 
 
-def _box_of_points(points: list[tuple[float, float, float]]) -> Box:
-    if any(not math.isfinite(v) for p in points for v in p):
-        return UNBOUNDED
-    lo = tuple(min(p[k] for p in points) for k in range(3))
-    hi = tuple(max(p[k] for p in points) for k in range(3))
-    pad = [1e-9 * (1.0 + abs(lo[k]) + abs(hi[k])) for k in range(3)]
-    return (
-        (lo[0] - pad[0], lo[1] - pad[1], lo[2] - pad[2]),
-        (hi[0] + pad[0], hi[1] + pad[1], hi[2] + pad[2]),
-    )
-
-
-def _apply(m: Matrix, x: float, y: float, z: float) -> tuple[float, float, float]:
-    r = m.rows
-    return (
-        r[0][0] * x + r[0][1] * y + r[0][2] * z + r[0][3],
-        r[1][0] * x + r[1][1] * y + r[1][2] * z + r[1][3],
-        r[2][0] * x + r[2][1] * y + r[2][2] * z + r[2][3],
-    )
-
-
-def _union(boxes: list[Box]) -> Box:
-    if not boxes or any(b is None for b in boxes):
-        return UNBOUNDED
-    real = [b for b in boxes if b is not None]
-    return (
-        (
-            min(b[0][0] for b in real),
-            min(b[0][1] for b in real),
-            min(b[0][2] for b in real),
-        ),
-        (
-            max(b[1][0] for b in real),
-            max(b[1][1] for b in real),
-            max(b[1][2] for b in real),
-        ),
-    )
-
-
-def _bounding_sphere(shape: Shape, kind: int, fwd: Matrix | None) -> list[float]:
-    """A world-space sphere (centre, radius) that holds the shape; radius inf when it is
-    unbounded (planes, infinite cylinders and cones) or its transform is unknown."""
-    none = [0.0, 0.0, 0.0, math.inf]
-    points = _local_bounds(shape, kind)
-    if points is None or fwd is None:
-        return none
-    lo = [min(p[k] for p in points) for k in range(3)]
-    hi = [max(p[k] for p in points) for k in range(3)]
-    centre = [(lo[k] + hi[k]) / 2 for k in range(3)]
-    # a sphere lies in its unit ball, not only in the corners' hull
-    radius = 1.0 if kind == L.K_SPHERE else max(math.dist(centre, p) for p in points)
-    world_centre = _apply(fwd, *centre)
-    world_radius = radius * _stretch(fwd) * (1.0 + 1e-6) + 1e-9
-    if not (math.isfinite(world_radius) and all(math.isfinite(v) for v in world_centre)):
-        return none
-    return [*world_centre, world_radius]
-
-
 def _stretch(m: Matrix) -> float:
     """An upper bound of how much the 3x3 part A of ``m`` can lengthen a vector: the square
     root of the largest row sum of |AᵀA| (Gershgorin; exact for a rotation times a scale
@@ -315,22 +198,6 @@ def _stretch(m: Matrix) -> float:
     gram = [[sum(a[k][i] * a[k][j] for k in range(3)) for j in range(3)] for i in range(3)]
     return math.sqrt(max(sum(abs(v) for v in row) for row in gram))
 
-
-def _local_bounds(shape: Shape, kind: int) -> list[tuple[float, float, float]] | None:
-    """Points whose hull holds the shape in object space; None when it is unbounded."""
-    if kind in (L.K_SPHERE, L.K_CUBE, L.K_TEST):  # the test shape's box is the unit cube's
-        lo_y, hi_y, radius = -1.0, 1.0, 1.0
-    elif kind in (L.K_CYLINDER, L.K_CONE):
-        lo_y, hi_y = float(shape.minimum), float(shape.maximum)  # type: ignore[attr-defined]
-        if not (math.isfinite(lo_y) and math.isfinite(hi_y)):
-            return None
-        radius = 1.0 if kind == L.K_CYLINDER else max(abs(lo_y), abs(hi_y))
-    elif kind in (L.K_TRIANGLE, L.K_SMOOTH_TRIANGLE):
-        corners = (shape.p1, shape.p2, shape.p3)  # type: ignore[attr-defined]
-        return [(float(p.x), float(p.y), float(p.z)) for p in corners]
-    else:
-        return None
-    return [(x, y, z) for x in (-radius, radius) for y in (lo_y, hi_y) for z in (-radius, radius)]
 
 
 @dataclass
@@ -349,7 +216,7 @@ class Packed:
     boxes: np.ndarray
     csg: np.ndarray
     lights: np.ndarray
-    shapes: list[Shape]
+    shapes: list[Shape | None]
     capacity: int
     cs_size: int
     cs_prims: int
@@ -435,21 +302,38 @@ def _outward(boxes: np.ndarray, dtype: Any) -> np.ndarray:
     return rounded
 
 
+def _bounding_sphere(local: np.ndarray | None, kind: int, fwd: Matrix | None) -> list[float]:
+    """A world-space sphere (centre, radius) holding a leaf whose object-space box has the
+    corners ``local``; radius inf when it is unbounded (planes, infinite cylinders and
+    cones) or its transform is unknown."""
+    none = [0.0, 0.0, 0.0, math.inf]
+    if local is None or fwd is None:
+        return none
+    points = [tuple(map(float, p)) for p in local]
+    lo = [min(p[k] for p in points) for k in range(3)]
+    hi = [max(p[k] for p in points) for k in range(3)]
+    centre = [(lo[k] + hi[k]) / 2 for k in range(3)]
+    # a sphere lies in its unit ball, not only in the corners' hull
+    radius = 1.0 if kind == L.K_SPHERE else max(math.dist(centre, p) for p in points)
+    world_centre = F.apply(fwd, np.array(centre)).tolist()
+    world_radius = radius * _stretch(fwd) * (1.0 + 1e-6) + 1e-9
+    if not (math.isfinite(world_radius) and all(math.isfinite(v) for v in world_centre)):
+        return none
+    return [*world_centre, world_radius]
+
+
 NO_BOX = (math.nan,) * 6  # an item's bounds when it has none (unbounded, or not a leaf)
-FAST_TRIANGLES: dict[type, int] = {Triangle: L.K_TRIANGLE, SmoothTriangle: L.K_SMOOTH_TRIANGLE}
-_TRANSFORM = operator.attrgetter("transform")
-_MATERIAL = operator.attrgetter("material")
-_CASTS_SHADOW = operator.attrgetter("casts_shadow")
-_CORNERS = operator.attrgetter(
-    *[f"{corner}.{axis}" for corner in ("p1", "p2", "p3", "e1", "e2", "normal") for axis in "xyz"]
-)
-_NORMALS = operator.attrgetter(*[f"{n}.{axis}" for n in ("n1", "n2", "n3") for axis in "xyz"])
+
+
+def _box(bounds: np.ndarray) -> tuple[float, ...]:
+    return NO_BOX if np.isnan(bounds).any() else tuple(float(v) for v in bounds)
 
 
 class _Packer:
-    """Collects rows and items while walking shapes, then builds the arrays.
+    """Collects rows and items while walking a flattened scene (``variants.flatten``),
+    then builds the arrays.
 
-    Rows and items are kept as single rows (lists) or as blocks (arrays: a group's run of
+    Rows and items are kept as single rows (lists) or as blocks (arrays: a run of
     triangles, packed at once); ``bounds`` holds, per item, a box item's box or a leaf
     item's world-space box (NaN: none)."""
 
@@ -469,7 +353,7 @@ class _Packer:
         self.bounds: list[Any] = []
         self.n_items = 0
         self.csg: list[list[int]] = []
-        self.shapes: list[Shape] = []
+        self.shapes: list[Shape | None] = []
         self.capacity = 0
         self.cs_size = 1
         self.cs_prims = 1
@@ -479,22 +363,25 @@ class _Packer:
 
     def row(
         self,
-        shape: Shape,
         kind: int,
         inv: Matrix,
         where: str,
-        material: Material | None = None,
-        pattern: Pattern | None = None,
+        m: Any,
+        shadow: bool,
+        params: dict[str, Any] | None = None,
+        local: np.ndarray | None = None,
         fwd: Matrix | None = None,
+        pattern: Pattern | None = None,
     ) -> tuple[list[float], list[int]]:
-        """One primitive row (floats, ints). ``fwd``: object to world space (for the
-        bounding sphere; None: no bounding sphere)."""
+        """One primitive row (floats, ints): ``kind``, world-to-object ``inv``, material
+        ``m`` (``pattern`` in place of its own), its parameters, and for the bounding sphere
+        its object-space box corners ``local`` and object-to-world ``fwd`` (None: no
+        bounding sphere). A triangle's own numbers are filled in by ``triangles``."""
         if kind == L.K_TEST and not self.allow_test_shape:
             raise PackError(
                 f"numba: cannot render {where}, a TestShape: it records rays in Python "
                 "(chapter 9's test double), which compiled kernels cannot do"
             )
-        m = shape.material if material is None else material
         if not isinstance(m, Material):
             raise PackError(f"numba: {where} has no material (got {type(m).__name__})")
         f = [0.0] * L.NF
@@ -521,230 +408,152 @@ class _Packer:
                 f[L.PAT_A : L.PAT_A + 3] = _rgb(used.a)  # type: ignore[attr-defined]
                 f[L.PAT_B : L.PAT_B + 3] = _rgb(used.b)  # type: ignore[attr-defined]
         i[L.KIND] = kind
-        i[L.CASTS_SHADOW] = 1 if getattr(shape, "casts_shadow", True) else 0
-        if kind in (L.K_CYLINDER, L.K_CONE):
-            f[L.MINIMUM] = float(shape.minimum)  # type: ignore[attr-defined]
-            f[L.MAXIMUM] = float(shape.maximum)  # type: ignore[attr-defined]
-            i[L.CLOSED] = 1 if shape.closed else 0  # type: ignore[attr-defined]
-        if kind in (L.K_TRIANGLE, L.K_SMOOTH_TRIANGLE):
-            t: Any = shape
-            f[L.TRI_P1 : L.TRI_P1 + 3] = _xyz(t.p1)
-            f[L.TRI_E1 : L.TRI_E1 + 3] = _xyz(t.e1)
-            f[L.TRI_E2 : L.TRI_E2 + 3] = _xyz(t.e2)
-            f[L.TRI_NORMAL : L.TRI_NORMAL + 3] = _xyz(t.normal)
-            if kind == L.K_SMOOTH_TRIANGLE:
-                f[L.TRI_N1 : L.TRI_N1 + 3] = _xyz(t.n1)
-                f[L.TRI_N2 : L.TRI_N2 + 3] = _xyz(t.n2)
-                f[L.TRI_N3 : L.TRI_N3 + 3] = _xyz(t.n3)
-        f[L.BOUND : L.BOUND + 4] = _bounding_sphere(shape, kind, fwd)
+        i[L.CASTS_SHADOW] = 1 if shadow else 0
+        if params and "minimum" in params:  # cylinders and cones
+            f[L.MINIMUM] = float(params["minimum"])
+            f[L.MAXIMUM] = float(params["maximum"])
+            i[L.CLOSED] = 1 if params["closed"] else 0
+        f[L.BOUND : L.BOUND + 4] = _bounding_sphere(local, kind, fwd)
         ball = _world_sphere(inv) if kind == L.K_SPHERE else None
         if ball is not None:
             f[L.SPH_CENTER : L.SPH_INV_R + 1] = ball
             i[L.WORLD_SPHERE] = 1
         return f, i
 
-    def leaf_row(
-        self,
-        shape: Shape,
-        kind: int,
-        inv: Matrix,
-        where: str,
-        material: Material | None = None,
-        pattern: Pattern | None = None,
-        fwd: Matrix | None = None,
-    ) -> int:
-        """Append one primitive row (``row``); returns its index."""
-        f, i = self.row(shape, kind, inv, where, material, pattern, fwd)
+    def leaf_rows(
+        self, leaf: F.Leaf, pattern: Pattern | None = None, bound: bool = True
+    ) -> tuple[int, np.ndarray]:
+        """Append a leaf's row; returns (its index, its world box). ``bound=False``: no
+        bounding sphere and no box (a surface packed alone, for the book's API)."""
+        local = leaf.local_corners() if bound else None
+        f, i = self.row(
+            leaf.kind.number, leaf.inv, leaf.where, leaf.material, leaf.shadow, dict(leaf.params),
+            local, leaf.fwd if bound else None, pattern,
+        )  # fmt: skip
         self.rows_f.append(f)
         self.rows_i.append(i)
-        self.shapes.append(shape)
-        self.capacity += MAX_HITS[kind]
+        self.shapes.append(leaf.source)
+        self.capacity += leaf.kind.max_hits
         self.n_rows += 1
-        return self.n_rows - 1
+        return self.n_rows - 1, F.leaf_box(leaf) if bound else np.full(6, np.nan)
 
-    def item(self, values: list[int], bounds: Box) -> int:
-        """Append one item with its bounds; returns its index in ``items``."""
+    def triangles(self, run: F.Triangles, pattern: Pattern | None = None) -> np.ndarray:
+        """Chapter 15, at scale: a run of triangles as one block of rows, built with numpy:
+        the same rows ``row`` would make one at a time (``pattern``: in place of their
+        material's). Returns their world boxes (n, 6)."""
+        n = run.count
+        kind = run.kind.number
+        # one template row per (material, casts_shadow)
+        key = run.material_of * 2 + run.shadow.astype(np.int64)
+        _, first, which = np.unique(key, return_index=True, return_inverse=True)
+        rows_f: list[list[float]] = []
+        rows_i: list[list[int]] = []
+        for j in first.tolist():
+            material = run.materials[int(run.material_of[j])]
+            f, i = self.row(kind, run.inv, f"{run.where} (its triangle {j})", material,
+                            bool(run.shadow[j]), pattern=pattern)  # fmt: skip
+            rows_f.append(f)
+            rows_i.append(i)
+        pf = np.array(rows_f, dtype=np.float64)[which.reshape(-1)]
+        pi = np.array(rows_i, dtype=np.int64)[which.reshape(-1)]
+        pf[:, L.TRI_P1 : L.TRI_P1 + 3] = run.corners[:, 0]
+        pf[:, L.TRI_E1 : L.TRI_E1 + 3] = run.edges[:, 0]
+        pf[:, L.TRI_E2 : L.TRI_E2 + 3] = run.edges[:, 1]
+        pf[:, L.TRI_NORMAL : L.TRI_NORMAL + 3] = run.normal
+        if run.normals is not None:
+            pf[:, L.TRI_N1 : L.TRI_N3 + 3] = run.normals.reshape(n, 9)
+        pf[:, L.BOUND : L.BOUND + 4] = _triangle_spheres(run.corners, run.fwd)
+        self.rows_f.append(pf)
+        self.rows_i.append(pi)
+        self.shapes.extend(run.sources if run.sources is not None else [None] * n)
+        self.n_rows += n
+        self.capacity += n * run.kind.max_hits
+        return F.world_boxes(run.fwd, run.corners)
+
+    def item(self, values: list[int], bounds: Any) -> int:
+        """Append one item with its bounds (6 values, NaN: none); returns its index."""
         self.items.append(values)
-        self.bounds.append(NO_BOX if bounds is None else (*bounds[0], *bounds[1]))
+        self.bounds.append(bounds)
         self.n_items += 1
         return len(self.items) - 1
 
     # -- trees
 
-    def add(
-        self, shape: Shape, parent_inv: Matrix, parent_fwd: Matrix, where: str, own: bool = True
-    ) -> Box:
-        """Add a shape (leaf, group or CSG) as items; returns its world-space box.
-        ``own=False`` leaves out the shape's own transform (``local_intersect``)."""
-        if own:
-            m = _affine(shape.transform, f"the transform of {where}")
-            inv = _compose(_inverse(m, f"the transform of {where}"), parent_inv)
-            fwd = _compose(parent_fwd, m)
-        else:
-            inv, fwd = parent_inv, parent_fwd
-        if isinstance(shape, Group) and unchanged(type(shape), Group, SHAPE_METHODS):
-            return self.add_group(shape, inv, fwd, where)
-        if isinstance(shape, CSG) and unchanged(type(shape), CSG, SHAPE_METHODS):
-            return self.add_csg(shape, inv, fwd, where)
-        kind = shape_kind(shape, where)
-        row = self.leaf_row(shape, kind, inv, where, fwd=fwd)
-        box = self.world_box(shape, kind, fwd)
-        self.item([L.I_PRIM, row, 0, 0, 0], box)
+    def add(self, node: F.Node) -> np.ndarray:
+        """Add a node (leaf, triangles, group or CSG) as items; returns its world box (6,),
+        NaN when it is unbounded."""
+        if isinstance(node, F.Group):
+            return self.add_group(node)
+        if isinstance(node, F.Csg):
+            return self.add_csg(node)
+        if isinstance(node, F.Triangles):
+            first_row = self.n_rows
+            bounds = self.triangles(node)
+            items = np.zeros((node.count, L.NITEM), dtype=np.int64)
+            items[:, L.ITEM_TYPE] = L.I_PRIM
+            items[:, L.ITEM_A] = np.arange(first_row, first_row + node.count)
+            self.items.append(items)
+            self.bounds.append(bounds)
+            self.n_items += node.count
+            return F.union([bounds])
+        row, box = self.leaf_rows(node)
+        self.item([L.I_PRIM, row, 0, 0, 0], _box(box))
         return box
-
-    def world_box(self, shape: Shape, kind: int, fwd: Matrix) -> Box:
-        points = _local_bounds(shape, kind)
-        if points is None:
-            return UNBOUNDED
-        return _box_of_points([_apply(fwd, *p) for p in points])
 
     def open_box(self) -> tuple[int, int]:
         """A box item (``groups``), filled in by ``close_box``: (its index in ``items``,
         its item number); (-1, -1) when the structure has no group boxes."""
         if self.structure != "groups":
             return -1, -1
-        return self.item([L.I_BOX, 0, 0, 0, 0], UNBOUNDED), self.n_items - 1
+        return self.item([L.I_BOX, 0, 0, 0, 0], NO_BOX), self.n_items - 1
 
-    def close_box(self, opened: tuple[int, int], box: Box) -> None:
+    def close_box(self, opened: tuple[int, int], box: np.ndarray) -> None:
         """Fill in the box item ``opened`` (skip to here); drop it when it is useless."""
         at, number = opened
         if at < 0:
             return
         inside = self.n_items - number - 1
-        if box is None or inside < (1 if self.every_box else 2):
+        if np.isnan(box).any() or inside < (1 if self.every_box else 2):
             self.items[at] = [L.I_SKIP, 0, 0, 0, 0]
             return
         self.items[at][L.ITEM_A] = self.n_items
-        self.bounds[at] = (*box[0], *box[1])
+        self.bounds[at] = _box(box)
 
-    def add_group(self, g: Group, inv: Matrix, fwd: Matrix, where: str) -> Box:
+    def add_group(self, g: F.Group) -> np.ndarray:
         opened = self.open_box()
-        boxes: list[Box] = []
-        children = g.children
-        # runs of plain triangles of one class with no transform of their own are packed
-        # at once (a mesh); -1: any other child
-        kinds = [
-            FAST_TRIANGLES.get(cls, -1) if m is identity_matrix or m == identity_matrix else -1
-            for cls, m in zip(map(type, children), map(_TRANSFORM, children), strict=True)
-        ]
-        start = 0
-        for k in range(len(children) + 1):
-            if k < len(children) and kinds[k] >= 0 and kinds[k] == kinds[start]:
-                continue
-            if start < k and kinds[start] >= 0:
-                boxes.append(self.add_triangles(children, start, k, kinds[start], inv, fwd, where))
-                start = k
-            if k < len(children) and kinds[k] < 0:
-                boxes.append(self.add(children[k], inv, fwd, f"{where}.children[{k}]"))
-                start = k + 1
-        box = _union(boxes)
+        box = F.union([self.add(child) for child in g.children])
         self.close_box(opened, box)
         return box
 
-    def add_triangles(
-        self,
-        children: list[Shape],
-        start: int,
-        stop: int,
-        kind: int,
-        inv: Matrix,
-        fwd: Matrix,
-        where: str,
-    ) -> Box:
-        """Chapter 15, at scale: a group's children ``start`` to ``stop`` - 1, triangles of
-        one ``kind`` with the identity as their own transform, packed as one block of rows
-        and items: the same rows as ``leaf_row`` makes one at a time, built with numpy."""
-        run = children[start:stop]
-        n = len(run)
-        # one template row per (material, casts_shadow): the first triangle's
-        ids = np.fromiter(map(id, map(_MATERIAL, run)), dtype=np.int64, count=n)
-        shadows = np.fromiter(map(bool, map(_CASTS_SHADOW, run)), dtype=np.int64, count=n)
-        _, first, which = np.unique(ids * 2 + shadows, return_index=True, return_inverse=True)
-        rows_f: list[list[float]] = []
-        rows_i: list[list[int]] = []
-        for j in first.tolist():
-            f, i = self.row(run[j], kind, inv, f"{where}.children[{start + j}]")
-            rows_f.append(f)
-            rows_i.append(i)
-        pf = np.array(rows_f, dtype=np.float64)[which.reshape(-1)]
-        pi = np.array(rows_i, dtype=np.int64)[which.reshape(-1)]
-        c = np.fromiter(
-            itertools.chain.from_iterable(map(_CORNERS, run)), dtype=np.float64, count=n * 18
-        ).reshape(n, 18)
-        pf[:, L.TRI_P1 : L.TRI_P1 + 3] = c[:, 0:3]
-        pf[:, L.TRI_E1 : L.TRI_E1 + 3] = c[:, 9:12]
-        pf[:, L.TRI_E2 : L.TRI_E2 + 3] = c[:, 12:15]
-        pf[:, L.TRI_NORMAL : L.TRI_NORMAL + 3] = c[:, 15:18]
-        if kind == L.K_SMOOTH_TRIANGLE:
-            pf[:, L.TRI_N1 : L.TRI_N3 + 3] = np.fromiter(
-                itertools.chain.from_iterable(map(_NORMALS, run)), dtype=np.float64, count=n * 9
-            ).reshape(n, 9)
-        points = c[:, 0:9].reshape(n, 3, 3)  # triangle, corner, axis
-        pf[:, L.BOUND : L.BOUND + 4] = _triangle_spheres(points, fwd)
-        world = _apply_array(fwd, points)
-        lo, hi = _corner_range(world)
-        pad = 1e-9 * (1.0 + np.abs(lo) + np.abs(hi))
-        bounds = np.concatenate([lo - pad, hi + pad], axis=1)
-        bounds[~np.isfinite(bounds).all(axis=1)] = math.nan
-        first_row = self.n_rows
-        items = np.zeros((n, L.NITEM), dtype=np.int64)
-        items[:, L.ITEM_TYPE] = L.I_PRIM
-        items[:, L.ITEM_A] = np.arange(first_row, first_row + n)
-        self.rows_f.append(pf)
-        self.rows_i.append(pi)
-        self.shapes.extend(run)
-        self.n_rows += n
-        self.capacity += n * MAX_HITS[kind]
-        self.items.append(items)
-        self.bounds.append(bounds)
-        self.n_items += n
-        if np.isnan(bounds).any():
-            return UNBOUNDED
-        box_lo, box_hi = bounds[:, 0:3].min(axis=0), bounds[:, 3:6].max(axis=0)
-        return (
-            (float(box_lo[0]), float(box_lo[1]), float(box_lo[2])),
-            (float(box_hi[0]), float(box_hi[1]), float(box_hi[2])),
-        )
-
-    def add_csg(self, c: CSG, inv: Matrix, fwd: Matrix, where: str) -> Box:
+    def add_csg(self, c: F.Csg) -> np.ndarray:
         opened = self.open_box()
-        item = self.item([L.I_CSG, len(self.csg), 0, self.n_rows, 0], UNBOUNDED)
+        item = self.item([L.I_CSG, len(self.csg), 0, self.n_rows, 0], NO_BOX)
         capacity_before = self.capacity
-        box = self.csg_tree(c, inv, fwd, where)
+        box = self.csg_tree(c)
         self.items[item][L.ITEM_B] = len(self.csg)
         self.items[item][L.ITEM_D] = self.n_rows
-        self.bounds[item] = NO_BOX if box is None else (*box[0], *box[1])
+        self.bounds[item] = _box(box)
         self.cs_size = max(self.cs_size, self.capacity - capacity_before)
         self.cs_prims = max(self.cs_prims, self.n_rows - self.items[item][L.ITEM_C])
         self.close_box(opened, box)
         return box
 
-    def csg_tree(self, shape: Shape, inv: Matrix, fwd: Matrix, where: str) -> Box:
-        """A CSG operand's rows (and operations, post-order); inv/fwd include ``shape``."""
-        if isinstance(shape, CSG) and unchanged(type(shape), CSG, SHAPE_METHODS):
-            if shape.operation not in OPERATIONS:
-                raise PackError(f"numba: {where} has an unknown operation {shape.operation!r}")
+    def csg_tree(self, node: F.Node) -> np.ndarray:
+        """A CSG operand's rows (and operations, post-order); returns its box."""
+        if isinstance(node, F.Csg):
+            if node.operation not in OPERATIONS:
+                raise PackError(f"numba: {node.where} has an unknown operation {node.operation!r}")
             start = self.n_rows
-            left = self.csg_operand(shape.left, inv, fwd, f"{where}.left")
+            left = self.csg_tree(node.left)
             mid = self.n_rows
-            right = self.csg_operand(shape.right, inv, fwd, f"{where}.right")
-            self.csg.append([start, mid, self.n_rows, OPERATIONS[shape.operation]])
-            return _union([left, right])
-        if isinstance(shape, Group) and unchanged(type(shape), Group, SHAPE_METHODS):
-            return _union(
-                [
-                    self.csg_operand(child, inv, fwd, f"{where}.children[{k}]")
-                    for k, child in enumerate(shape.children)
-                ]
-            )
-        kind = shape_kind(shape, where)
-        self.leaf_row(shape, kind, inv, where, fwd=fwd)
-        return self.world_box(shape, kind, fwd)
-
-    def csg_operand(self, shape: Shape, parent_inv: Matrix, parent_fwd: Matrix, where: str) -> Box:
-        own = _affine(shape.transform, f"the transform of {where}")
-        inv = _compose(_inverse(own, f"the transform of {where}"), parent_inv)
-        return self.csg_tree(shape, inv, _compose(parent_fwd, own), where)
+            right = self.csg_tree(node.right)
+            self.csg.append([start, mid, self.n_rows, OPERATIONS[node.operation]])
+            return F.union([left, right])
+        if isinstance(node, F.Group):
+            return F.union([self.csg_tree(child) for child in node.children])
+        if isinstance(node, F.Triangles):
+            return F.union([self.triangles(node)])
+        return self.leaf_rows(node)[1]
 
     # -- result
 
@@ -827,36 +636,38 @@ def _hierarchy(items: np.ndarray, bounds: np.ndarray) -> tuple[np.ndarray, np.nd
     return np.concatenate([outside, tree]), boxes, replace(hierarchy, outside=len(outside))
 
 
-def _apply_array(m: Matrix, points: np.ndarray) -> np.ndarray:
-    """``_apply`` on an array of points (..., 3), element by element (as ``_apply`` adds
-    its terms; no matrix product, which would wake BLAS threads)."""
-    r = m.rows
-    x, y, z = points[..., 0], points[..., 1], points[..., 2]
-    out = np.empty_like(points)
-    for k in range(3):
-        out[..., k] = r[k][0] * x + r[k][1] * y + r[k][2] * z + r[k][3]
-    return out
-
-
-def _corner_range(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The least and greatest of each triangle's corners (points: triangle, corner, axis),
-    axis by axis (explicit: numpy reduces a short axis slowly)."""
-    a, b, c = points[:, 0], points[:, 1], points[:, 2]
-    return np.minimum(np.minimum(a, b), c), np.maximum(np.maximum(a, b), c)
-
 
 def _triangle_spheres(points: np.ndarray, fwd: Matrix) -> np.ndarray:
     """``_bounding_sphere`` of many triangles (points: triangle, corner, axis) at once:
     n x 4 (world centre, radius; radius inf where not finite)."""
-    lo, hi = _corner_range(points)
+    a, b, c = points[:, 0], points[:, 1], points[:, 2]
+    lo, hi = np.minimum(np.minimum(a, b), c), np.maximum(np.maximum(a, b), c)
     centre = (lo + hi) / 2
     radius = np.sqrt(((points - centre[:, None, :]) ** 2).sum(axis=2)).max(axis=1)
     out = np.empty((len(points), 4), dtype=np.float64)
-    out[:, 0:3] = _apply_array(fwd, centre)
+    out[:, 0:3] = F.apply(fwd, centre)
     out[:, 3] = radius * _stretch(fwd) * (1.0 + 1e-6) + 1e-9
     bad = ~np.isfinite(out).all(axis=1)
     out[bad] = (0.0, 0.0, 0.0, math.inf)
     return out
+
+
+def _pack(
+    nodes: Sequence[F.Node], lights: Sequence[Light], dtype: Any, allow_test_shape: bool,
+    structure: str, every_box: bool = False, started: float | None = None,
+) -> Packed:  # fmt: skip
+    packer = _Packer(dtype, allow_test_shape, structure, every_box)
+    for node in nodes:
+        packer.add(node)
+    return packer.build(lights, started)
+
+
+def _flattened(make: Any, *args: Any) -> Any:
+    """``make(*args)`` (a ``variants.flatten`` function), its errors in the kernels' words."""
+    try:
+        return make(*args)
+    except F.FlattenError as error:
+        raise _refusal(error) from None
 
 
 def pack_world(
@@ -866,15 +677,21 @@ def pack_world(
     allow_test_shape: bool = False,
     structure: str = DEFAULT,
 ) -> Packed:
-    """Chapter 7: every object of ``world`` and its lights, packed; ``structure``: how the
-    items are arranged (``bvh``)."""
+    """Chapter 7: every object of the book's ``world`` and its lights, packed; ``structure``:
+    how the items are arranged (``bvh``)."""
     if not isinstance(world, World):
         raise PackError(f"numba: expected a World, got {type(world).__name__}")
     started = time.perf_counter()
-    packer = _Packer(dtype, allow_test_shape, structure)
-    for k, shape in enumerate(world.objects):
-        packer.add(shape, identity_matrix, identity_matrix, f"world object {k} ({_label(shape)})")
-    return packer.build(list(world.lights), started)
+    nodes = _flattened(F.from_world, world)
+    return _pack(nodes, list(world.lights), dtype, allow_test_shape, structure, started=started)
+
+
+def pack_scene(scene: Any, dtype: Any = np.float64, *, structure: str = DEFAULT) -> Packed:
+    """Chapter 7: a scene description (``scene.Scene``) packed straight from its entities
+    and arrays, no book shape built."""
+    started = time.perf_counter()
+    nodes = _flattened(F.from_description, scene)
+    return _pack(nodes, list(scene.lights), dtype, False, structure, started=started)
 
 
 def pack_shapes(
@@ -891,22 +708,21 @@ def pack_shapes(
     ``every_box`` (with ``structure="groups"``): a box for every bounded group and CSG
     shape, even around one item (where it saves no work, but says, as the reference's
     ``intersect`` does, whether a ray reaches what it holds)."""
-    packer = _Packer(dtype, allow_test_shape=True, structure=structure, every_box=every_box)
-    for shape in shapes:
-        packer.add(shape, identity_matrix, identity_matrix, _label(shape), own=own_transform)
-    return packer.build([])
+    nodes = [
+        _flattened(F.from_shape, s, identity_matrix, identity_matrix, _label(s), own_transform)
+        for s in shapes
+    ]
+    return _pack(nodes, [], dtype, True, structure, every_box)
 
 
 def world_inverse(shape: Shape) -> Matrix:
     """Chapter 14: world space to ``shape``'s object space, through all its parents."""
     where = _label(shape)
-    inv = _inverse(
-        _affine(shape.transform, f"the transform of {where}"), f"the transform of {where}"
-    )
+    inv = _inverse(shape.transform, f"the transform of {where}")
     parent = shape.parent
     while parent is not None:
         what = f"the transform of {_label(parent)}, a parent of {where}"
-        inv = _compose(inv, _inverse(_affine(parent.transform, what), what))
+        inv = F.compose(inv, _inverse(parent.transform, what))
         parent = parent.parent
     return inv
 
@@ -932,8 +748,18 @@ def pack_surface(
     where = _label(target)
     if inv is None:
         inv = world_inverse(target) if shape is not None else identity_matrix
-    kind = shape_kind(target, where) if leaf else L.K_SPHERE
-    packer.leaf_row(target, kind, inv, where, material, pattern)
+    if not leaf:
+        target = Sphere(material=target.material)
+    node = _flattened(F.from_shape, target, inv, identity_matrix, where, False)
+    if isinstance(node, F.Leaf):
+        m = material if material is not None else node.material
+        packer.leaf_rows(dataclasses.replace(node, material=m), pattern, bound=False)
+    elif isinstance(node, F.Triangles):
+        if material is not None:
+            node = dataclasses.replace(node, materials=[material])
+        packer.triangles(node, pattern)
+    else:
+        raise PackError(f"numba: {where} has no surface of its own")
     built = packer.build([])
     return _flat(built.pf), _flat(built.pi)
 
@@ -953,6 +779,6 @@ class PackedCamera:
 
 def pack_camera(c: Camera, dtype: Any = np.float64) -> PackedCamera:
     """The inverse view transform (the reference's), half extents and pixel size."""
-    inv = _inverse(_affine(c.transform, "the camera transform"), "the camera transform")
+    inv = _inverse(c.transform, "the camera transform")
     row = [*_rows3x4(inv), float(c.half_width), float(c.half_height), float(c.pixel_size)]
     return PackedCamera(np.array(row, dtype=dtype), int(c.hsize), int(c.vsize))

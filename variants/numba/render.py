@@ -31,7 +31,7 @@ from variants.numba import layout as L
 from variants.numba.bvh import DEFAULT
 from variants.numba.features import FeatureSet, analyse
 from variants.numba.lights import describe as describe_lights
-from variants.numba.pack import Packed, PackedCamera, pack_camera, pack_world
+from variants.numba.pack import KIND_NAMES, Packed, PackedCamera, pack_camera, pack_world
 from variants.numba.specialize import KernelConfig, Renderer, library_path, load_renderer
 
 PAGE = 4096  # bytes: each thread's scratch starts on a page of its own (no false sharing)
@@ -86,9 +86,11 @@ def render_threads(options: Options) -> int:
     return int(threads)
 
 
-def packed_for_render(w: World, options: Options) -> Packed:
+def packed_for_render(w: World | Packed, options: Options) -> Packed:
     """``w`` packed for a render (a world with no light renders black, as the reference
-    shades it)."""
+    shades it); a world packed already (``NumbaTracer.world_for``) as it is."""
+    if isinstance(w, Packed):
+        return w
     return pack_world(w, options.dtype, structure=options.bvh)
 
 
@@ -239,13 +241,13 @@ def explain(options: Options, w: World) -> str:
     packed = packed_for_render(w, options)
     found = analyse(packed)
     config = options.config(found)
-    kinds: dict[str, int] = {}
-    for shape in packed.shapes:
-        kinds[type(shape).__name__] = kinds.get(type(shape).__name__, 0) + 1
-    counted = ", ".join(f"{name} x{count}" for name, count in sorted(kinds.items()))
+    numbers, counts = np.unique(packed.pi[:, L.KIND], return_counts=True)
+    counted = ", ".join(
+        f"{KIND_NAMES[int(k)]} x{int(n)}" for k, n in zip(numbers, counts, strict=True)
+    )
     balls = int(packed.pi[:, L.WORLD_SPHERE].sum()) if len(packed.pi) else 0
     lines = [
-        f"numba: this world has {len(packed.shapes)} primitives ({counted or 'none'}) and needs",
+        f"numba: this world has {len(packed.pi)} primitives ({counted or 'none'}) and needs",
         *[f"  {line}" for line in found.describe()],
     ]
     if balls:

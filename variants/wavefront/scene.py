@@ -35,27 +35,15 @@ from raytracer.patterns import (
     StripePattern,
     TestPattern,
 )
-from raytracer.shapes.cone import Cone
-from raytracer.shapes.cube import Cube
-from raytracer.shapes.cylinder import Cylinder
-from raytracer.shapes.plane import Plane
-from raytracer.shapes.shape import Shape
-from raytracer.shapes.smooth_triangle import SmoothTriangle
-from raytracer.shapes.sphere import Sphere
-from raytracer.shapes.triangle import Triangle
+from scene.kinds import BY_NAME, KINDS
 from variants.registry import RenderError
 
-# primitive kinds
-SPHERE, PLANE, CUBE, CYLINDER, CONE, TRIANGLE, SMOOTH = range(7)
-KIND_NAMES = ("sphere", "plane", "cube", "cylinder", "cone", "triangle", "smooth triangle")
-SHAPE_KINDS: tuple[tuple[type[Shape], int], ...] = (
-    (SmoothTriangle, SMOOTH),  # before Triangle: a smooth triangle is a triangle
-    (Triangle, TRIANGLE),
-    (Sphere, SPHERE),
-    (Plane, PLANE),
-    (Cube, CUBE),
-    (Cylinder, CYLINDER),
-    (Cone, CONE),
+# primitive kinds: their numbers in the kind table (``scene.kinds``); every kind but the
+# test shape renders
+KIND_NAMES = tuple(kind.name for kind in KINDS if kind.renders)
+SPHERE, PLANE, CUBE, CYLINDER, CONE, TRIANGLE, SMOOTH = (
+    BY_NAME[name].number
+    for name in ("sphere", "plane", "cube", "cylinder", "cone", "triangle", "smooth_triangle")
 )
 
 # pattern kinds
@@ -129,7 +117,7 @@ class CsgTree:
     slots: int  # the most intersections its list can hold
 
 
-SLOTS = (2, 1, 2, 4, 4, 1, 1)
+SLOTS = tuple(kind.max_hits for kind in KINDS if kind.renders)
 """How many intersections a primitive of each kind can give (the cylinder's and the cone's:
 two on the sides, one per cap)."""
 
@@ -172,7 +160,7 @@ class Scene:
     trees: list[CsgTree]
     light_pos: np.ndarray
     light_int: np.ndarray
-    shapes: list[Shape] = field(repr=False)
+    shapes: list[Any] = field(repr=False)  # the book's shape of each primitive, if any
     opaque: bool = True  # no material is transparent (n1/n2 never needed)
     mirrors: bool = False  # some material reflects or is transparent (secondary rays)
 

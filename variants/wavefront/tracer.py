@@ -31,8 +31,8 @@ from raytracer.world import World
 from variants.numba.canvas import ArrayCanvas
 from variants.wavefront.camera import lens
 from variants.wavefront.hits import blocked, index, records
-from variants.wavefront.pack import pack
-from variants.wavefront.scene import KIND_NAMES, Unsupported
+from variants.wavefront.pack import pack, pack_scene
+from variants.wavefront.scene import KIND_NAMES, Scene, Unsupported
 from variants.wavefront.wave import Frame, blocks, render_block, trace
 
 MIB = 1 << 20
@@ -67,16 +67,20 @@ class WavefrontTracer(Tracer):
 
     __slots__ = ("options",)
 
-    builds_hierarchy = True  # the scene loader leaves groups undivided: ``bvh`` builds one
-
     def __init__(self, options: Options | None = None) -> None:
         super().__init__()
         self.options = options if options is not None else Options()
 
+    def world_for(self, scene: Any) -> Scene:
+        """The scene's tables, packed straight from its description (``pack_scene``): no
+        book shape is built; ``bvh`` builds a hierarchy of its own in ``prepare``."""
+        return pack_scene(scene, self.options.dtype)
+
     def _make_frame(
-        self, w: World, settings: RenderSettings, c: Camera | None = None, shading: bool = True
-    ) -> Frame:
-        scene = pack(w, self.options.dtype, shading)
+        self, w: World | Scene, settings: RenderSettings, c: Camera | None = None,
+        shading: bool = True,
+    ) -> Frame:  # fmt: skip
+        scene = w if isinstance(w, Scene) else pack(w, self.options.dtype, shading)
         return Frame(
             index(scene),
             lens(c) if c is not None else None,

@@ -1,0 +1,66 @@
+"""The compiled and vectorized tracers pack a scene straight from its description (no book
+shape built, an OBJ model's triangles from its arrays): the tables are the very ones they
+pack from the book's world built of the same file, number for number."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from harness.make_meshes import provide
+from scene import load_scene
+from variants.numba.pack import pack_scene as numba_scene
+from variants.numba.pack import pack_world as numba_world
+from variants.registry import load_variant
+from variants.wavefront.pack import pack as wavefront_world
+from variants.wavefront.pack import pack_scene as wavefront_scene
+
+SCENES = Path(__file__).resolve().parents[1] / "harness" / "scenes"
+SMALL = sorted(p.name for p in SCENES.glob("*.yml") if p.name != "six-knots.yml")
+WAVEFRONT = [name for name in SMALL if name not in ("soft-shadows.yml", "textures.yml")]
+
+
+def _equal(a: np.ndarray, b: np.ndarray) -> bool:
+    return a.shape == b.shape and bool(np.array_equal(a, b, equal_nan=a.dtype.kind == "f"))
+
+
+@pytest.mark.parametrize("name", SMALL)
+@pytest.mark.parametrize("structure", ["sah", "off"])
+def test_numba_packs_a_description_as_it_packs_the_book_world(name: str, structure: str) -> None:
+    scene = load_scene(SCENES / name, load_variant("numba").api, provide_mesh=provide)
+    described = numba_scene(scene, structure=structure)
+    built = numba_world(scene.book_world(), structure=structure)
+    for table in ("pf", "pi", "items", "boxes", "csg", "balls", "lights", "light_values"):
+        assert _equal(getattr(described, table), getattr(built, table)), table
+    for a, b in zip(described.texture_table(), built.texture_table(), strict=True):
+        assert _equal(a, b)
+    assert all(shape is None for shape in described.shapes)  # nothing of the book's built
+    assert len(described.pf) > 0
+
+
+@pytest.mark.parametrize("name", WAVEFRONT)
+def test_wavefront_packs_a_description_as_it_packs_the_book_world(name: str) -> None:
+    scene = load_scene(SCENES / name, load_variant("wavefront").api, provide_mesh=provide)
+    a, b = wavefront_scene(scene), wavefront_world(scene.book_world())
+    for table in (
+        "kind", "row", "xform", "shadow", "inv", "nrm", "caps", "tri", "smooth", "unit_prim",
+        "unit_tree", "unit_lo", "unit_hi", "unit_ball", "light_pos", "light_int",
+    ):  # fmt: skip
+        assert _equal(getattr(a, table), getattr(b, table)), table
+    # materials are shared by identity, so their rows may be ordered differently: compare
+    # what each primitive gets
+    for table in ("color", "ambient", "diffuse", "specular", "shininess", "reflective",
+                  "transparency", "refractive", "pat_inv", "pat_a", "pat_b"):  # fmt: skip
+        assert _equal(getattr(a, table)[..., a.mat], getattr(b, table)[..., b.mat]), table
+    assert _equal(a.pattern[a.mat], b.pattern[b.mat])
+    assert a.n_prims > 0 and all(shape is None for shape in a.shapes)
+
+
+def test_wavefront_refuses_what_it_cannot_vectorize_from_a_description_too() -> None:
+    from variants.wavefront.scene import Unsupported
+
+    scene = load_scene(SCENES / "soft-shadows.yml", load_variant("wavefront").api)
+    with pytest.raises(Unsupported, match="light 0 of the world is an AreaLight"):
+        wavefront_scene(scene)
