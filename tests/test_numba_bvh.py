@@ -469,13 +469,13 @@ MESH_IN_A_FRESH_PROCESS = (
     "import sys\n"
     "from scene import load_scene\n"
     "from variants.registry import load_variant\n"
-    "from variants.numba import specialize\n"
+    "from compiled import library\n"
     "v = load_variant('numba')\n"
     "s = load_scene('harness/scenes/mesh.yml', v.api).resized(16, 10)\n"
     "from raytracer.camera import RenderSettings\n"
-    "frame = v.tracer.prepare(s.camera, s.world, RenderSettings())\n"
+    "frame = v.tracer.prepare(s.camera, v.world_for(s), RenderSettings())\n"
     "print('numba' in sys.modules, frame.packed.hierarchy.nodes,"
-    " [b.origin for b in specialize._bvh_builders.values()])\n"
+    " [b.origin for b in library._loaded.values()])\n"
 )
 
 

@@ -31,8 +31,8 @@ def _equal(a: np.ndarray, b: np.ndarray) -> bool:
 def test_numba_packs_a_description_as_it_packs_the_book_world(name: str, structure: str) -> None:
     scene = load_scene(SCENES / name, load_variant("numba").api, provide_mesh=provide)
     described = numba_scene(scene, structure=structure)
-    built = numba_world(scene.book_world(), structure=structure)
-    for table in ("pf", "pi", "items", "boxes", "csg", "balls", "lights", "light_values"):
+    built = numba_world(scene.book_world(), structure=structure, compact=True)
+    for table in ("pf", "pi", "items", "boxes", "csg", "balls", "lights", "light_values", "tg", "tn"):
         assert _equal(getattr(described, table), getattr(built, table)), table
     for a, b in zip(described.texture_table(), built.texture_table(), strict=True):
         assert _equal(a, b)
@@ -64,3 +64,36 @@ def test_wavefront_refuses_what_it_cannot_vectorize_from_a_description_too() -> 
     scene = load_scene(SCENES / "soft-shadows.yml", load_variant("wavefront").api)
     with pytest.raises(Unsupported, match="light 0 of the world is an AreaLight"):
         wavefront_scene(scene)
+
+
+def test_compact_triangles_draw_what_a_row_per_triangle_draws() -> None:
+    """A run of triangles packed compactly (``tg``: one row per run of one material and
+    shadow) renders every pixel as a row per triangle does: a mesh with a triangle of
+    another material, one that casts no shadow and one of its own transform, flat and
+    smooth, behind glass (n1/n2 through the triangles)."""
+    from raytracer.camera import RenderSettings
+    from raytracer.materials import material
+
+    variant = load_variant("numba")
+    api = variant.api
+    scene = load_scene(SCENES / "mesh.yml", api)
+    world = scene.book_world()
+    model = world.objects[1]  # the icosphere: smooth triangles
+    triangles = [s for g in model.children for s in getattr(g, "children", [])]
+    assert len(triangles) == 20
+    triangles[2].material = material(color=api["color"](1, 0, 0), transparency=0.5)
+    triangles[4].casts_shadow = False
+    api["set_transform"](triangles[6], api["translation"](0, 0.05, 0))
+    glass = api["glass_sphere"]()
+    api["set_transform"](glass, api["translation"](0, 1, -2) * api["scaling"](0.6, 0.6, 0.6))
+    world.objects.append(glass)
+    camera = scene.resized(32, 24).camera
+    settings = RenderSettings(depth=4)
+    compact = numba_world(world, compact=True)
+    assert len(compact.tg) > 0 and (compact.pi[:, 6] >= 0).sum() >= 3  # several runs
+    images = [
+        np.asarray(variant.tracer.render(camera, packed, settings).array)
+        for packed in (compact, numba_world(world, compact=False))
+    ]
+    assert np.array_equal(images[0], images[1])
+    assert len(np.unique(images[0].reshape(-1, 3), axis=0)) > 20  # a picture, not a blank

@@ -442,21 +442,20 @@ def _model(
         where = f"{spec.label} (OBJ group {name or 'default'})"
         runs: list[Node] = []
         stop = start + count
-        cut = start
-        for k in range(start, stop + 1):  # runs of one kind, in order
-            if k < stop and smooth[k] == smooth[cut]:
+        # runs of one kind (flat or smooth), in order
+        cuts = [start, *(start + 1 + np.flatnonzero(np.diff(smooth[start:stop]))).tolist(), stop]
+        for cut, end in itertools.pairwise(cuts):
+            if cut == end:
                 continue
-            if cut < k:
-                rows = slice(cut, k)
-                kind = BY_NAME["smooth_triangle" if smooth[cut] else "triangle"]
-                normals = None
-                if kind.smooth:
-                    assert mesh.corner_normals is not None
-                    normals = mesh.normals[mesh.corner_normals[rows]]
-                runs.append(
-                    mesh_triangles(kind, mesh.corners(rows), normals, made, shadow, inv, fwd, where)
-                )
-            cut = k
+            rows = slice(cut, end)
+            kind = BY_NAME["smooth_triangle" if smooth[cut] else "triangle"]
+            normals = None
+            if kind.smooth:
+                assert mesh.corner_normals is not None
+                normals = mesh.normals[mesh.corner_normals[rows]]
+            runs.append(
+                mesh_triangles(kind, mesh.corners(rows), normals, made, shadow, inv, fwd, where)
+            )
         parts.append(Group(runs, where))
         start = stop
     return Group(parts, spec.label)

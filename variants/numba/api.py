@@ -142,7 +142,7 @@ class NumbaTracer(Tracer):
         own; ``off``: a flat loop)."""
         if self.options.bvh == "groups":
             world = scene.book_world(divide=True)
-            return pack_world(world, self.dtype, structure="groups")
+            return pack_world(world, self.dtype, structure="groups", compact=True)
         return pack_scene(scene, self.dtype, structure=self.options.bvh)
 
     @property

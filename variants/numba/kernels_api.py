@@ -70,6 +70,9 @@ from variants.numba.layout import (
 
 # ---- kernel template ----
 
+# the book's API packs every triangle in a row of its own: no compact triangles (``tg``, ``tn``)
+NONE = (np.zeros(1, F), np.zeros(1, F))
+
 
 @njit(**ENTRY)
 def api_intersections(
@@ -89,7 +92,7 @@ def api_intersections(
     s = scratch(cs_size, cs_prims, n_balls)
     sf, si, _ = s
     tex = (np.zeros(1, np.int64), np.zeros(1, F))
-    w = (pf, pi, items, n_items, boxes, csg, balls, n_balls, np.zeros(NLIGHT, F), 0, tex)
+    w = (pf, pi, items, n_items, boxes, csg, balls, n_balls, np.zeros(NLIGHT, F), 0, tex, NONE)
     ox, oy, oz, dx, dy, dz = F(ray[0]), F(ray[1]), F(ray[2]), F(ray[3]), F(ray[4]), F(ray[5])
     n = 0
     i = 0
@@ -168,8 +171,8 @@ def api_local_ray(pf, p, ray):
 def api_normal(pf, pi, p, x, y, z, u, v, eps, in_world):
     """Chapters 6, 9, 14, 15 (``normal_at`` when ``in_world``, else ``local_normal_at``)."""
     if in_world:
-        return world_normal(pf, pi, p, F(x), F(y), F(z), F(u), F(v), F(eps))
-    return local_normal(pf, pi, p, F(x), F(y), F(z), F(u), F(v), F(eps))
+        return world_normal(pf, pi, p, F(x), F(y), F(z), F(u), F(v), F(eps), NONE, 0)
+    return local_normal(pf, pi, p, F(x), F(y), F(z), F(u), F(v), F(eps), NONE, 0)
 
 
 @njit(**ENTRY)
@@ -220,7 +223,7 @@ def api_prepare(pf, pi, p, ray, t, u, v, eps):
     """Chapters 7, 8, 11: ``prepare_computations`` without n1 and n2."""
     return prepare(
         pf, pi, p, F(ray[0]), F(ray[1]), F(ray[2]), F(ray[3]), F(ray[4]), F(ray[5]), F(t),
-        F(u), F(v), F(eps),
+        F(u), F(v), F(eps), NONE, 0,
     )  # fmt: skip
 
 
@@ -250,7 +253,7 @@ def api_shade(
     eps = F(eps)
     stack = np.empty((max(remaining, 0) + 3) * STACK_WIDTH, F)
     s = scratch(cs_size, cs_prims, n_balls)
-    w = (pf, pi, items, n_items, boxes, csg, balls, n_balls, lights, n_lights, (ti, tf))
+    w = (pf, pi, items, n_items, boxes, csg, balls, n_balls, lights, n_lights, (ti, tf), NONE)
     c = np.empty(comps.shape[0], F)
     for j in range(comps.shape[0]):
         c[j] = F(comps[j])

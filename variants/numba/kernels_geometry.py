@@ -50,11 +50,19 @@ from variants.numba.layout import (
     NF,
     NI,
     NRM,
+    NTG,
+    NTN,
     SPH_CENTER,
     SPH_INV_R,
     SPH_R2,
+    TG_E1,
+    TG_E2,
+    TG_NORMAL,
+    TG_P1,
+    TN_FIRST,
     TRI_E1,
     TRI_E2,
+    TRI_FIRST,
     TRI_N1,
     TRI_N2,
     TRI_N3,
@@ -412,14 +420,30 @@ def cone_normal(pf, p, x, y, z, eps):
 
 @njit(**INLINE)
 def triangle_intersect(pf, p, ox, oy, oz, dx, dy, dz, eps):
-    """Chapter 15: Möller-Trumbore: (count, t, u, v)."""
+    """Chapter 15: Möller-Trumbore for a triangle of its own row: (count, t, u, v)."""
     m = p * NF
-    e1x = pf[m + TRI_E1]
-    e1y = pf[m + TRI_E1 + 1]
-    e1z = pf[m + TRI_E1 + 2]
-    e2x = pf[m + TRI_E2]
-    e2y = pf[m + TRI_E2 + 1]
-    e2z = pf[m + TRI_E2 + 2]
+    return moller_trumbore(
+        pf, m + TRI_P1, m + TRI_E1, m + TRI_E2, ox, oy, oz, dx, dy, dz, eps
+    )
+
+
+@njit(**INLINE)
+def compact_intersect(tg, t, ox, oy, oz, dx, dy, dz, eps):
+    """Chapter 15: Möller-Trumbore for compact triangle t (``tg``): (count, t, u, v)."""
+    m = t * NTG
+    return moller_trumbore(tg, m + TG_P1, m + TG_E1, m + TG_E2, ox, oy, oz, dx, dy, dz, eps)
+
+
+@njit(**INLINE)
+def moller_trumbore(table, at_p1, at_e1, at_e2, ox, oy, oz, dx, dy, dz, eps):
+    """Chapter 15's intersection of a triangle whose p1, e1 and e2 are in ``table`` at
+    those offsets: (count, t, u, v), the reference's arithmetic step by step."""
+    e1x = table[at_e1]
+    e1y = table[at_e1 + 1]
+    e1z = table[at_e1 + 2]
+    e2x = table[at_e2]
+    e2y = table[at_e2 + 1]
+    e2z = table[at_e2 + 2]
     cx = dy * e2z - dz * e2y
     cy = dz * e2x - dx * e2z
     cz = dx * e2y - dy * e2x
@@ -427,9 +451,9 @@ def triangle_intersect(pf, p, ox, oy, oz, dx, dy, dz, eps):
     if abs(det) < eps:
         return 0, INF, ZERO, ZERO
     f = ONE / det
-    px = ox - pf[m + TRI_P1]
-    py = oy - pf[m + TRI_P1 + 1]
-    pz = oz - pf[m + TRI_P1 + 2]
+    px = ox - table[at_p1]
+    py = oy - table[at_p1 + 1]
+    pz = oz - table[at_p1 + 2]
     u = f * (px * cx + py * cy + pz * cz)
     if u < ZERO or u > ONE:
         return 0, INF, ZERO, ZERO
@@ -443,15 +467,34 @@ def triangle_intersect(pf, p, ox, oy, oz, dx, dy, dz, eps):
 
 
 @njit(**INLINE)
-def smooth_normal(pf, p, u, v):
-    """Chapter 15: the corner normals blended by the hit's u and v."""
-    m = p * NF
+def smooth_normal(table, n1, n2, n3, u, v):
+    """Chapter 15: the corner normals (in ``table`` at offsets n1, n2, n3) blended by the
+    hit's u and v."""
     w = ONE - u - v
     return (
-        pf[m + TRI_N2] * u + pf[m + TRI_N3] * v + pf[m + TRI_N1] * w,
-        pf[m + TRI_N2 + 1] * u + pf[m + TRI_N3 + 1] * v + pf[m + TRI_N1 + 1] * w,
-        pf[m + TRI_N2 + 2] * u + pf[m + TRI_N3 + 2] * v + pf[m + TRI_N1 + 2] * w,
+        table[n2] * u + table[n3] * v + table[n1] * w,
+        table[n2 + 1] * u + table[n3 + 1] * v + table[n1 + 1] * w,
+        table[n2 + 2] * u + table[n3 + 2] * v + table[n1 + 2] * w,
     )
+
+
+@njit(**INLINE)
+def compact_first_hit(pf, p, tg, t, ox, oy, oz, dx, dy, dz, eps, tmax):
+    """``first_hit_in`` for compact triangle t of run row p: (found, t, u, v)."""
+    lox, loy, loz = to_object_point(pf, p, ox, oy, oz)
+    ldx, ldy, ldz = to_object_vector(pf, p, dx, dy, dz)
+    n, hit, u, v = compact_intersect(tg, t, lox, loy, loz, ldx, ldy, ldz, eps)
+    best = hit if n > 0 and hit >= ZERO else INF
+    return best < tmax, best, u, v
+
+
+@njit(**INLINE)
+def compact_all(pf, p, tg, t, ox, oy, oz, dx, dy, dz, eps):
+    """``intersect_prim`` (every t) for compact triangle t of run row p: (count, t)."""
+    lox, loy, loz = to_object_point(pf, p, ox, oy, oz)
+    ldx, ldy, ldz = to_object_vector(pf, p, dx, dy, dz)
+    n, hit, _, _ = compact_intersect(tg, t, lox, loy, loz, ldx, ldy, ldz, eps)
+    return n, hit
 
 
 @njit(**INLINE)
@@ -612,10 +655,19 @@ def first_hit_in(pf, pi, p, ox, oy, oz, dx, dy, dz, a, eps, tmax):
 
 
 @njit(**INLINE)
-def local_normal(pf, pi, p, x, y, z, u, v, eps):
-    """Chapters 6-15: primitive p's object-space normal at an object-space point."""
+def local_normal(pf, pi, p, x, y, z, u, v, eps, g, local):
+    """Chapters 6-15: primitive p's object-space normal at an object-space point; for a run
+    of compact triangles (``g`` = (tg, tn)), triangle ``local``'s."""
     m = p * NF
     kind = pi[p * NI + KIND]
+    first = pi[p * NI + TRI_FIRST]
+    if (HAS_TRIANGLE or HAS_SMOOTH_TRIANGLE) and first >= 0:
+        tg, tn = g
+        if HAS_SMOOTH_TRIANGLE and kind == K_SMOOTH_TRIANGLE:
+            n = (pi[p * NI + TN_FIRST] + local - first) * NTN
+            return smooth_normal(tn, n, n + 3, n + 6, u, v)
+        n = local * NTG + TG_NORMAL
+        return tg[n], tg[n + 1], tg[n + 2]
     if HAS_SPHERE and kind == K_SPHERE:
         return x, y, z
     if HAS_PLANE and kind == K_PLANE:
@@ -629,24 +681,24 @@ def local_normal(pf, pi, p, x, y, z, u, v, eps):
     if HAS_TRIANGLE and kind == K_TRIANGLE:
         return pf[m + TRI_NORMAL], pf[m + TRI_NORMAL + 1], pf[m + TRI_NORMAL + 2]
     if HAS_SMOOTH_TRIANGLE and kind == K_SMOOTH_TRIANGLE:
-        return smooth_normal(pf, p, u, v)
+        return smooth_normal(pf, m + TRI_N1, m + TRI_N2, m + TRI_N3, u, v)
     return x, y, z  # the test shape: the point as a vector
 
 
 @njit(**INLINE)
-def world_normal(pf, pi, p, x, y, z, u, v, eps):
+def world_normal(pf, pi, p, x, y, z, u, v, eps, g, local):
     """Chapters 6 and 14: primitive p's world-space normal at a world-space point; for a
     ball, from its centre (the reference's direction, rounded differently)."""
     if is_world_sphere(pi, p):
         m = p * NF + SPH_CENTER
         return normalized(x - pf[m], y - pf[m + 1], z - pf[m + 2])
     lx, ly, lz = to_object_point(pf, p, x, y, z)
-    nx, ny, nz = local_normal(pf, pi, p, lx, ly, lz, u, v, eps)
+    nx, ny, nz = local_normal(pf, pi, p, lx, ly, lz, u, v, eps, g, local)
     return to_world_normal(pf, p, nx, ny, nz)
 
 
 @njit(**INLINE)
-def hit_normal(pf, pi, p, x, y, z, u, v, eps):
+def hit_normal(pf, pi, p, x, y, z, u, v, eps, g, local):
     """Chapters 6 and 14, at a hit: ``world_normal``, but a ball's is (point - centre) /
     radius, with no square root: the hit lies on the ball up to rounding, so its length is
     1 to about 1e-15."""
@@ -655,7 +707,7 @@ def hit_normal(pf, pi, p, x, y, z, u, v, eps):
         k = pf[m + SPH_INV_R]
         c = m + SPH_CENTER
         return (x - pf[c]) * k, (y - pf[c + 1]) * k, (z - pf[c + 2]) * k
-    return world_normal(pf, pi, p, x, y, z, u, v, eps)
+    return world_normal(pf, pi, p, x, y, z, u, v, eps, g, local)
 
 
 @njit(**INLINE)

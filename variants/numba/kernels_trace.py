@@ -31,8 +31,9 @@ explicit stack that replaces the book's recursion, camera rays and samples, and 
   sequence); ``shade_and_push`` then lights the point from every cell (``area_phong``).
 
 A world travels as one tuple ``w`` = (pf, pi, items, n_items, boxes, csg, balls, n_balls,
-lights, n_lights, (ti, tf)) and a thread's scratch as ``s`` = (sf, si, tb) (see
-``layout``): one CSG
+lights, n_lights, (ti, tf), (tg, tn)) and a thread's scratch as ``s`` = (sf, si, tb) (see
+``layout``). A compact triangle's hit is (its run's row, its number in ``tg``), which
+sorts ties as the world's order does. The scratch holds one CSG
 tree's intersection list and per primitive of the tree where its entries start and, for
 n1/n2, how many come before the hit; the shadow memos (one per light) and ray counters;
 the hit ray's stack of item ranges; one value per ball.
@@ -69,6 +70,8 @@ from variants.numba.kernels_geometry import (
     ball_first,
     ball_roots,
     box_range,
+    compact_all,
+    compact_first_hit,
     first_hit_in,
     hit_normal,
     intersect_prim,
@@ -116,6 +119,7 @@ from variants.numba.layout import (
     I_BOX,
     I_CSG,
     I_PRIM,
+    I_TRI,
     ITEM_A,
     ITEM_B,
     ITEM_C,
@@ -186,7 +190,7 @@ def csg_collect(w, s, i, ox, oy, oz, dx, dy, dz, eps):
     """Chapter 16: the intersection list of CSG item i, sorted and filtered, in cs_*; returns
     its length. Operations are applied in post-order, each to the stretch of the list its
     primitives occupy, so nested CSG trees need no recursion."""
-    pf, pi, items, _, _, csg, _, _, _, _, _ = w
+    pf, pi, items, _, _, csg, _, _, _, _, _, _ = w
     sf, si, _ = s
     node = items[i * NITEM + ITEM_A]
     last_node = items[i * NITEM + ITEM_B]
@@ -269,7 +273,7 @@ def nearest_hit(w, s, ox, oy, oz, dx, dy, dz, eps):
     past its contents; at a hierarchy's node split along an axis the ray travels down,
     the second child is visited first (the first child and what follows the node wait
     on the range stack in ``si``), so that near hits come early and cut boxes short."""
-    pf, pi, items, n_items, boxes, _, balls, n_balls, _, _, _ = w
+    pf, pi, items, n_items, boxes, _, balls, n_balls, _, _, _, geo = w
     sf, si, tb = s
     a = dx * dx + dy * dy + dz * dz
     ix = ONE / dx
@@ -298,6 +302,14 @@ def nearest_hit(w, s, ox, oy, oz, dx, dy, dz, eps):
             # a tie goes to the earlier primitive, whatever order the items are in
             if found or (t == best_t and p < best_p):
                 best_t, best_p, best_l, best_u, best_v = t, p, local, u, v
+            i += 1
+        elif kind == I_TRI:
+            p = items[i * NITEM + ITEM_A]
+            q = items[i * NITEM + ITEM_B]
+            found, t, u, v = compact_first_hit(pf, p, geo[0], q, ox, oy, oz, dx, dy, dz, eps, best_t)
+            # a tie: the earlier run's row, then the earlier triangle of the run
+            if found or (t == best_t and (p < best_p or (p == best_p and q < best_l))):
+                best_t, best_p, best_l, best_u, best_v = t, p, q, u, v
             i += 1
         elif HAS_BOXES and kind == I_BOX:
             if box_range(boxes, i, ox, oy, oz, ix, iy, iz, ZERO, best_t):
@@ -362,6 +374,18 @@ def nearest_hit(w, s, ox, oy, oz, dx, dy, dz, eps):
 
 
 @njit(**INLINE)
+def occludes(pf, pi, items, geo, i, ox, oy, oz, dx, dy, dz, a, eps, distance):
+    """Does item i (a primitive or a compact triangle) meet the ray before ``distance``?"""
+    p = items[i * NITEM + ITEM_A]
+    if items[i * NITEM + ITEM_TYPE] == I_TRI:
+        q = items[i * NITEM + ITEM_B]
+        found, _, _, _ = compact_first_hit(pf, p, geo[0], q, ox, oy, oz, dx, dy, dz, eps, distance)
+        return found
+    found, _, _, _, _ = first_hit_in(pf, pi, p, ox, oy, oz, dx, dy, dz, a, eps, distance)
+    return found
+
+
+@njit(**INLINE)
 def shadowed(w, s, ox, oy, oz, vx, vy, vz, eps, slot):
     """Chapter 8 (``is_shadowed``): does a shadow-casting object lie between (ox, oy, oz)
     and the light at the end of (vx, vy, vz)? The shadow ray is the book's: the unit
@@ -370,7 +394,7 @@ def shadowed(w, s, ox, oy, oz, vx, vy, vz, eps, slot):
     |v| times sooner). Every ball at once first; then the primitive that answered yes last
     time (on this thread, for this light: memo ``slot``), since neighbouring pixels usually
     share their occluder; then the items. (Any occluder gives the same answer.)"""
-    pf, pi, items, n_items, boxes, _, balls, n_balls, _, _, _ = w
+    pf, pi, items, n_items, boxes, _, balls, n_balls, _, _, _, geo = w
     sf, si, _ = s
     distance = math.sqrt(vx * vx + vy * vy + vz * vz)
     if distance == ZERO:
@@ -394,22 +418,20 @@ def shadowed(w, s, ox, oy, oz, vx, vy, vz, eps, slot):
                 if found:
                     return True
     last = si[slot * NSI + MEMO]
-    if last >= 0:
-        found, _, _, _, _ = first_hit_in(pf, pi, last, ox, oy, oz, dx, dy, dz, a, eps, distance)
-        if found:
-            return True
+    if last >= 0 and occludes(pf, pi, items, geo, last, ox, oy, oz, dx, dy, dz, a, eps, distance):
+        return True
     i = 0
     while i < n_items:
         kind = items[i * NITEM + ITEM_TYPE]
-        if kind == I_PRIM:
+        if kind in (I_PRIM, I_TRI):
             p = items[i * NITEM + ITEM_A]
-            if pi[p * NI + CASTS_SHADOW] != 0 and p != last:
-                found, _, _, _, _ = first_hit_in(
-                    pf, pi, p, ox, oy, oz, dx, dy, dz, a, eps, distance
-                )
-                if found:
-                    si[slot * NSI + MEMO] = p
-                    return True
+            if (
+                pi[p * NI + CASTS_SHADOW] != 0
+                and i != last
+                and occludes(pf, pi, items, geo, i, ox, oy, oz, dx, dy, dz, a, eps, distance)
+            ):
+                si[slot * NSI + MEMO] = i
+                return True
             i += 1
         elif HAS_BOXES and kind == I_BOX:
             if box_range(boxes, i, ox, oy, oz, ix, iy, iz, ZERO, distance):
@@ -455,23 +477,26 @@ def later(t, p, local, bt, bp, bl):
 
 
 @njit(**INLINE)
-def tally(p, n, t0, t1, t2, t3, t_hit, p_hit, l_hit, state):
-    """Chapter 11, for one primitive's n intersections (t0 ... t3): when an odd number of
-    them comes before the hit, it is a container; keep the latest-entered one. ``state``:
+def tally(p, base, compact, n, t0, t1, t2, t3, t_hit, p_hit, l_hit, state):
+    """Chapter 11, for one object's n intersections (t0 ... t3, numbered from ``base``: a
+    primitive's from 0; a ``compact`` triangle's is its number): when an odd number of them
+    comes before the hit, it is a container; keep the latest-entered one. ``state``:
     (other_t, other_p, other_l, hit_inside, hit_t, hit_l), returned updated."""
     other_t, other_p, other_l, hit_inside, hit_t, hit_l = state
     count = 0
     last_t = -INF
     last_l = -1
-    for local in range(n):
-        t = nth(t0, t1, t2, t3, local)
+    for j in range(n):
+        t = nth(t0, t1, t2, t3, j)
+        local = base + j
         if before(t, p, local, t_hit, p_hit, l_hit):
             count += 1
             if later(t, p, local, last_t, p, last_l):
                 last_t = t
                 last_l = local
     if count % 2 == 1:
-        if p == p_hit:
+        # the hit's own object: its primitive, or for a compact triangle its run and number
+        if p == p_hit and (not compact or base == l_hit):
             hit_inside = True
             hit_t = last_t
             hit_l = last_l
@@ -484,7 +509,7 @@ def tally(p, n, t0, t1, t2, t3, t_hit, p_hit, l_hit, state):
 def refractive_indices(w, s, ox, oy, oz, dx, dy, dz, eps, t_hit, p_hit, l_hit):
     """Chapter 11: (n1, n2) at the hit (t_hit, p_hit, l_hit), from every intersection along
     the ray (negative t included, as in the reference's list)."""
-    pf, pi, items, n_items, boxes, _, balls, n_balls, _, _, _ = w
+    pf, pi, items, n_items, boxes, _, balls, n_balls, _, _, _, geo = w
     sf, si, _ = s
     # the latest-entered container other than the hit's object (t, p, local); is the hit's
     # object a container just before the hit, and its latest entry (t, local)
@@ -501,7 +526,13 @@ def refractive_indices(w, s, ox, oy, oz, dx, dy, dz, eps, t_hit, p_hit, l_hit):
                 n, t0, t1, t2, t3, _, _ = intersect_prim(
                     pf, pi, p, ox, oy, oz, dx, dy, dz, eps, INF
                 )
-                state = tally(p, n, t0, t1, t2, t3, t_hit, p_hit, l_hit, state)
+                state = tally(p, 0, False, n, t0, t1, t2, t3, t_hit, p_hit, l_hit, state)
+            i += 1
+        elif kind == I_TRI:
+            p = items[i * NITEM + ITEM_A]
+            q = items[i * NITEM + ITEM_B]
+            n, t0 = compact_all(pf, p, geo[0], q, ox, oy, oz, dx, dy, dz, eps)
+            state = tally(p, q, True, n, t0, INF, INF, INF, t_hit, p_hit, l_hit, state)
             i += 1
         elif HAS_BOXES and kind == I_BOX:
             if box_range(boxes, i, ox, oy, oz, ix, iy, iz, -INF, t_hit):
@@ -556,7 +587,7 @@ def refractive_indices(w, s, ox, oy, oz, dx, dy, dz, eps, t_hit, p_hit, l_hit):
             discriminant = hb * hb - a * cc
             if discriminant >= ZERO:
                 t0, t1 = ball_roots(hb, cc, a, discriminant)
-                state = tally(p, 2, t0, t1, INF, INF, t_hit, p_hit, l_hit, state)
+                state = tally(p, 0, False, 2, t0, t1, INF, INF, t_hit, p_hit, l_hit, state)
     other_t, other_p, other_l, hit_inside, hit_t, hit_l = state
     outside = pf[other_p * NF + REFRACTIVE_INDEX] if other_p >= 0 else ONE
     own = pf[p_hit * NF + REFRACTIVE_INDEX]
@@ -587,7 +618,7 @@ def light_intensity(w, s, k, x, y, z, eps, key):
     the fraction of its cells (v outer, u inner) whose point no shadow-casting object
     hides, one shadow ray each (``shadowed``, as for point lights); ``key``: the sample's
     (``sample_key``), for the jitter."""
-    _, _, _, _, _, _, _, _, light, n_lights, _ = w
+    _, _, _, _, _, _, _, _, light, n_lights, _, _ = w
     _, si, _ = s
     lm = k * NLIGHT
     seq0 = n_lights * NLIGHT
@@ -618,7 +649,7 @@ def shade_and_push(w, s, p, eyev, normalv, over, under, reflectv, n1, n2, weight
     term once), times ``weight``; the reflected and refracted rays it spawns are pushed
     on the stack with their weights. ``key``: the sample's (``sample_key``: an area
     light's jitter). Returns (r, g, b, new top)."""
-    pf, pi, _, _, _, _, _, _, light, n_lights, tex = w
+    pf, pi, _, _, _, _, _, _, light, n_lights, tex, _ = w
     _, si, _ = s
     ex, ey, ez = eyev
     nx, ny, nz = normalv
@@ -702,7 +733,7 @@ def shade_and_push(w, s, p, eyev, normalv, over, under, reflectv, n1, n2, weight
 
 
 @njit(**INLINE)
-def prepare(pf, pi, p, ox, oy, oz, dx, dy, dz, t, u, v, eps):
+def prepare(pf, pi, p, ox, oy, oz, dx, dy, dz, t, u, v, eps, g, local):
     """Chapters 7, 8 and 11 (``prepare_computations`` without n1/n2): point, eyev, normalv,
     inside, over_point, under_point, reflectv."""
     px = ox + dx * t
@@ -711,7 +742,7 @@ def prepare(pf, pi, p, ox, oy, oz, dx, dy, dz, t, u, v, eps):
     ex = -dx
     ey = -dy
     ez = -dz
-    nx, ny, nz = hit_normal(pf, pi, p, px, py, pz, u, v, eps)
+    nx, ny, nz = hit_normal(pf, pi, p, px, py, pz, u, v, eps, g, local)
     inside = nx * ex + ny * ey + nz * ez < ZERO
     if inside:
         nx = -nx
@@ -733,7 +764,7 @@ def drain(w, s, eps, stack, top, r, g, b, key):
     """Chapter 7 (``color_at``, iteratively): trace every ray on the stack and everything it
     spawns; returns the sum of their weighted surface colors added to (r, g, b). ``key``:
     the sample's (``sample_key``), the same at every bounce."""
-    pf, pi, _, _, _, _, _, _, _, _, _ = w
+    pf, pi, _, _, _, _, _, _, _, _, _, geo = w
     _, si, _ = s
     while top > 0:
         top -= 1
@@ -752,7 +783,7 @@ def drain(w, s, eps, stack, top, r, g, b, key):
         if p < 0:
             continue
         (_px, _py, _pz, ex, ey, ez, nx, ny, nz, _inside, over_x, over_y, over_z, under_x, under_y,
-         under_z, rx, ry, rz) = prepare(pf, pi, p, ox, oy, oz, dx, dy, dz, t, u, v, eps)  # fmt: skip
+         under_z, rx, ry, rz) = prepare(pf, pi, p, ox, oy, oz, dx, dy, dz, t, u, v, eps, geo, local)  # fmt: skip
         n1 = ONE
         n2 = ONE
         if HAS_REFRACTION and remaining > 0 and pf[p * NF + TRANSPARENCY] > ZERO:
@@ -884,10 +915,10 @@ def render_rows(out, x0, y0, x1, y1, k, step, cam, w, depth, samples, seed_key, 
 
 def render_entry(
     out, x0, y0, x1, y1, k, step, cam, pf, pi, items, n_items, boxes, csg, balls, n_balls,
-    light, n_lights, ti, tf, depth, samples, seed_key, eps, stack, sf, si, tb,
+    light, n_lights, ti, tf, tg, tn, depth, samples, seed_key, eps, stack, sf, si, tb,
 ):  # fmt: skip
     """The render's entry point, compiled as a C function (``make_render_entry``)."""
-    w = (pf, pi, items, n_items, boxes, csg, balls, n_balls, light, n_lights, (ti, tf))
+    w = (pf, pi, items, n_items, boxes, csg, balls, n_balls, light, n_lights, (ti, tf), (tg, tn))
     return render_rows(
         out, x0, y0, x1, y1, k, step, cam, w, depth, samples, seed_key, eps, stack, (sf, si, tb)
     )
@@ -897,8 +928,8 @@ def make_render_entry(cache):
     """Compile ``render_entry`` as a C-callable function (numba's ``cfunc``) over raw
     pointers: ``int64 f(F* out, int64 x0, int64 y0, int64 x1, int64 y1, int64 k, int64
     step, F* cam, F* pf, int64* pi, int64* items, int64 n_items, F* boxes, int64* csg, F*
-    balls, int64 n_balls, F* light, int64 n_lights, int64* ti, F* tf, int64 depth, int64
-    samples, uint64 seed_key, float64 eps, F* stack, F* sf, int64* si, F* tb)``. Without the numba runtime: it cannot
+    balls, int64 n_balls, F* light, int64 n_lights, int64* ti, F* tf, F* tg, F* tn, int64
+    depth, int64 samples, uint64 seed_key, float64 eps, F* stack, F* sf, int64* si, F* tb)``. Without the numba runtime: it cannot
     allocate. ``cache``: numba's disk cache (used only when the render cannot be linked as
     a shared library)."""
     from numba import cfunc, types
@@ -909,7 +940,7 @@ def make_render_entry(cache):
     i64 = types.int64
     signature = types.int64(
         fp, i64, i64, i64, i64, i64, i64, fp, fp, ip, ip, i64, fp, ip, fp, i64, fp, i64, ip, fp,
-        i64, i64, types.uint64, types.float64, fp, fp, ip, fp,
+        fp, fp, i64, i64, types.uint64, types.float64, fp, fp, ip, fp,
     )  # fmt: skip
     flags: dict[str, Any] = {"_nrt": False, "fastmath": FASTMATH, "error_model": "numpy"}
     return cfunc(signature, cache=cache, **flags)(render_entry)

@@ -8,7 +8,13 @@ entry point, called through ctypes), and takes no row views (no reference counti
 - ``pf[p, column]`` (floats) and ``pi[p, column]`` (ints): one row per primitive (a leaf shape:
   sphere, plane, cube, cylinder, cone, triangle, smooth triangle, test shape), holding its
   composed world-to-object transform, the transform for normals, its material and pattern,
-  and its own parameters (chapters 5-15);
+  and its own parameters (chapters 5-15); and one row per *run* of triangles packed
+  compactly (a mesh, chapter 15): their shared transform, material and shadow, and where
+  their numbers are in ``tg`` (``TRI_FIRST``, ``TRI_COUNT``) and ``tn`` (``TN_FIRST``);
+- ``tg[t, column]``: a compact triangle's corner p1, edges e1, e2 and face normal (``NTG``
+  floats), ``tn[k, column]``: a smooth one's corner normals (``NTN``). A ray meets triangle
+  t of run row r through an ``I_TRI`` item; its hit is (r, t): the run's row stands for
+  every triangle in it, and t (its "local" number) orders them, as the world's order does;
 - ``items[i, column]`` and ``boxes[i, column]``: the order in which a ray visits the world,
   depth first: a primitive, a bounding box (skip what it holds when the ray misses it:
   a node of the bounding-volume hierarchy, ``bvh``, or a group's box, chapter 14), or a
@@ -67,7 +73,19 @@ CASTS_SHADOW = 2  # 0 or 1
 CLOSED = 3  # cylinders and cones: 1 when capped
 WORLD_SPHERE = 4  # 1: a sphere tested in world space (SPH_*): its transform is a similarity
 PAT_TEX = 5  # texture patterns (P_MAP, P_CUBE_MAP): where their map record starts in ``ti``
-NI = 6
+TRI_FIRST = 6  # a run of compact triangles: its first triangle in ``tg`` (-1: not a run)
+TN_FIRST = 7  # ... a smooth run: its first entry in ``tn`` (-1: flat)
+TRI_COUNT = 8  # ... how many triangles
+NI = 9
+
+# tg (compact triangles, floats): per triangle
+TG_P1 = 0  # 3: the first corner
+TG_E1 = 3  # 3: p2 - p1
+TG_E2 = 6  # 3: p3 - p1
+TG_NORMAL = 9  # 3: the flat normal
+NTG = 12
+# tn (compact smooth triangles, floats): per smooth triangle, n1, n2, n3
+NTN = 9
 
 # shape kinds
 K_SPHERE = 0
@@ -119,9 +137,10 @@ UV_IMAGE = 2
 
 # items: what a ray visits, in order
 ITEM_TYPE = 0
-ITEM_A = 1  # primitive: its row; box: the item after its contents; csg: its first csg node
+ITEM_A = 1  # primitive: its row; box: the item after its contents; csg: its first csg node;
+# compact triangle: its run's row
 ITEM_B = 2  # csg: one past its last csg node; box of a hierarchy's inner node: the first
-# item of its second child
+# item of its second child; compact triangle: its number in ``tg``
 ITEM_C = 3  # csg: its first primitive; box: the split axis + 1 of a hierarchy's inner node
 # (a ray going down that axis visits the second child first), else 0
 ITEM_D = 4  # csg: one past its last primitive
@@ -130,6 +149,7 @@ I_PRIM = 0
 I_BOX = 1
 I_CSG = 2
 I_SKIP = 3  # nothing (a group whose box would not help; dropped when packing ends)
+I_TRI = 4  # a compact triangle (``tg``) of a run
 
 # csg nodes (post-order): the left operand is primitives [START, MID), the right [MID, END)
 CSG_START = 0
@@ -196,7 +216,7 @@ CS_START = 2  # si: per primitive of the tree: where its entries start in the li
 CS_COUNT = 3  # si: per primitive: how many of its intersections come before the hit
 CS_LAST_L = 4  # si: per primitive: the index of its latest one
 RAYS = 5  # si: entries 0, 1, 2 (count_rays kernels): rays traced, shadow rays, n1/n2 passes
-MEMO = 6  # si: entry k: the primitive that last shadowed a point from light k (modulo the
+MEMO = 6  # si: entry k: the item that last shadowed a point from light k (modulo the
 # entries) on this thread (-1: none)
 BV_FROM = 7  # si: the hit ray's stack of item ranges still to visit (an ordered hierarchy's
 BV_TO = 8  # ... second children taken first): entry k is [BV_FROM, BV_TO)

@@ -31,6 +31,7 @@ effect on the picture):
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import math
 import time
 from collections.abc import Sequence
@@ -225,6 +226,8 @@ class Packed:
     seconds: float = 0.0  # the time packing took, the hierarchy's build included
     textures: TextureTable = field(default_factory=TextureTable, repr=False)
     light_values: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)
+    tg: np.ndarray = field(default_factory=lambda: np.zeros((0, L.NTG)), repr=False)
+    tn: np.ndarray = field(default_factory=lambda: np.zeros((0, L.NTN)), repr=False)
     _rows_by_id: dict[int, int] | None = field(default=None, repr=False)
     _texture_arrays: tuple[np.ndarray, np.ndarray] | None = field(default=None, repr=False)
 
@@ -252,6 +255,16 @@ class Packed:
         rows = np.ascontiguousarray(self.lights).reshape(-1)
         table = np.concatenate([rows, self.light_values.astype(rows.dtype, copy=False)])
         return (table if table.size else np.zeros(1, dtype=rows.dtype)), len(self.lights)
+
+    def triangle_tables(self) -> tuple[np.ndarray, np.ndarray]:
+        """(tg, tn): the compact triangles' corners, edges and normals, and the smooth
+        ones' corner normals, flattened (``layout``)."""
+        return _flat(self.tg), _flat(self.tn)
+
+    def triangles(self) -> int:
+        """How many primitives the rows stand for (a compact run's row, its triangles)."""
+        runs = self.pi[:, L.TRI_FIRST] >= 0
+        return int(np.where(runs, self.pi[:, L.TRI_COUNT], 1).sum())
 
     def texture_table(self) -> tuple[np.ndarray, np.ndarray]:
         """(ti, tf): the texture patterns' records (``layout``, ``textures``), in the
@@ -338,14 +351,20 @@ class _Packer:
     item's world-space box (NaN: none)."""
 
     def __init__(
-        self, dtype: Any, allow_test_shape: bool, structure: str = DEFAULT, every_box: bool = False
-    ) -> None:
+        self, dtype: Any, allow_test_shape: bool, structure: str = DEFAULT,
+        every_box: bool = False, compact: bool = False,
+    ) -> None:  # fmt: skip
         if structure not in STRUCTURES:
             raise ValueError(f"numba: unknown bvh structure {structure!r}: {STRUCTURES}")
         self.dtype = dtype
         self.allow_test_shape = allow_test_shape
         self.structure = structure
         self.every_box = every_box
+        self.compact = compact  # runs of triangles as compact triangles (``tg``)
+        self.tg: list[np.ndarray] = []
+        self.tn: list[np.ndarray] = []
+        self.n_tg = 0
+        self.n_tn = 0
         self.rows_f: list[Any] = []
         self.rows_i: list[Any] = []
         self.n_rows = 0
@@ -409,6 +428,8 @@ class _Packer:
                 f[L.PAT_B : L.PAT_B + 3] = _rgb(used.b)  # type: ignore[attr-defined]
         i[L.KIND] = kind
         i[L.CASTS_SHADOW] = 1 if shadow else 0
+        i[L.TRI_FIRST] = -1  # a primitive of its own, not a run of compact triangles
+        i[L.TN_FIRST] = -1
         if params and "minimum" in params:  # cylinders and cones
             f[L.MINIMUM] = float(params["minimum"])
             f[L.MAXIMUM] = float(params["maximum"])
@@ -470,6 +491,48 @@ class _Packer:
         self.capacity += n * run.kind.max_hits
         return F.world_boxes(run.fwd, run.corners)
 
+    def compact_triangles(self, run: F.Triangles) -> np.ndarray:
+        """Chapter 15 at scale, compactly: the triangles' numbers in ``tg`` (and ``tn``),
+        one row per stretch of them with one material and shadow (their transform, material
+        and where they are), one ``I_TRI`` item each. Returns their box (6,)."""
+        n = run.count
+        smooth = run.normals is not None
+        tg = np.empty((n, L.NTG), dtype=np.float64)
+        tg[:, L.TG_P1 : L.TG_P1 + 3] = run.corners[:, 0]
+        tg[:, L.TG_E1 : L.TG_E1 + 3] = run.edges[:, 0]
+        tg[:, L.TG_E2 : L.TG_E2 + 3] = run.edges[:, 1]
+        tg[:, L.TG_NORMAL : L.TG_NORMAL + 3] = run.normal
+        first_t, first_n = self.n_tg, self.n_tn
+        self.tg.append(tg)
+        self.n_tg += n
+        if smooth:
+            assert run.normals is not None
+            self.tn.append(run.normals.reshape(n, L.NTN))
+            self.n_tn += n
+        items = np.zeros((n, L.NITEM), dtype=np.int64)
+        items[:, L.ITEM_TYPE] = L.I_TRI
+        items[:, L.ITEM_B] = np.arange(first_t, first_t + n)
+        key = run.material_of * 2 + run.shadow.astype(np.int64)
+        cuts = [0, *(1 + np.flatnonzero(np.diff(key))).tolist(), n]
+        for a, b in itertools.pairwise(cuts):
+            material = run.materials[int(run.material_of[a])]
+            f, i = self.row(run.kind.number, run.inv, f"{run.where} (its triangle {a})",
+                            material, bool(run.shadow[a]))  # fmt: skip
+            i[L.TRI_FIRST] = first_t + a
+            i[L.TN_FIRST] = first_n + a if smooth else -1
+            i[L.TRI_COUNT] = b - a
+            items[a:b, L.ITEM_A] = self.n_rows
+            self.rows_f.append(f)
+            self.rows_i.append(i)
+            self.shapes.append(run.sources[a] if run.sources is not None else None)
+            self.n_rows += 1
+        self.capacity += n * run.kind.max_hits
+        bounds = F.world_boxes(run.fwd, run.corners)
+        self.items.append(items)
+        self.bounds.append(bounds)
+        self.n_items += n
+        return F.union([bounds])
+
     def item(self, values: list[int], bounds: Any) -> int:
         """Append one item with its bounds (6 values, NaN: none); returns its index."""
         self.items.append(values)
@@ -486,6 +549,8 @@ class _Packer:
             return self.add_group(node)
         if isinstance(node, F.Csg):
             return self.add_csg(node)
+        if isinstance(node, F.Triangles) and self.compact:
+            return self.compact_triangles(node)
         if isinstance(node, F.Triangles):
             first_row = self.n_rows
             bounds = self.triangles(node)
@@ -591,12 +656,14 @@ class _Packer:
         balls[L.B_PRIM] = ball_rows
         csg = np.array(self.csg, dtype=np.int64).reshape(len(self.csg), L.NCSG)
         rows, sequences = light_rows(lights, dtype)
+        tg = _stack(self.tg, L.NTG, np.float64).astype(dtype, copy=False)
+        tn = _stack(self.tn, L.NTN, np.float64).astype(dtype, copy=False)
         seconds = time.perf_counter() - started if started is not None else 0.0
         return Packed(
             pf.astype(dtype, copy=False), pi, items, _outward(boxes, dtype), csg,
             rows, self.shapes, max(self.capacity, 1), self.cs_size,
             self.cs_prims, balls, hierarchy, seconds, textures=self.textures,
-            light_values=sequences,
+            light_values=sequences, tg=tg, tn=tn,
         )  # fmt: skip
 
 
@@ -606,7 +673,7 @@ def _drop_skips(items: np.ndarray, bounds: np.ndarray) -> tuple[np.ndarray, np.n
     kinds = items[:, L.ITEM_TYPE]
     if not ((kinds == L.I_SKIP) | (kinds == L.I_BOX)).any():
         return items, bounds
-    leaf = (kinds == L.I_PRIM) | (kinds == L.I_CSG)
+    leaf = (kinds == L.I_PRIM) | (kinds == L.I_CSG) | (kinds == L.I_TRI)
     leaves_before = np.concatenate([[0], np.cumsum(leaf)])
     box = np.flatnonzero(kinds == L.I_BOX)
     empty = leaves_before[items[box, L.ITEM_A]] - leaves_before[box + 1] == 0
@@ -655,8 +722,9 @@ def _triangle_spheres(points: np.ndarray, fwd: Matrix) -> np.ndarray:
 def _pack(
     nodes: Sequence[F.Node], lights: Sequence[Light], dtype: Any, allow_test_shape: bool,
     structure: str, every_box: bool = False, started: float | None = None,
+    compact: bool = False,
 ) -> Packed:  # fmt: skip
-    packer = _Packer(dtype, allow_test_shape, structure, every_box)
+    packer = _Packer(dtype, allow_test_shape, structure, every_box, compact)
     for node in nodes:
         packer.add(node)
     return packer.build(lights, started)
@@ -676,14 +744,19 @@ def pack_world(
     *,
     allow_test_shape: bool = False,
     structure: str = DEFAULT,
+    compact: bool = False,
 ) -> Packed:
     """Chapter 7: every object of the book's ``world`` and its lights, packed; ``structure``:
-    how the items are arranged (``bvh``)."""
+    how the items are arranged (``bvh``); ``compact``: runs of triangles as compact
+    triangles (a render's tables; the book's API wants a row per shape)."""
     if not isinstance(world, World):
         raise PackError(f"numba: expected a World, got {type(world).__name__}")
     started = time.perf_counter()
     nodes = _flattened(F.from_world, world)
-    return _pack(nodes, list(world.lights), dtype, allow_test_shape, structure, started=started)
+    lights = list(world.lights)
+    return _pack(
+        nodes, lights, dtype, allow_test_shape, structure, started=started, compact=compact
+    )
 
 
 def pack_scene(scene: Any, dtype: Any = np.float64, *, structure: str = DEFAULT) -> Packed:
@@ -691,7 +764,7 @@ def pack_scene(scene: Any, dtype: Any = np.float64, *, structure: str = DEFAULT)
     and arrays, no book shape built."""
     started = time.perf_counter()
     nodes = _flattened(F.from_description, scene)
-    return _pack(nodes, list(scene.lights), dtype, False, structure, started=started)
+    return _pack(nodes, list(scene.lights), dtype, False, structure, started=started, compact=True)
 
 
 def pack_shapes(

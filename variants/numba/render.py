@@ -91,7 +91,7 @@ def packed_for_render(w: World | Packed, options: Options) -> Packed:
     shades it); a world packed already (``NumbaTracer.world_for``) as it is."""
     if isinstance(w, Packed):
         return w
-    return pack_world(w, options.dtype, structure=options.bvh)
+    return pack_world(w, options.dtype, structure=options.bvh, compact=True)
 
 
 class Scratch:
@@ -167,14 +167,16 @@ def prepare_frame(
     pf, pi, items, n_items, boxes, csg, balls, n_balls = packed.flat()
     lights, n_lights = packed.light_table()
     ti, tf = packed.texture_table()
+    tg, tn = packed.triangle_tables()
     common = (
         camera.array.ctypes.data, pf.ctypes.data, pi.ctypes.data, items.ctypes.data, n_items,
         boxes.ctypes.data, csg.ctypes.data, balls.ctypes.data, n_balls, lights.ctypes.data,
-        n_lights, ti.ctypes.data, tf.ctypes.data, settings.depth, settings.samples,
-        (settings.seed * GAMMA) & MASK64, float(settings.epsilon),
+        n_lights, ti.ctypes.data, tf.ctypes.data, tg.ctypes.data, tn.ctypes.data,
+        settings.depth, settings.samples, (settings.seed * GAMMA) & MASK64,
+        float(settings.epsilon),
     )  # fmt: skip
     addresses = [scratch.addresses(k) for k in range(threads)]
-    arrays = (pf, pi, items, boxes, csg, balls, lights, ti, tf)
+    arrays = (pf, pi, items, boxes, csg, balls, lights, ti, tf, tg, tn)
     return Frame(
         camera, packed, renderer, threads, scratch, common, options.dtype, addresses,
         arrays=arrays,
@@ -241,13 +243,13 @@ def explain(options: Options, w: World) -> str:
     packed = packed_for_render(w, options)
     found = analyse(packed)
     config = options.config(found)
-    numbers, counts = np.unique(packed.pi[:, L.KIND], return_counts=True)
-    counted = ", ".join(
-        f"{KIND_NAMES[int(k)]} x{int(n)}" for k, n in zip(numbers, counts, strict=True)
-    )
+    runs = packed.pi[:, L.TRI_FIRST] >= 0
+    weights = np.where(runs, packed.pi[:, L.TRI_COUNT], 1)
+    counts = np.bincount(packed.pi[:, L.KIND], weights=weights).astype(int)
+    counted = ", ".join(f"{KIND_NAMES[k]} x{n}" for k, n in enumerate(counts.tolist()) if n)
     balls = int(packed.pi[:, L.WORLD_SPHERE].sum()) if len(packed.pi) else 0
     lines = [
-        f"numba: this world has {len(packed.pi)} primitives ({counted or 'none'}) and needs",
+        f"numba: this world has {packed.triangles()} primitives ({counted or 'none'}) and needs",
         *[f"  {line}" for line in found.describe()],
     ]
     if balls:

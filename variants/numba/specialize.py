@@ -14,22 +14,13 @@ Two things are compiled from a kernel module:
 - the book-API entry points (``api_*``): numba dispatchers with ``cache=True``, compiled on
   first use (``load_kernels``);
 - the render (``load_renderer``): ``render_entry`` compiled once as a C function over raw
-  pointers (numba's ``cfunc``), its machine code written as a position-independent object
-  file and linked by the system C compiler into ``rtc_numba_<digest>.so``. Later processes
-  load that library with ctypes and never import numba: importing numba (about 0.17 s) and
-  the first call of any cached numba function (about 0.15 s, numba fills its typing and
-  lowering registries even to load cached code) cost more than the whole render. The
-  library's digest also covers the CPU (the code uses its instruction set) and the
-  installed numba and llvmlite. Where no C compiler works, the render falls back to the
-  same ``cfunc`` with numba's own disk cache (and pays numba's start-up).
+  pointers and linked into ``rtc_numba_<digest>.so`` (``compiled.library``: later
+  processes load it with ctypes and never import numba). Where no C compiler works, the
+  render falls back to the same ``cfunc`` with numba's own disk cache (and pays numba's
+  start-up).
 
-numba's generated wrapper keeps an error path that calls numba's runtime helpers
-(``numba_do_raise`` ...), which are not in the library; the kernels cannot raise (no
-``raise``, ``error_model="numpy"``, no bounds checks), so the path is dead, and the library
-defines those names as stubs that abort with a message, should it ever run.
-
-The kernel folder is ``$RTC_NUMBA_KERNELS`` if set, else ``$XDG_CACHE_HOME/rtc-workbook/
-numba-kernels`` (``~/.cache/...``), else a folder in the temporary directory.
+The hierarchy's builder (``bvh_kernel``) is built the same way (``load_bvh_builder``). The
+kernel folder, the build and the load are ``compiled.library``'s.
 """
 
 from __future__ import annotations
@@ -39,20 +30,29 @@ import functools
 import hashlib
 import importlib.util
 import os
-import platform
-import shlex
-import shutil
-import subprocess
 import sys
 import tempfile
 import threading
-import time
-from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from types import ModuleType
 from typing import Any
 
+from compiled.library import (
+    BuildError,
+    Compiled,
+    Recipe,
+    announce,
+    compiler,
+    kernel_folder,
+    link,
+    load,
+    load_once,
+    on_compile,
+)
+from compiled.library import (
+    library_path as compiled_library_path,
+)
 from variants.numba.features import ALL_FLAGS, FeatureSet
 
 PACKAGE_DIR = Path(__file__).resolve().parent
@@ -63,25 +63,7 @@ FAST_FLAGS = '{"afn", "arcp", "contract", "nsz", "reassoc"}'  # (as text: a set'
 ENTRY_NAME = "rtc_render_rows"  # the render's exported name in the shared library
 _lock = threading.RLock()
 _renderers: dict[str, Renderer] = {}
-
-CompileListener = Callable[[str, float | None], object]
-"""Told ``(what, None)`` when a compile starts and ``(what, seconds)`` when it ends."""
-_listeners: list[CompileListener] = []
-
-
-def on_compile(listener: CompileListener) -> Callable[[], None]:
-    """Call ``listener`` around every compile of this process (a shared library built, or
-    numba compiling where none can be built): a command line shows what is compiling and
-    that it happens once. Returns a function that removes the listener."""
-    _listeners.append(listener)
-    return lambda: _listeners.remove(listener)
-
-
-def announce(what: str, seconds: float | None = None) -> None:
-    """Tell the ``on_compile`` listeners: compiling ``what`` starts (``seconds`` None), or
-    took ``seconds`` (a Dask worker's compiles reach the client this way)."""
-    for listener in list(_listeners):
-        listener(what, seconds)
+__all__ = ["BuildError", "announce", "kernel_folder", "on_compile"]  # re-exported for callers
 
 
 @dataclass(frozen=True)
@@ -133,27 +115,6 @@ def module_name(config: KernelConfig) -> str:
     """The kernel module's name: ``rtc_numba_`` and a digest of its text."""
     text = module_source(config)
     return PREFIX + hashlib.sha256(text.encode("utf-8")).hexdigest()[:16]
-
-
-def kernel_folder() -> Path:
-    """Where kernel modules (and numba's cache of them) are kept; created if needed."""
-    chosen = os.environ.get("RTC_NUMBA_KERNELS")
-    if chosen:
-        folder = Path(chosen)
-    else:
-        cache_home = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-        folder = Path(cache_home) / "rtc-workbook" / "numba-kernels"
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-        probe = folder / ".writable"
-        probe.touch()
-        return folder
-    except OSError:
-        if chosen:
-            raise RuntimeError(f"RTC_NUMBA_KERNELS={chosen!r} is not a writable folder") from None
-        fallback = Path(tempfile.gettempdir()) / f"rtc-numba-kernels-{os.getuid()}"
-        fallback.mkdir(parents=True, exist_ok=True)
-        return fallback
 
 
 def _write_if_changed(path: Path, text: str) -> None:
@@ -208,75 +169,14 @@ class Renderer:
 def _argument_types() -> list[Any]:
     p, i64 = ctypes.c_void_p, ctypes.c_int64
     return [
-        p, i64, i64, i64, i64, i64, i64, p, p, p, p, i64, p, p, p, i64, p, i64, p, p, i64,
-        i64, ctypes.c_uint64, ctypes.c_double, p, p, p, p,
+        p, i64, i64, i64, i64, i64, i64, p, p, p, p, i64, p, p, p, i64, p, i64, p, p, p, p,
+        i64, i64, ctypes.c_uint64, ctypes.c_double, p, p, p, p,
     ]  # fmt: skip
-
-
-def _stat_key(package: str) -> str:
-    """An installed package's identity without importing it: its path, size and mtime."""
-    spec = importlib.util.find_spec(package)
-    if spec is None or spec.origin is None:
-        return f"{package}: missing"
-    stat = os.stat(spec.origin)
-    return f"{package}: {spec.origin} {stat.st_size} {stat.st_mtime_ns}"
-
-
-@functools.lru_cache(maxsize=1)
-def _platform_key() -> str:
-    """What the machine code depends on besides the kernel's text: the CPU (model and
-    instruction-set flags), the OS and Python, numba and llvmlite."""
-    cpu = platform.processor()
-    try:
-        with open("/proc/cpuinfo", encoding="utf-8") as info:
-            lines = info.read().split("\n\n", 1)[0].splitlines()
-        cpu = "\n".join(
-            line for line in lines if line.split(":")[0].strip() in ("model name", "flags")
-        )
-    except OSError:
-        pass
-    packages = [_stat_key(name) for name in ("numba", "llvmlite")]
-    return "\n".join([cpu, platform.machine(), platform.system(), sys.version, *packages])
 
 
 def library_path(config: KernelConfig) -> Path:
     """Where the render's shared library for ``config`` is (or will be) kept."""
-    key = "\n".join([module_source(config), STUB, UNREACHABLE, ENTRY_NAME, _platform_key()])
-    digest = hashlib.sha256(key.encode("utf-8")).hexdigest()[:16]
-    return kernel_folder() / f"{PREFIX}{digest}.so"
-
-
-def _load_once(
-    cache: dict[str, Any],
-    path: Path,
-    build: Callable[[], None],
-    from_library: Callable[[ctypes.CDLL], Any],
-    fallback: Callable[[str], Any],
-    what: str,
-) -> Any:
-    """What ``path``'s shared library holds, once per process: built first if missing
-    (``build``), read by ``from_library``; without it (a ``BuildError``), ``fallback(why)``.
-    A build (and the fallback, which may compile) is announced to the ``on_compile``
-    listeners as ``what``."""
-    key = str(path)
-    with _lock:
-        found = cache.get(key)
-        if found is not None:
-            return found
-        problem = ""
-        compiling = not path.is_file()
-        started = time.perf_counter()
-        if compiling:
-            announce(what)
-            try:
-                build()
-            except BuildError as error:
-                problem = str(error)
-        found = from_library(ctypes.CDLL(str(path))) if path.is_file() else fallback(problem)
-        if compiling:
-            announce(what, time.perf_counter() - started)
-        cache[key] = found
-        return found
+    return compiled_library_path(PREFIX, module_source(config), STUB, ENTRY_NAME)
 
 
 def load_renderer(config: KernelConfig) -> Renderer:
@@ -300,14 +200,10 @@ def load_renderer(config: KernelConfig) -> Renderer:
         )
 
     what = f"the render kernel for {config.features.key} ({config.describe()})"
-    renderer: Renderer = _load_once(
+    renderer: Renderer = load_once(
         _renderers, path, lambda: _build_library(config, path), from_library, fallback, what
     )
     return renderer
-
-
-class BuildError(RuntimeError):
-    """The render's shared library could not be built (no C compiler, a link error ...)."""
 
 
 STUB = """/* Generated by variants.numba.specialize: the render's C entry point, and stubs for
@@ -321,182 +217,46 @@ extern int64_t numba_entry(
     REAL *cam,
     REAL *pf, int64_t *pi, int64_t *items, int64_t n_items, REAL *boxes, int64_t *csg,
     REAL *balls, int64_t n_balls, REAL *lights, int64_t n_lights, int64_t *ti, REAL *tf,
-    int64_t depth, int64_t samples, uint64_t seed_key, double eps, REAL *stack, REAL *sf,
-    int64_t *si, REAL *tb) __asm__("ENTRY_SYMBOL");
+    REAL *tg, REAL *tn, int64_t depth, int64_t samples, uint64_t seed_key, double eps,
+    REAL *stack, REAL *sf, int64_t *si, REAL *tb) __asm__("ENTRY_SYMBOL");
 
 int64_t ENTRY_NAME(
     REAL *out, int64_t x0, int64_t y0, int64_t x1, int64_t y1, int64_t k, int64_t step,
     REAL *cam,
     REAL *pf, int64_t *pi, int64_t *items, int64_t n_items, REAL *boxes, int64_t *csg,
     REAL *balls, int64_t n_balls, REAL *lights, int64_t n_lights, int64_t *ti, REAL *tf,
-    int64_t depth, int64_t samples, uint64_t seed_key, double eps, REAL *stack, REAL *sf,
-    int64_t *si, REAL *tb) {
+    REAL *tg, REAL *tn, int64_t depth, int64_t samples, uint64_t seed_key, double eps,
+    REAL *stack, REAL *sf, int64_t *si, REAL *tb) {
     return numba_entry(out, x0, y0, x1, y1, k, step, cam, pf, pi, items, n_items, boxes,
-                       csg, balls, n_balls, lights, n_lights, ti, tf, depth, samples,
+                       csg, balls, n_balls, lights, n_lights, ti, tf, tg, tn, depth, samples,
                        seed_key, eps, stack, sf, si, tb);
 }
 """
-UNREACHABLE = """
-static void unreachable(const char *name) {
-    fprintf(stderr, "rtc numba: compiled code reached %s (an exception inside a "
-                    "kernel, which cannot raise): this is a bug\\n", name);
-    abort();
-}
-"""
-
-
 def _build_library(config: KernelConfig, path: Path) -> None:
     """Compile the render entry of ``config``'s kernel module and link it into ``path``."""
-    _compiler()  # before compiling anything
+    compiler()  # before compiling anything
     real = "float" if config.float32 else "double"
     stub = STUB.replace("REAL", real).replace("ENTRY_NAME", ENTRY_NAME)
-    _link(load_kernels(config).make_render_entry(False), stub, path, "render")
-
-
-def _compiler() -> list[str]:
-    compiler = (
-        shlex.split(os.environ.get("CC", ""))
-        or [found for found in (shutil.which("cc"), shutil.which("gcc")) if found][:1]
-    )
-    if not compiler:
-        raise BuildError("no C compiler (cc, gcc or $CC) found")
-    return compiler
-
-
-def _link(entry: Any, stub: str, path: Path, what: str) -> None:
-    """Link a compiled ``cfunc`` ``entry`` with the C ``stub`` (which calls it as
-    ``ENTRY_SYMBOL``) into the shared library ``path``; ``what`` names it in errors."""
-    compiler = _compiler()
-    try:
-        obj, helpers = _object_code(entry)
-    except Exception as error:  # numba's internals moved: fall back to numba's own cache
-        raise BuildError(f"cannot take the compiled {what} out of numba: {error!r}") from None
-    runtime = [name for name in helpers if not name.startswith("numba_")]
-    if runtime:
-        raise BuildError(f"the compiled {what} calls numba's runtime ({', '.join(runtime)})")
-    source = (
-        stub.replace("ENTRY_SYMBOL", entry.native_name)
-        + UNREACHABLE
-        + "".join(f'void {name}(void) {{ unreachable("{name}"); }}\n' for name in helpers)
-    )
-    with tempfile.TemporaryDirectory(prefix="rtc-numba-link-", dir=path.parent) as folder:
-        work = Path(folder)
-        (work / "kernel.o").write_bytes(obj)
-        (work / "entry.c").write_text(source, encoding="utf-8")
-        built = work / path.name
-        command = [
-            *compiler, "-shared", "-fPIC", "-O2", "-o", str(built), str(work / "entry.c"),
-            str(work / "kernel.o"), "-lm",
-        ]  # fmt: skip
-        try:
-            done = subprocess.run(command, capture_output=True, text=True, timeout=300)
-        except (OSError, subprocess.SubprocessError) as error:
-            raise BuildError(f"{compiler[0]} failed to run: {error}") from None
-        if done.returncode != 0 or not built.is_file():
-            problem = done.stderr.strip()[:500] or f"exit status {done.returncode}"
-            raise BuildError(f"{compiler[0]} could not link the {what}: {problem}")
-        os.replace(built, path)
+    link(load_kernels(config).make_render_entry(False), stub, path, "render")
 
 
 # ------------------------------------------------------------- the hierarchy's builder
 
-BVH_ENTRY_NAME = "rtc_build_bvh"
-BVH_STUB = """/* Generated by variants.numba.specialize: the hierarchy builder's C entry point
-   (variants/numba/bvh_kernel.py), and stubs for numba runtime helpers. Do not edit. */
-#include <stdint.h>
-#include <stdio.h>
-#include <stdlib.h>
-
-extern int64_t numba_entry(
-    int64_t n, double *units, int64_t *order, int64_t *uitems, int64_t *items,
-    double *boxes, int64_t *work, double *fwork, int64_t leaf_max, int64_t sah_depth,
-    double unit_cost, int64_t *stats) __asm__("ENTRY_SYMBOL");
-
-int64_t BVH_ENTRY_NAME(
-    int64_t n, double *units, int64_t *order, int64_t *uitems, int64_t *items,
-    double *boxes, int64_t *work, double *fwork, int64_t leaf_max, int64_t sah_depth,
-    double unit_cost, int64_t *stats) {
-    return numba_entry(n, units, order, uitems, items, boxes, work, fwork, leaf_max,
-                       sah_depth, unit_cost, stats);
-}
-"""
+BVH_BUILDER = Recipe(
+    name="build_bvh",
+    module="variants.numba.bvh_kernel",
+    function="build",
+    parameters=(
+        ("int64_t", "n"), ("double *", "units"), ("int64_t *", "order"),
+        ("int64_t *", "uitems"), ("int64_t *", "items"), ("double *", "boxes"),
+        ("int64_t *", "work"), ("double *", "fwork"), ("int64_t", "leaf_max"),
+        ("int64_t", "sah_depth"), ("double", "unit_cost"), ("int64_t *", "stats"),
+    ),
+    what="the hierarchy builder",
+)  # fmt: skip
 
 
-@dataclass(frozen=True)
-class Builder:
-    """The hierarchy's builder (``bvh_kernel.build``) as a Python function over numpy
-    arrays; ``origin`` says where it came from, ``keep`` holds what must stay alive."""
-
-    function: Any
-    origin: str
-    keep: Any = None
-
-
-_bvh_builders: dict[str, Builder] = {}
-
-
-def bvh_library_path() -> Path:
-    """Where the builder's shared library is (or will be) kept."""
-    text = (PACKAGE_DIR / "bvh_kernel.py").read_text(encoding="utf-8")
-    key = "\n".join([text, BVH_STUB, UNREACHABLE, BVH_ENTRY_NAME, _platform_key()])
-    digest = hashlib.sha256(key.encode("utf-8")).hexdigest()[:16]
-    return kernel_folder() / f"{PREFIX}bvh_{digest}.so"
-
-
-def load_bvh_builder() -> Builder:
-    """The hierarchy's builder: from its shared library (built first if missing), else
-    numba's ``njit`` function with its disk cache. Once per process."""
-    path = bvh_library_path()
-
-    def build() -> None:
-        _compiler()
-        from variants.numba import bvh_kernel
-
-        stub = BVH_STUB.replace("BVH_ENTRY_NAME", BVH_ENTRY_NAME)
-        _link(bvh_kernel.make_entry(False), stub, path, "hierarchy builder")
-
-    def from_library(library: ctypes.CDLL) -> Builder:
-        entry = getattr(library, BVH_ENTRY_NAME)
-        entry.restype = ctypes.c_int64
-        p, i64 = ctypes.c_void_p, ctypes.c_int64
-        entry.argtypes = [i64, p, p, p, p, p, p, p, i64, i64, ctypes.c_double, p]
-
-        def through_ctypes(n: int, *arrays_and_values: Any) -> int:
-            passed = [a.ctypes.data if hasattr(a, "ctypes") else a for a in arrays_and_values]
-            return int(entry(n, *passed))
-
-        return Builder(through_ctypes, f"shared library {path}", library)
-
-    def fallback(problem: str) -> Builder:
-        from variants.numba import bvh_kernel
-
-        return Builder(
-            bvh_kernel.build, f"numba with its disk cache (no shared library: {problem})"
-        )
-
-    builder: Builder = _load_once(
-        _bvh_builders, path, build, from_library, fallback, "the hierarchy builder"
-    )
-    return builder
-
-
-def _object_code(entry: Any) -> tuple[bytes, list[str]]:
-    """The position-independent machine code of a compiled ``cfunc`` (numba's optimized,
-    linked LLVM module, for this CPU), and the numba runtime functions it declares."""
-    import llvmlite.binding as llvm
-
-    module = entry._library._final_module
-    target = llvm.Target.from_triple(llvm.get_process_triple())
-    machine = target.create_target_machine(
-        cpu=llvm.get_host_cpu_name(),
-        features=llvm.get_host_cpu_features().flatten(),
-        opt=3,
-        reloc="pic",
-        codemodel="default",
-    )
-    helpers = sorted(
-        f.name
-        for f in module.functions
-        if f.is_declaration and f.name.startswith(("numba_", "NRT_"))
-    )
-    return machine.emit_object(module), helpers
+def load_bvh_builder() -> Compiled:
+    """The hierarchy's builder (``bvh_kernel.build``): from its shared library (built first
+    if missing), else numba's ``njit`` function with its disk cache. Once per process."""
+    return load(BVH_BUILDER)
