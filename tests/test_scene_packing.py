@@ -32,7 +32,8 @@ def test_numba_packs_a_description_as_it_packs_the_book_world(name: str, structu
     scene = load_scene(SCENES / name, load_variant("numba").api, provide_mesh=provide)
     described = numba_scene(scene, structure=structure)
     built = numba_world(scene.book_world(), structure=structure, compact=True)
-    for table in ("pf", "pi", "items", "boxes", "csg", "balls", "lights", "light_values", "tg", "tn"):
+    tables = ("pf", "pi", "items", "boxes", "csg", "balls", "lights", "light_values", "tg", "tn")
+    for table in tables:
         assert _equal(getattr(described, table), getattr(built, table)), table
     for a, b in zip(described.texture_table(), built.texture_table(), strict=True):
         assert _equal(a, b)
