@@ -1,8 +1,9 @@
 """A tiny document model written out as Markdown and as one self-contained HTML page.
 
 Text uses three inline marks, the same in both outputs: ```code```, ``**bold**`` and
-``[text](path)``, a link (a path relative to the results folder). Images are
-paths relative to the results folder: linked from the Markdown, inlined (base64) in the HTML.
+``[text](path)``, a link (a path relative to the results folder, or ``#anchor``: a heading of
+the same page, ``anchor(heading text)``, as GitHub names it). Images are paths relative to the
+results folder: linked from the Markdown, inlined (base64) in the HTML.
 """
 
 from __future__ import annotations
@@ -55,6 +56,15 @@ class Gallery:
 
 
 Block = Heading | Para | Bullets | Table | Picture | Gallery
+
+
+def anchor(text: str) -> str:
+    """A heading's anchor as GitHub makes it from its text (lower case, punctuation but
+    hyphens dropped, spaces as hyphens); the HTML page gives its headings the same ids, so
+    ``[text](#anchor)`` links work in both."""
+    plain = re.sub(r"[`*]", "", text).strip().lower()
+    plain = re.sub(r"[^\w\- ]", "", plain)
+    return plain.replace(" ", "-")
 
 
 def _md_cell(text: str) -> str:
@@ -123,7 +133,7 @@ body { font-family: system-ui, sans-serif; margin: 2em auto; max-width: 1200px; 
 table { border-collapse: collapse; margin: 1em 0; font-size: 0.85em; }
 th, td { border: 1px solid #ccc; padding: 0.25em 0.5em; vertical-align: top; }
 th { background: #f0f0f0; }
-td.num { text-align: right; font-variant-numeric: tabular-nums; }
+td.num { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
 img { image-rendering: pixelated; }
 code { background: #f4f4f4; padding: 0 0.2em; }
 """
@@ -138,7 +148,8 @@ def to_html(blocks: list[Block], folder: Path, title: str) -> str:
     ]
     for block in blocks:
         if isinstance(block, Heading):
-            out.append(f"<h{block.level}>{_inline_html(block.text)}</h{block.level}>")
+            ident = html.escape(anchor(block.text))
+            out.append(f'<h{block.level} id="{ident}">{_inline_html(block.text)}</h{block.level}>')
         elif isinstance(block, Para):
             out.append(f"<p>{_inline_html(block.text)}</p>")
         elif isinstance(block, Bullets):

@@ -18,10 +18,10 @@ from harness.sizes import Size, smaller_sizes
 
 BASELINE = "naive"
 SECTIONS = (
-    "table", "sweep", "scaling", "preset", "kata", "scene-size", "light-samples", "profile",
-    "pass-size", "cluster",
+    "table", "ladder", "sweep", "scaling", "preset", "kata", "scene-size", "light-samples",
+    "profile", "pass-size", "cluster",
 )  # fmt: skip
-DEFAULT_SECTIONS = ("table", "sweep", "scaling", "preset", "kata")
+DEFAULT_SECTIONS = ("table", "ladder", "sweep", "scaling", "preset", "kata")
 """What ``rtc bench`` runs without ``--sections``: ``scene-size`` (``harness.scene_size``)
 loads and packs meshes of up to a million triangles, minutes on its own, so it runs only
 when asked for; ``light-samples`` (``harness.light_samples``) renders a soft-shadow scene 24

@@ -448,3 +448,82 @@ def cluster_plot(run: Mapping[str, Any], path: Path) -> Path | None:
     for axes in (start, speed):
         axes.grid(True, axis="x", alpha=0.3)
     return _save(figure, path)
+
+
+def ladder_plot(run: Mapping[str, Any], path: Path) -> Path | None:
+    """The ladder (``harness.ladder_report``): each step's time per pixel as a bar (log
+    scale), labelled with its factor over naive and its own over the step before; POV-Ray's
+    points as dashed lines across (whole process), when the run had them."""
+    from harness import ladder_report as lr
+
+    found = lr.rows(run)
+    steps = [r for r in found if r.get("status") == "ok" and r.get("wall")]
+    if not steps:
+        return None
+    figure, axes = plt.subplots(figsize=(10, 2.5))
+    names = [r["name"].replace(":", ":\n").replace("[", "\n[") for r in steps]
+    values = [lr.per_pixel(r) for r in steps]
+    busy = [figures.is_busy(r) for r in steps]
+    colours = ["#cc6677" if r.get("option") else "#4477aa" for r in steps]
+    axes.bar(
+        range(len(steps)), values, color=["white" if b else c for b, c in zip(busy, colours,
+        strict=True)], edgecolor=colours, hatch=["//" if b else "" for b in busy],
+    )  # fmt: skip
+    for i, row in enumerate(steps):
+        total = lr.cumulative(row, found)
+        own = lr.own_factor(row, found)
+        label = "naive" if total is None else figures.speedup_text(total)
+        if own is not None:
+            label += f"\n({figures.speedup_text(own)} own)"
+        axes.annotate(label, (i, values[i]), xytext=(0, 2), textcoords="offset points",
+                      ha="center", va="bottom", fontsize=7)  # fmt: skip
+    anchor = lr.anchor(run)
+    for point in (anchor or {}).get("points", []) if (anchor or {}).get("status") == "ok" else []:
+        if not point.get("wall"):
+            continue
+        w, h = point["size"]
+        dashes = "--" if point["threads"] > 1 else ":"
+        axes.axhline(
+            point["wall"] / (w * h), color="#228833", linestyle=dashes, linewidth=1, zorder=0,
+            label=f"POV-Ray (C++), {point['threads']} thread(s), whole process",
+        )  # fmt: skip
+        axes.legend(fontsize=6, loc="upper right")
+    axes.set_yscale("log")
+    axes.set_xticks(range(len(steps)), names, fontsize=7)
+    axes.set_ylabel("time per pixel (s, log)", fontsize=8)
+    axes.tick_params(axis="y", labelsize=7)
+    top = max(values)
+    axes.set_ylim(min(values) / 3, top * 12)
+    axes.set_title(
+        "Step by step: time per pixel; labels: factor over naive (own factor over the step "
+        f"before); red: options; hatched: busy. {_caption(run)}",
+        fontsize=8,
+    )
+    axes.grid(True, axis="y", which="major", alpha=0.3)
+    return _save(figure, path)
+
+
+def heat_scale_plot(path: Path) -> Path:
+    """The colour bar of the heat maps (``imagediff.heat_map``: logarithmic, black at
+    ``HEAT_LOW`` and below)."""
+    import numpy as np
+    from matplotlib import colormaps
+
+    from harness import imagediff
+
+    figure, axes = plt.subplots(figsize=(5.5, 0.75))
+    ramp = np.linspace(0.0, 1.0, 256)[np.newaxis, :]
+    axes.imshow(ramp, aspect="auto", cmap=colormaps[imagediff.HEAT_MAP],
+                extent=(0.0, 1.0, 0.0, 1.0))  # fmt: skip
+    low, high = imagediff.HEAT_LOW, imagediff.HEAT_HIGH
+    decades = round(float(np.log10(high / low)))
+    ticks = [low * 10**k for k in range(decades + 1)]
+    axes.set_xticks([float(imagediff.heat_level(v)) for v in ticks],
+                    [f"{v:.0e}" if v < 1 else f"{v:g}" for v in ticks], fontsize=7)  # fmt: skip
+    step = float(imagediff.heat_level(imagediff.ONE_STEP))
+    axes.axvline(step, color="white", linewidth=1)
+    axes.annotate("1/255", (step, 0.5), xytext=(3, 0), textcoords="offset points",
+                  color="white", fontsize=7, va="center")  # fmt: skip
+    axes.set_yticks([])
+    axes.set_title("difference in the largest channel (log scale)", fontsize=7)
+    return _save(figure, path)

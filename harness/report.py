@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 import os
 import tempfile
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -20,6 +20,7 @@ from typing import Any
 from harness import (
     cluster_report,
     figures,
+    ladder_report,
     light_samples_report,
     pass_size_report,
     plots,
@@ -37,6 +38,7 @@ from harness.document import (
     Para,
     Picture,
     Table,
+    anchor,
     to_html,
     to_markdown,
 )
@@ -256,12 +258,55 @@ def cost_table(rows: list[Mapping[str, Any]]) -> Table:
 
 
 def heat_visible(max_abs: float, full_scale: float) -> bool:
-    """Whether a heat map of a difference at most ``max_abs`` shows anything: its colour map
-    (``imagediff.heat_map``) gives the darkest of its N colours to differences below
-    ``full_scale / N``, so a smaller one draws an all-black map."""
+    """Whether a linear heat map (runs before the logarithmic scale) of a difference at most
+    ``max_abs`` shows anything: its colour map gave the darkest of its N colours to
+    differences below ``full_scale / N``, so a smaller one drew an all-black map."""
     from matplotlib import colormaps
 
     return max_abs > 0 and max_abs * colormaps["inferno"].N >= full_scale
+
+
+@dataclass(frozen=True)
+class HeatScale:
+    """How a run drew its heat maps: ``log`` (``imagediff.heat_map``: ``low`` and below
+    black, each tenfold larger difference a step brighter up to ``high``) or ``linear``
+    (older runs: 0 black, ``high`` and above brightest)."""
+
+    kind: str
+    low: float
+    high: float
+
+    def visible(self, max_abs: float) -> bool:
+        if self.kind == "log":
+            return max_abs > self.low
+        return heat_visible(max_abs, self.high)
+
+    def text(self) -> str:
+        if self.kind == "log":
+            return (
+                f"a logarithmic colour scale: black {self.low:.0e} or less, then a step "
+                f"brighter for each tenfold difference, up to {self.high:g} (the scale below)"
+            )
+        return f"black: identical; brightest: {self.high * 255:.0f}/255 or more"
+
+
+def heat_scale(run: Run) -> HeatScale:
+    """The heat maps' scale of ``run`` (see ``HeatScale``)."""
+    found = run.get("heat_scale")
+    if found:
+        return HeatScale(str(found["kind"]), float(found["low"]), float(found["high"]))
+    return HeatScale("linear", 0.0, float(run.get("heat_full_scale", 16 / 255)))
+
+
+HEAT_SCALE_PNG = ladder_report.HEAT_SCALE_PNG
+
+
+def heat_scale_picture(scale: HeatScale) -> Picture | None:
+    """The colour bar under the heat maps of a logarithmic scale (``plots.heat_scale_plot``
+    draws it into the report folder)."""
+    if scale.kind != "log":
+        return None
+    return Picture(f"{REPORT_DIR}/{HEAT_SCALE_PNG}", "heat map colour scale", 480)
 
 
 def _picture_of(row: Mapping[str, Any]) -> tuple[str, str] | None:
@@ -278,7 +323,7 @@ def _picture_of(row: Mapping[str, Any]) -> tuple[str, str] | None:
     return path, "x".join(map(str, size))
 
 
-def _gallery(rows: list[Mapping[str, Any]], full_scale: float, compare: str) -> list[Block]:
+def _gallery(rows: list[Mapping[str, Any]], scale: HeatScale, compare: str) -> list[Block]:
     entries = []
     for row in rows:
         picture = _picture_of(row) if row["status"] == "ok" else None
@@ -293,14 +338,14 @@ def _gallery(rows: list[Mapping[str, Any]], full_scale: float, compare: str) -> 
             note = "not compared"
         elif error["max_abs"] == 0:
             note = f"identical to naive's at {compare}"
-        elif not heat_visible(error["max_abs"], full_scale):
+        elif not scale.visible(error["max_abs"]):
             note = f"within {error['max_abs']:.2g} of naive's at {compare}: no visible map"
         else:
             note = (
                 f"differs from naive's at {compare}: max {error['max_abs']:.3g} "
                 f"({error['max_abs'] * 255:.2g}/255)"
             )
-        show_heat = bool(heat) and error and heat_visible(error["max_abs"], full_scale)
+        show_heat = bool(heat) and error and scale.visible(error["max_abs"])
         heat_pic = (
             Picture(f"runs/{heat}", f"difference {row['name']} - naive", 160) if show_heat else None
         )
@@ -308,15 +353,18 @@ def _gallery(rows: list[Mapping[str, Any]], full_scale: float, compare: str) -> 
         entries.append((caption, [Picture(f"runs/{path}", row["name"], 160), heat_pic]))
     if not entries:
         return []
-    return [
+    blocks: list[Block] = [
         Para(
             "Each variant's picture once, at the larger of its measured and comparison sizes, "
             f"and a heat map of its difference from naive's picture at {compare} only where "
-            f"the map is not all black (black: identical; brightest: {full_scale * 255:.0f}/255 "
-            "or more in some channel)."
+            f"the map is not all black ({scale.text()})."
         ),
         Gallery(["variant", "picture", "difference from naive"], entries),
     ]
+    bar = heat_scale_picture(scale)
+    if bar is not None:
+        blocks.append(bar)
+    return blocks
 
 
 def _skip_reason(points: list[Mapping[str, Any]]) -> str:
@@ -680,12 +728,42 @@ SIDE_SECTIONS = (
 """The sections beside the table, in the report's order."""
 
 
-def build_blocks(runs: list[Run], plot_files: Mapping[str, Path | None]) -> list[Block]:
+LINKS = (
+    ("every variant", "Summary"),
+    ("error against time", "Error against run time"),
+    ("numerical stability", "Numerical stability"),
+    ("pictures", "Pictures"),
+    ("history", "History"),
+)
+"""The sections linked from the top of the report (text, heading), where the report has them."""
+
+
+def _links(blocks: list[Block]) -> list[tuple[str, str]]:
+    headings = {block.text for block in blocks if isinstance(block, Heading)}
+    return [(text, anchor(heading)) for text, heading in LINKS if heading in headings]
+
+
+def build_blocks(
+    runs: list[Run], plot_files: Mapping[str, Path | None], tail: Sequence[Block] = ()
+) -> list[Block]:
+    """The report's blocks from ``runs`` (oldest first), ``tail`` (the stability section)
+    last; the top links to the sections it has (``LINKS``)."""
     chosen = pick_runs(runs)
     latest = chosen["table"]
     table_rows = summary.fastest_first(_rows(latest, "table"))
-    blocks: list[Block] = [
-        Heading(1, "Benchmark results"),
+    blocks: list[Block] = [Heading(1, "Benchmark results")]
+    measured = ladder_report.newest(runs)
+    links_at = None
+    if measured is not None:
+        png = plot_files.get("ladder")
+        plot = None if png is None else f"{REPORT_DIR}/{png.name}"
+        blocks += ladder_report.blocks(measured, plot)
+        links_at = next(
+            (i + 1 for i, b in enumerate(blocks)
+             if isinstance(b, Picture) and b.alt == ladder_report.PLOT_ALT),
+            len(blocks),
+        )  # fmt: skip
+    blocks += [
         Para(
             "Generated by `rtc report` from the run files in `results/runs/` (one per "
             "`rtc bench`, never overwritten). Each section shows the newest run that measured "
@@ -749,7 +827,7 @@ def build_blocks(runs: list[Run], plot_files: Mapping[str, Path | None]) -> list
             ),
         ]
         blocks += [Heading(2, "Pictures")]
-        blocks += _gallery(table_rows, float(latest.get("heat_full_scale", 16 / 255)), compare)
+        blocks += _gallery(table_rows, heat_scale(latest), compare)
     unavailable = latest.get("unavailable") or {}
     if unavailable:
         blocks += [
@@ -775,6 +853,11 @@ def build_blocks(runs: list[Run], plot_files: Mapping[str, Path | None]) -> list
     if latest.get("notes"):
         blocks += [Heading(2, "Notes"), Bullets(list(latest["notes"]))]
     blocks += _history_blocks(runs, plot_files.get("history"))
+    blocks += tail
+    links = _links(blocks)
+    if links:
+        line = Para("See also: " + " · ".join(f"[{t}](#{a})" for t, a in links) + ".")
+        blocks.insert(2 if links_at is None else links_at, line)
     return blocks
 
 
@@ -843,6 +926,9 @@ def build_report(
         )
     folder = results / REPORT_DIR
     folder.mkdir(parents=True, exist_ok=True)
+    tail: list[Block] = []
+    if stability is not None:
+        tail += stability_table.report_blocks(stability)
     if runs:
         chosen = pick_runs(runs)
         plot_files = {
@@ -856,11 +942,14 @@ def build_report(
             measured = side.report.newest(runs)
             if measured is not None and side.plot is not None:
                 plot_files[side.name] = side.plot(measured, folder / side.plot_file)
-        blocks = build_blocks(runs, plot_files)
+        ladder = ladder_report.newest(runs)
+        if ladder is not None:
+            plot_files["ladder"] = plots.ladder_plot(ladder, folder / "ladder.png")
+        plots.heat_scale_plot(folder / HEAT_SCALE_PNG)
+        blocks = build_blocks(runs, plot_files, tail)
     else:
         blocks = [Heading(1, "Benchmark results"), Para("No bench run yet (`rtc bench`).")]
-    if stability is not None:
-        blocks += stability_table.report_blocks(stability)
+        blocks += tail
     if problems:
         blocks += [Heading(2, "Unreadable result files"), Bullets(problems)]
     readme, page = results / "README.md", results / "report.html"

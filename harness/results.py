@@ -262,7 +262,8 @@ RUN: Spec = {
     "stem": str, "started": str, "seconds": NUMBER, "machine": MACHINE,
     "settings": SETTINGS, "rows": [ROW], "series": [SERIES], "compare_size": SIZE,
     "?notes": [str], "?kata": (dict, None), "?unavailable": (dict, None),
-    "?heat_full_scale": NUMBER, "?load": (dict, None), "?shared": (str, None),
+    "?heat_full_scale": NUMBER, "?heat_scale": {"kind": str, "low": NUMBER, "high": NUMBER},
+    "?load": (dict, None), "?shared": (str, None),
 }  # fmt: skip
 
 

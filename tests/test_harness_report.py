@@ -234,7 +234,7 @@ def test_the_report_opens_with_the_summary_sorted_fastest_first(report):
     assert values == sorted(values, reverse=True)
     assert "e+0" not in readme.split("## Error against run time")[0]
     assert "**Fastest: `" in readme
-    assert "<h2>Summary</h2>" in page and "Fastest: <code>" in page
+    assert '<h2 id="summary">Summary</h2>' in page and "Fastest: <code>" in page
 
 
 def test_the_report_flags_what_the_run_files_say_was_busy(report):
