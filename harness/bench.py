@@ -56,7 +56,6 @@ from variants.registry import RenderError
 
 BASELINE_BUDGET_FACTOR = 3.0  # naive's rows get three budgets: every speed-up depends on them
 EXACT = 1e-6  # a picture within this of naive's (max abs) counts as the same picture
-AGAIN = 2  # a busy row is measured again up to this many times (see Bench.measure_row)
 QUIET_WAIT = 20.0  # seconds to wait for a quieter machine before measuring a busy row again
 TIMING_FIELDS = (
     "requested_size", "size", "budget", "budget_estimate", "reduced", "budget_note", "warmup",
@@ -228,9 +227,10 @@ class Bench:
     ) -> dict[str, Any]:
         """Run one row's job; keep its picture, its error against naive and its figures. A
         row that did not get the cores it asked for (``figures.is_busy``) is timed again, up
-        to ``AGAIN`` times, each after waiting up to ``QUIET_WAIT`` s for a quieter machine
-        (``sharing.wait_for_quiet``); the least busy measurement is kept, every one is listed
-        in ``attempts``, and the row stays busy only if that one was."""
+        to ``settings.again`` times (``--again``), each after waiting up to ``QUIET_WAIT`` s
+        for a quieter machine (``sharing.wait_for_quiet``); the least busy measurement is
+        kept, every one is listed in ``attempts``, and the row stays busy only if that one
+        was."""
         self.log(f"{section}: {name}")
         outcome = self._job(name, scene, [task], depth)
         row: dict[str, Any] = {
@@ -260,7 +260,7 @@ class Bench:
         outcome.discard()
         if name in self.keep_pictures:
             self.pictures[(section, name)] = kept
-        if figures.is_busy(row):
+        if figures.is_busy(row) and self.settings.again > 0:
             self._measure_again(row, scene, task, depth)
         self.rows.append(row)
         return row
@@ -276,7 +276,7 @@ class Bench:
         timing = {**task, "allocations": False, "rays": False, "compare_size": None}
         attempts = [_attempt(row)]
         best = dict(row)
-        for _ in range(AGAIN):
+        for _ in range(self.settings.again):
             quiet = wait_for_quiet(asked, QUIET_WAIT)
             self.log(
                 f"{row['section']}: {name} again: it got {figures.cpu_share(best):.2f} of "

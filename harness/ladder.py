@@ -259,18 +259,56 @@ def anchor(bench: Bench) -> dict[str, Any]:
     cores = s.threads or available_cores()
     picture = None
     for threads in sorted({1, cores}):
-        bench.log(f"{SECTION}: POV-Ray at {size}, {threads} thread(s)")
         try:
-            renders = [povray.render(found, source, size, threads, timeout=600)
-                       for _ in range(s.repeat)]  # fmt: skip
+            point, picture = _povray_point(bench, found, source, size, threads)
         except povray.PovrayError as error:
             entry["points"].append({"threads": threads, "error": str(error)})
             continue
-        picture = renders[0].image
-        entry["points"].append(_point(renders, threads))
+        entry["points"].append(point)
     if picture is not None:
         _anchor_picture(bench, entry, source, size, picture)
     return entry
+
+
+def _povray_point(
+    bench: Bench, found: Any, source: Any, size: Size, threads: int
+) -> tuple[dict[str, Any], np.ndarray]:
+    """``repeat`` renders by POV-Ray on ``threads`` threads; timed again (as a busy row is,
+    ``Bench.measure_row``) while its trace threads did not get their cores."""
+    from harness import povray
+    from harness.bench import QUIET_WAIT
+    from harness.ladder_report import point_busy
+    from harness.sharing import wait_for_quiet
+
+    attempts: list[dict[str, Any]] = []
+    best: dict[str, Any] | None = None
+    picture = None
+    for attempt in range(1 + bench.settings.again):
+        if attempt:
+            quiet = wait_for_quiet(threads, QUIET_WAIT)
+            bench.log(f"{SECTION}: POV-Ray on {threads} thread(s) again: it was busy ({quiet})")
+        else:
+            bench.log(f"{SECTION}: POV-Ray at {size}, {threads} thread(s)")
+        renders = [
+            povray.render(found, source, size, threads, timeout=600)
+            for _ in range(bench.settings.repeat)
+        ]
+        picture = renders[0].image if picture is None else picture
+        point = _point(renders, threads)
+        attempts.append({"wall": point["wall"], "trace": point["trace"], "busy": point_busy(point)})
+        if best is None or _trace_share(point) > _trace_share(best):
+            best = point
+        if not point_busy(best):
+            break
+    assert best is not None and picture is not None
+    if len(attempts) > 1:
+        best["attempts"] = attempts
+    return best, picture
+
+
+def _trace_share(point: dict[str, Any]) -> float:
+    trace, cpu = point.get("trace"), point.get("trace_cpu")
+    return float(cpu) / float(trace) if trace and cpu is not None else 0.0
 
 
 def _point(renders: list[Any], threads: int) -> dict[str, Any]:

@@ -32,6 +32,7 @@ scene through ``wavefront`` at four ``max_mb`` and, within the budget, once at 4
 16 samples (about ten minutes); ``cluster`` (``harness.cluster``) renders for at least 5 s
 per configuration through numba on 1 and 2 threads and 1 and 2 local Dask workers (about two
 minutes)."""
+AGAIN = 2  # a busy row is timed again up to this many times (``--again``)
 PARALLEL_OPTIONS = ("workers", "threads")  # options whose value is a worker or thread count
 BENCH_CONFIGS: dict[str, tuple[str, ...]] = {
     "pooled": (
@@ -99,7 +100,8 @@ class BenchSettings:
     light_variant: the ``light-samples`` section's (``harness.light_samples``);
     pass_variant: the ``pass-size`` section's (``harness.pass_size``); sweep_on: the Dask
     cluster the error sweep's configurations run on (``harness.cluster_jobs``; None: here,
-    one after the other).
+    one after the other); again: how many times a busy row is timed again
+    (``Bench.measure_row``).
     """
 
     scene: SceneRef
@@ -122,6 +124,7 @@ class BenchSettings:
     light_variant: str = "numba"
     pass_variant: str = "wavefront"
     sweep_on: str | None = None
+    again: int = AGAIN
 
     def as_dict(self) -> dict[str, Any]:
         data = asdict(self)

@@ -20,7 +20,7 @@ HELP = "time, count allocations and measure image error per variant; writes resu
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    from harness.plan import DEFAULT_SECTIONS, SECTIONS
+    from harness.plan import AGAIN, DEFAULT_SECTIONS, SECTIONS
 
     parser.add_argument(
         "--scene",
@@ -64,6 +64,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="CPUs each measuring process may use (pinned; default: all)",
     )
     parser.add_argument("--repeat", type=int, default=None, metavar="N", help="timed renders")
+    parser.add_argument(
+        "--again", type=int, default=AGAIN, metavar="N",
+        help="a row that did not get the cores it asked for (busy) is timed again up to N "
+        f"times, each after waiting up to 20 s for a quieter machine (default {AGAIN}; 0: "
+        "never)",
+    )  # fmt: skip
     parser.add_argument(
         "--budget",
         type=float,
@@ -153,6 +159,7 @@ def settings_from(args: argparse.Namespace) -> BenchSettings:
         ("--seed", args.seed, 0, 2**64 - 1),
         ("--repeat", args.repeat, 1, 1000),
         ("--threads", args.threads, 1, 4096),
+        ("--again", args.again, 0, 100),
     ):
         if value is not None and not low <= value <= high:
             raise UserError(f"{flag} {value}: expected a whole number {low} to {high}")
@@ -164,6 +171,7 @@ def settings_from(args: argparse.Namespace) -> BenchSettings:
     unknown = [s for s in sections if s not in SECTIONS]
     if unknown or not sections:
         raise UserError(f"--sections {args.sections!r}: choose from {', '.join(SECTIONS)}")
+    sections = tuple(s for s in SECTIONS if s in sections)  # measured in the table's order
     try:
         names, unavailable = expand_variants(args.variants)
     except LookupError as error:
@@ -191,6 +199,7 @@ def settings_from(args: argparse.Namespace) -> BenchSettings:
         light_variant=args.light_variant,
         pass_variant=args.pass_variant,
         sweep_on=_sweep_on(args.sweep_on, sections),
+        again=args.again,
     )
 
 

@@ -17,7 +17,7 @@ from harness.report import build_report
 from harness.results import STAGING_PREFIX, list_runs, load_run
 from rtc.cli import main
 
-TINY = ["--scene", "default-world", "--size", "8x6", "--repeat", "1"]
+TINY = ["--scene", "default-world", "--size", "8x6", "--repeat", "1", "--again", "0"]
 
 
 def _bench(results: Path, *extra: str) -> int:
@@ -257,12 +257,11 @@ def test_a_busy_row_is_timed_again_and_keeps_its_least_busy_measurement(tmp_path
 
 def test_a_row_that_stays_busy_is_marked_after_the_retries(tmp_path, monkeypatch):
     from harness import figures
-    from harness.bench import AGAIN
     from harness.presets import SceneRef
 
     bench, given = _fake_bench(tmp_path, [0.5, 1.1, 0.7], monkeypatch)
     row = bench.measure_row("table", "numba", SceneRef("default-world", None), _task())
-    assert len(given) == 1 + AGAIN
+    assert len(given) == 1 + bench.settings.again == 3
     assert figures.is_busy(row) and figures.cpu_share(row) == pytest.approx(1.1)
 
 
@@ -283,3 +282,20 @@ def test_waiting_for_quiet_stops_when_the_cores_are_idle_or_after_the_longest(mo
     assert sharing.wait_for_quiet(2, 10) == "1.9 of 2 cores idle after 3 s"
     monkeypatch.setattr(sharing, "busy_cores", lambda step: 2.0)
     assert sharing.wait_for_quiet(1, 3) == "still 2.0 of 2 cores busy after 3 s"
+
+
+def test_the_ladder_reuses_the_tables_rows_and_says_why_povray_is_absent(tmp_path):
+    assert _bench(tmp_path, "--variants", "naive,cached", "--sections", "ladder,table") == 0
+    rtc = load_run(list_runs(tmp_path)[0])["rtc"]
+    ladder = [r for r in rtc["rows"] if r["section"] == "ladder"]
+    assert [r["name"] for r in ladder] == ["naive", "cached"]
+    assert all(r["reused"] == "table" for r in ladder)  # measured once, by the table
+    assert ladder[1]["over"] == "naive"
+    assert ladder[1]["error_vs_over"]["max_abs"] == 0  # cached draws naive's picture
+    (anchor,) = [e for e in rtc["series"] if e.get("anchor")]
+    assert anchor["status"] == "unavailable"
+    assert "no .pov version of the scene 'default-world'" in anchor["error"]
+    readme = build_report(tmp_path)[0].read_text()
+    assert readme.split("\n## ")[1].startswith("Step by step")
+    assert "**No C++ anchor in this run:** no .pov version" in readme
+    assert "| `cached` |" in readme.split("\n## ")[1]
