@@ -118,6 +118,12 @@ def _key(size: Any) -> str:
     return "x".join(str(v) for v in size)
 
 
+def before(bench: Bench) -> None:
+    """Before any section is measured: keep the pictures of the steps (the table's rows of
+    them are reused, their pictures compared)."""
+    bench.keep_pictures |= names()
+
+
 def measure(bench: Bench) -> None:
     """The section (see the module): a row per step, then the anchors."""
     s = bench.settings
@@ -140,12 +146,12 @@ def measure(bench: Bench) -> None:
         spelled_to_name[step.variant] = name
         size = step_size(step, s.size)
         if not _reuse(bench, name, size, extra):
-            task = bench._row_task(
+            task = bench.row_task(
                 name, size, s.samples, s.repeat, allocations=True, rays=True,
                 compare=bench.compare_size,
             )  # fmt: skip
             bench.measure_row(SECTION, name, s.scene, task, extra)
-    bench._finish_section(SECTION)
+    bench.finish_section(SECTION)
     rows = [r for r in bench.rows if r["section"] == SECTION]
     for row in rows:
         below = next((r for r in rows if r["name"] == row.get("over")), None)
@@ -206,8 +212,8 @@ def _error_over(bench: Bench, row: dict[str, Any], over: dict[str, Any]) -> None
     row["error_vs_over"] = {**error.as_dict(), "size": key, "against": over["name"]}
     if error.max_abs > 0:
         heat = imagediff.heat_map(mine[key], theirs[key])
-        name = bench._image_name(SECTION, row["name"], "-over-diff")
-        row["heatmap_over"] = bench._save_image(heat, name)
+        name = bench.image_name(SECTION, row["name"], "-over-diff")
+        row["heatmap_over"] = bench.save_image(heat, name)
 
 
 # ---------------------------------------------------------------------------- the anchors
@@ -238,8 +244,8 @@ def anchor(bench: Bench) -> dict[str, Any]:
     from harness.usage import available_cores
 
     s = bench.settings
-    entry: dict[str, Any] = {"section": SECTION, "name": "POV-Ray", "anchor": "povray",
-                             "scene": s.scene.name}  # fmt: skip
+    entry: dict[str, Any] = {"section": SECTION, "part": "anchor", "name": "POV-Ray",
+                             "anchor": "povray", "scene": s.scene.name}  # fmt: skip
     source = POV_SCENES.get(s.scene.name)
     found = povray.find()
     if found is None or source is None:
@@ -334,7 +340,7 @@ def _anchor_picture(
     naive's at the comparison size, rendered by POV-Ray there too)."""
     from harness import povray
 
-    entry["image"] = bench._save_image(picture, f"{SECTION}-povray.png")
+    entry["image"] = bench.save_image(picture, f"{SECTION}-povray.png")
     ours = _exact_picture(bench, size)
     if ours is None:
         compare = bench.compare_size
@@ -352,5 +358,5 @@ def _anchor_picture(
     error = imagediff.image_error(picture, reference)
     entry["difference"] = {**error.as_dict(), "size": str(size), "against": name}
     heat = imagediff.heat_map(picture, reference)
-    entry["heatmap"] = bench._save_image(heat, f"{SECTION}-povray-diff.png")
+    entry["heatmap"] = bench.save_image(heat, f"{SECTION}-povray-diff.png")
     entry["where"] = imagediff.where_different(picture, reference)

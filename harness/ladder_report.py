@@ -9,11 +9,13 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 from harness import figures, summary
 from harness.document import Block, Bullets, Gallery, Heading, Para, Picture, Table
 from harness.ladder import SECTION
+from harness.runinfo import part
 
 REPORT_DIR = "report"  # harness.report's: the plots' folder in the results
 HEAT_SCALE_PNG = "heat-scale.png"  # ... and the heat maps' colour bar in it
@@ -85,14 +87,20 @@ def rows(run: Run) -> list[Row]:
 
 
 def anchor(run: Run) -> Mapping[str, Any] | None:
-    return next(
-        (e for e in run.get("series", []) if e["section"] == SECTION and e.get("anchor")), None
-    )
+    """The run's C++ anchor entry (POV-Ray), if it has one."""
+    return next(iter(part(run, SECTION, "anchor")), None)
 
 
 def newest(runs: Sequence[Run]) -> Run | None:
     """The newest of ``runs`` (oldest first) that measured this section, if any."""
     return next((run for run in reversed(runs) if rows(run)), None)
+
+
+def plot(run: Run, path: Path) -> Path | None:
+    """The ladder's bars (``plots.ladder_plot``)."""
+    from harness import plots
+
+    return plots.ladder_plot(run, path)
 
 
 def _ok(row: Row) -> bool:
@@ -309,7 +317,7 @@ def advice(run: Run) -> str:
 # ------------------------------------------------------------------ blocks
 
 
-def context(run: Run) -> str:
+def where_measured(run: Run) -> str:
     m = run["machine"]
     return f"{m['cpu_model']}, {m['cores_available']} cores, {run['started'][:10]}" + (
         " (**shared machine**)" if run.get("shared") else ""
@@ -319,15 +327,16 @@ def context(run: Run) -> str:
 PLOT_ALT = "the ladder: time per pixel of each step (log scale)"
 
 
-def blocks(run: Run, plot: str | None) -> list[Block]:
+def blocks(run: Run, plot: str | None, context: str = "", runs: Sequence[Run] = ()) -> list[Block]:
     """The section: one lead line, the ladder (steps, then the anchors), the advice, the
-    plot (alt text ``PLOT_ALT``), then the notes."""
+    plot (alt text ``PLOT_ALT``), then the notes (``context``, the line naming the machine
+    and the run, among them)."""
     found = rows(run)
     out: list[Block] = [
         Heading(2, "Step by step"),
         Para(
             "Each optimization in the order the Go and C++ write-ups took them, on the "
-            f"reference scene; {context(run)}."
+            f"reference scene; {where_measured(run)}."
         ),
         table(run),
     ]
@@ -336,7 +345,7 @@ def blocks(run: Run, plot: str | None) -> list[Block]:
         out.append(Para(text))
     if plot is not None:
         out.append(Picture(plot, PLOT_ALT))
-    out += notes(run, found)
+    out += notes(run, found, context)
     return out
 
 
@@ -376,10 +385,9 @@ def _anchor_notes(run: Run) -> list[Block]:
     return out
 
 
-def notes(run: Run, found: Sequence[Row]) -> list[Block]:
+def notes(run: Run, found: Sequence[Row], context: str = "") -> list[Block]:
     items = [
-        f"Measured in run `{run['stem']}` on `{run['machine']['hostname']}`. Its own factor: "
-        "the step's throughput over the step it builds on, named in brackets.",
+        "Its own factor: the step's throughput over the step it builds on, named in brackets.",
         "Time per pixel: the median timed render over its pixels, 1 sample per pixel. Steps "
         "whose fixed costs hide them at small sizes (a kernel's launch, a NumPy pass's set-up) "
         "are measured at 640x480 or more; factors compare throughput per pixel across sizes.",
@@ -399,7 +407,8 @@ def notes(run: Run, found: Sequence[Row]) -> list[Block]:
             f"`{row['name']}` was busy and was measured {len(row['attempts'])} times: it "
             f"{stayed} (the least busy measurement is shown)."
         )
-    out: list[Block] = [Bullets(items)]
+    out: list[Block] = [Para(context)] if context else []
+    out.append(Bullets(items))
     busy = summary.busy_text(run, [r for r in found if _ok(r)])
     if busy:
         out.append(Para(busy))

@@ -40,7 +40,9 @@ def _caption(run: Mapping[str, Any]) -> str:
 def sweep_plot(run: Mapping[str, Any], path: Path) -> Path | None:
     """Each (configuration, samples) as a point of time against RMSE from the ground truth;
     the Pareto front (nothing both faster and more accurate) joined by a line."""
-    entries = [e for e in run["series"] if e["section"] == "sweep" and e["status"] == "ok"]
+    from harness.runinfo import part
+
+    entries = [e for e in part(run, "sweep") if e["status"] == "ok"]
     points: list[tuple[float, float]] = []
     labels: list[str] = []
     figure, axes = plt.subplots(figsize=(7.5, 5))
@@ -82,7 +84,7 @@ def sweep_plot(run: Mapping[str, Any], path: Path) -> Path | None:
     axes.set_yscale("log")
     axes.set_xlabel("render time (s)")
     axes.set_ylabel("RMSE against the ground truth")
-    truth = next((e for e in run["series"] if e["section"] == "truth"), None)
+    truth = next(iter(part(run, "sweep", "truth")), None)
     if truth is not None:
         w, h = truth["points"][0]["size"]
         axes.set_title(
@@ -96,15 +98,36 @@ def sweep_plot(run: Mapping[str, Any], path: Path) -> Path | None:
     return _save(figure, path)
 
 
-def pixels_plot(run: Mapping[str, Any], path: Path) -> Path | None:
+def scaling_plot(run: Mapping[str, Any], path: Path) -> Path | None:
+    """The scaling section's two panels, side by side where the run has both: time against
+    pixel count (``_pixels_axes``) and throughput against workers or threads
+    (``_threads_axes``)."""
+    from harness.runinfo import part, rows
+
+    sizes = [e for e in part(run, "scaling", "sizes") if e["status"] == "ok"]
+    sizes = [e for e in sizes if any("wall" in p for p in e["points"])]
+    threads = [r for r in rows(run, "scaling") if r["status"] == "ok"]
+    groups: dict[str, list[Mapping[str, Any]]] = {}
+    for row in threads:
+        groups.setdefault(row["group"], []).append(row)
+    groups = {k: v for k, v in groups.items() if any(r["count"] == 1 for r in v)}
+    panels = int(bool(sizes)) + int(bool(groups))
+    if not panels:
+        return None
+    figure, found = plt.subplots(1, panels, figsize=(7.5 * panels, 5), squeeze=False)
+    axes = list(found[0])
+    if sizes:
+        _pixels_axes(run, sizes, axes.pop(0))
+    if groups:
+        _threads_axes(run, groups, axes.pop(0))
+    return _save(figure, path)
+
+
+def _pixels_axes(run: Mapping[str, Any], entries: list[Mapping[str, Any]], axes: Any) -> None:
     """Render time against pixel count, one line per variant (log-log)."""
-    entries = [e for e in run["series"] if e["section"] == "sizes" and e["status"] == "ok"]
-    figure, axes = plt.subplots(figsize=(7.5, 5))
-    drawn = any_busy = False
+    any_busy = False
     for entry in entries:
         measured = [p for p in entry["points"] if "wall" in p]
-        if not measured:
-            continue
         xs = [p["size"][0] * p["size"][1] for p in measured]
         ys = [p["wall"] for p in measured]
         (line,) = axes.plot(xs, ys, marker="o", label=entry["name"])
@@ -113,10 +136,6 @@ def pixels_plot(run: Mapping[str, Any], path: Path) -> Path | None:
                 any_busy = True
                 axes.plot([x], [y], marker="o", markersize=8, color=line.get_color(),
                           markerfacecolor="white")  # fmt: skip
-        drawn = True
-    if not drawn:
-        plt.close(figure)
-        return None
     if any_busy:
         note = f"hollow: busy (CPU under {figures.BUSY_SHARE:.0%} of the cores asked)"
         axes.plot([], [], marker="o", linestyle="none", color="gray", markerfacecolor="white",
@@ -130,25 +149,18 @@ def pixels_plot(run: Mapping[str, Any], path: Path) -> Path | None:
     )
     axes.grid(True, which="both", alpha=0.3)
     axes.legend(fontsize=7)
-    return _save(figure, path)
 
 
-def threads_plot(run: Mapping[str, Any], path: Path) -> Path | None:
+def _threads_axes(
+    run: Mapping[str, Any], groups: dict[str, list[Mapping[str, Any]]], axes: Any
+) -> None:
     """Throughput relative to one worker or thread against the count, one line per variant
     option, with the linear ideal dotted (absolute MRay/s are in the report's table)."""
-    rows = [r for r in run["rows"] if r["section"] == "threads" and r["status"] == "ok"]
-    groups: dict[str, list[dict[str, Any]]] = {}
-    for row in rows:
-        groups.setdefault(row["group"], []).append(row)
-    groups = {k: v for k, v in groups.items() if any(r["count"] == 1 for r in v)}
-    if not groups:
-        return None
-    figure, axes = plt.subplots(figsize=(7.5, 5))
-    counts = sorted({r["count"] for r in rows})
+    counts = sorted({r["count"] for members in groups.values() for r in members})
     axes.plot(counts, counts, linestyle=":", color="gray", label="linear (ideal)")
     any_busy = False
     for label, members in groups.items():
-        members.sort(key=lambda r: r["count"])
+        members = sorted(members, key=lambda r: r["count"])
         one = figures.mrays(next(r for r in members if r["count"] == 1))
         xs = [r["count"] for r in members]
         ys = [figures.mrays(r) / one for r in members]
@@ -174,7 +186,6 @@ def threads_plot(run: Mapping[str, Any], path: Path) -> Path | None:
     )
     axes.grid(True, alpha=0.3)
     axes.legend(fontsize=7)
-    return _save(figure, path)
 
 
 def speedup_plot(run: Mapping[str, Any], path: Path) -> Path | None:

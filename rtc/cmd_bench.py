@@ -21,6 +21,7 @@ HELP = "time, count allocations and measure image error per variant; writes resu
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     from harness.plan import AGAIN, DEFAULT_SECTIONS, SECTIONS
+    from harness.sections import help_text
 
     parser.add_argument(
         "--scene",
@@ -82,12 +83,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--sections",
         default=",".join(DEFAULT_SECTIONS),
         metavar="A,B",
-        help=f"which parts to run, of {', '.join(SECTIONS)} (default: all but scene-size, "
-        "which takes minutes: render, load and pack time against a mesh's triangle count, "
-        "light-samples: soft shadows' light cells against pixel samples, pass-size: the "
-        "wavefront variant's time and memory against max_mb, profile: where "
-        "the time goes in naive, cached, prealloc and numba, about a minute, and cluster: "
-        "numba on 1 and 2 threads against 1 and 2 local Dask workers, about two minutes)",
+        help=f"which parts to run, of {', '.join(SECTIONS)}; {help_text()}",
     )
     parser.add_argument(
         "--mesh-variants", default="numba,numba[bvh=off]", metavar="A,B",
@@ -145,6 +141,7 @@ def settings_from(args: argparse.Namespace) -> BenchSettings:
     """The run's settings from the command line; ``UserError`` for a bad value."""
     from harness.plan import FULL, QUICK, SECTIONS, BenchSettings, expand_variants
     from harness.presets import resolve_scene
+    from harness.sections import measuring_order
     from harness.sizes import parse_size
 
     mode = FULL if args.full else QUICK
@@ -171,7 +168,7 @@ def settings_from(args: argparse.Namespace) -> BenchSettings:
     unknown = [s for s in sections if s not in SECTIONS]
     if unknown or not sections:
         raise UserError(f"--sections {args.sections!r}: choose from {', '.join(SECTIONS)}")
-    sections = tuple(s for s in SECTIONS if s in sections)  # measured in the table's order
+    sections = tuple(measuring_order(sections))  # the order they are measured in
     try:
         names, unavailable = expand_variants(args.variants)
     except LookupError as error:

@@ -81,7 +81,7 @@ def _run(anchor: dict | None = None, stem: str = "bench-20990101T000000000Z-aaaa
 
 
 POVRAY = {
-    "section": "ladder", "name": "POV-Ray", "anchor": "povray", "status": "ok",
+    "section": "ladder", "part": "anchor", "name": "POV-Ray", "anchor": "povray", "status": "ok",
     "version": "POV-Ray 3.7.0.10", "file": "reference.pov", "scene": "reference",
     "points": [{"size": [640, 480], "samples": 1, "threads": 2, "wall": 0.6144,
                 "cpu": 1.0, "trace": 0.3072, "walls": [0.6144]}],
@@ -149,6 +149,7 @@ def test_povray_stands_beside_the_steps_when_the_run_had_it():
 def test_without_povray_the_rows_are_absent_and_a_note_says_why():
     missing = {
         "section": "ladder",
+        "part": "anchor",
         "name": "POV-Ray",
         "anchor": "povray",
         "status": "unavailable",
@@ -182,7 +183,7 @@ def test_the_report_opens_with_the_ladder_its_advice_plot_and_links(tmp_path):
     runs = tmp_path / "runs"
     runs.mkdir()
     run = _run(POVRAY)
-    (runs / f"{run['stem']}.json").write_text(json.dumps({"rtc": {"schema_version": 1, **run}}))
+    (runs / f"{run['stem']}.json").write_text(json.dumps({"rtc": {"schema_version": 2, **run}}))
     readme, page, problems = build_report(tmp_path)
     assert problems == []
     text = readme.read_text(encoding="utf-8")
