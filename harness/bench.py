@@ -1,21 +1,10 @@
 """``rtc bench``: measure every variant on a scene and keep the result as one new file.
 
-Sections (``--sections``, all by default):
-
-- ``table``: one row per variant and option set (``harness.plan``): time (median, min, max of
-  the repeats), CPU share, speed-up over naive, MRay/s, rays cast, allocations, peak memory,
-  and the image error against naive at the comparison size.
-- ``sweep``: error against run time. Sample positions are a pure function of (seed, pixel,
-  sample), so every exact variant renders the same picture; each variant's default and every
-  option set that changed the picture in the table (float32, fastmath) renders with 1, 2, 4
-  ... samples per pixel, and each picture is compared with a ground truth of many samples
-  rendered by the fastest exact variant.
-- ``scaling``: time against pixel count (several sizes of the same aspect), and throughput
-  against the worker or thread count for variants that advertise such an option.
-- ``preset``: the C++ report's workload (``cpp-spheres``: 500x500, 8 samples, depth 5) for
-  each variant's default, in MRay/s.
-- ``kata``: the chapter progress of every variant (``rtc kata --variant all --json``).
-- ``profile`` (only when asked for): where the time goes (``harness.profiling``).
+The sections it runs (``--sections``) are listed in ``harness.sections``, each measured by
+its own module through the ``Bench`` here: ``measure_row`` (a row: warm-up, timed renders,
+allocations, rays and the picture against naive's at the comparison size; a row that did not
+get the cores it asked for is timed again, ``--again``), ``series_job`` (a series of points),
+``save_image`` and the run's ``rows``, ``series`` and ``notes``.
 
 Every measurement runs in a fresh process (``harness.jobs``, ``harness.child``). Pictures are
 kept as PNG beside the run file, with heat maps of their difference from naive.
