@@ -36,6 +36,7 @@ class Table:
     header: list[str]
     rows: list[list[str]]
     right: set[int] = field(default_factory=set)  # columns aligned right (numbers)
+    compact: bool = False  # HTML: a smaller font (a table that must fit the first screen)
 
 
 @dataclass
@@ -134,6 +135,7 @@ table { border-collapse: collapse; margin: 1em 0; font-size: 0.85em; }
 th, td { border: 1px solid #ccc; padding: 0.25em 0.5em; vertical-align: top; }
 th { background: #f0f0f0; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
+table.compact { font-size: 0.78em; }
 img { image-rendering: pixelated; }
 code { background: #f4f4f4; padding: 0 0.2em; }
 """
@@ -156,7 +158,10 @@ def to_html(blocks: list[Block], folder: Path, title: str) -> str:
             out.append("<ul>" + "".join(f"<li>{_inline_html(i)}</li>" for i in block.items))
             out.append("</ul>")
         elif isinstance(block, Table):
-            out.append("<table><tr>" + "".join(f"<th>{_inline_html(h)}</th>" for h in block.header))
+            opening = '<table class="compact">' if block.compact else "<table>"
+            out.append(
+                opening + "<tr>" + "".join(f"<th>{_inline_html(h)}</th>" for h in block.header)
+            )
             out.append("</tr>")
             for row in block.rows:
                 cells = [

@@ -210,7 +210,7 @@ def _error_over(bench: Bench, row: dict[str, Any], over: dict[str, Any]) -> None
         return
     error = imagediff.image_error(mine[key], theirs[key])
     row["error_vs_over"] = {**error.as_dict(), "size": key, "against": over["name"]}
-    if error.max_abs > 0:
+    if error.max_abs > imagediff.HEAT_LOW:  # a map that shows something
         heat = imagediff.heat_map(mine[key], theirs[key])
         name = bench.image_name(SECTION, row["name"], "-over-diff")
         row["heatmap_over"] = bench.save_image(heat, name)
@@ -337,7 +337,8 @@ def _anchor_picture(
     bench: Bench, entry: dict[str, Any], source: Any, size: Size, picture: np.ndarray
 ) -> None:
     """POV-Ray's picture kept, and compared with the project's exact picture at its size (or
-    naive's at the comparison size, rendered by POV-Ray there too)."""
+    naive's at the comparison size, rendered by POV-Ray there too), both in bytes as their
+    PNGs hold them (so that rounding to bytes is no difference)."""
     from harness import povray
 
     entry["image"] = bench.save_image(picture, f"{SECTION}-povray.png")
@@ -354,7 +355,8 @@ def _anchor_picture(
             return
         ours = ("naive", reference)
         size = compare
-    name, reference = ours
+    name, exact = ours
+    reference = imagediff.to_rgb8(exact) / 255.0  # as our PNG has it: POV-Ray writes bytes too
     error = imagediff.image_error(picture, reference)
     entry["difference"] = {**error.as_dict(), "size": str(size), "against": name}
     heat = imagediff.heat_map(picture, reference)

@@ -173,8 +173,20 @@ def spelled(name: str | None, found: Sequence[Row]) -> str | None:
     return name if row is None else str(row.get("step") or name)
 
 
+FIXED_SHARE = 0.25  # a row whose fixed costs are this share of its render or more is marked
+
+
+def fixed_share(row: Row) -> float:
+    """The share of the row's median render that its probes put down to fixed costs (a
+    pool's start-up, a kernel's launch): their estimate of a render of no pixels."""
+    fixed = (row.get("probe") or {}).get("fixed") or 0.0
+    return min(1.0, float(fixed) / figures.median_wall(row))
+
+
 def _time_cell(row: Row) -> str:
-    text = figures.per_pixel_text(per_pixel(row))
+    text = f"{figures.per_pixel_text(per_pixel(row))} ({'x'.join(map(str, row['size']))})"
+    if fixed_share(row) >= FIXED_SHARE:
+        text += " †"
     if figures.is_busy(row):
         text += " **busy**"
     return summary._keep(text)
@@ -204,10 +216,30 @@ def point_busy(point: Mapping[str, Any]) -> bool:
     return float(cpu) / float(trace) < figures.BUSY_SHARE * int(point["threads"])
 
 
+def table_point(found: Mapping[str, Any]) -> Mapping[str, Any] | None:
+    """The anchor's point the ladder shows: POV-Ray on the most threads it measured (as
+    the compiled steps use every core); the others are in the notes and the plot."""
+    points = [p for p in found.get("points", []) if "error" not in p and p.get("wall")]
+    return max(points, key=lambda p: int(p["threads"]), default=None)
+
+
+def _povray_time(point: Mapping[str, Any]) -> str:
+    w, h = point["size"]
+    text = f"{figures.per_pixel_text(point['wall'] / (w * h))} ({w}x{h}"
+    if point.get("trace"):
+        text += f"; trace {figures.per_pixel_text(point['trace'] / (w * h))}"
+    text += ")"
+    if point_busy(point):
+        text += " **busy**"
+    return text
+
+
 def _anchor_rows(found: Mapping[str, Any] | None, naive: Row | None) -> list[list[str]]:
     if found is None or found.get("status") != "ok":
         return []
-    body = []
+    point = table_point(found)
+    if point is None:
+        return []
     difference = found.get("difference")
     picture = "-"
     if difference:
@@ -215,32 +247,22 @@ def _anchor_rows(found: Mapping[str, Any] | None, naive: Row | None) -> list[lis
             f"PSNR {summary.psnr_text(difference)} vs `{difference['against']}` "
             f"({difference['size']})"
         )
-    for point in found.get("points", []):
-        if "error" in point or not point.get("wall"):
-            continue
-        w, h = point["size"]
-        whole = point["wall"] / (w * h)
-        trace = point.get("trace")
-        times = figures.per_pixel_text(whole)
-        if trace:
-            times += f" (trace {figures.per_pixel_text(trace / (w * h))})"
-        if point_busy(point):
-            times += " **busy**"
-        over = "-" if naive is None else figures.speedup_text(per_pixel(naive) / whole)
-        threads = point["threads"]
-        body.append([
-            f"{short_version(found)}, {threads} thread{'s' if threads > 1 else ''}",
-            "C++: the scene as a `.pov` file, whole process",
-            f"{w}x{h}", summary._keep(times), "-", over, picture, "-",
-        ])  # fmt: skip
-    return body
+    w, h = point["size"]
+    over = (
+        "-" if naive is None else figures.speedup_text(per_pixel(naive) / (point["wall"] / (w * h)))
+    )
+    threads = int(point["threads"])
+    return [[
+        f"{short_version(found)}, {threads} thread{'s' if threads > 1 else ''}",
+        "C++: the scene as a `.pov` file, whole process", summary._keep(_povray_time(point)),
+        "-", over, picture, "-",
+    ]]  # fmt: skip
 
 
 HEADER = [
     "step",
     "what it changes",
-    "measured at",
-    "time per pixel",
+    "time per pixel (measured at)",
     "its own factor (over)",
     "over naive",
     "error it adds (vs the step before)",
@@ -257,16 +279,16 @@ def table(run: Run) -> Table:
         if row["status"] == "unavailable":
             continue
         if not _ok(row):
-            body.append([name, str(row.get("change", "")), "failed",
+            body.append([name, str(row.get("change", "")), "failed: " +
                          str(row.get("error", ""))[:120], "-", "-", "-", "-"])  # fmt: skip
             continue
         body.append([
-            name, str(row.get("change", "")), "x".join(map(str, row["size"])), _time_cell(row),
+            f"`{spelled(row['name'], found)}`", str(row.get("change", "")), _time_cell(row),
             _factor(own_factor(row, found), spelled(row.get("over"), found)),
             _factor(cumulative(row, found)), _error_cell(row), summary.allocations_text(row),
         ])  # fmt: skip
     body += _anchor_rows(anchor(run), naive)
-    return Table(HEADER, body, right={2, 3, 4, 5, 7})
+    return Table(HEADER, body, right={2, 3, 4, 6}, compact=True)
 
 
 # ------------------------------------------------------------------ the advice
@@ -280,38 +302,41 @@ def _best(candidates: Sequence[Row], found: Sequence[Row]) -> Row | None:
 def advice(run: Run) -> str:
     """One sentence from the run's rows: the fastest step whose picture is naive's (for the
     book's scenes), the fastest exact one that needs no compiler (plain Python or NumPy),
-    and the pure-Python step that buys the most on its own (to learn from)."""
+    the pure-Python step that buys the most on its own (to learn from), and what the
+    options buy."""
     found = [r for r in rows(run) if _ok(r)]
     exact_rows = [r for r in found if exact(r, found) and r["name"] != "naive"]
     use = _best(exact_rows, found)
     if use is None:
         return ""
+    name = spelled(use["name"], found)
     parts = [
-        f"for the book's scenes use `{use['name']}` "
+        f"use `{name}` for the book's scenes "
         f"({figures.speedup_text(cumulative(use, found) or 0)} naive's speed, the same picture)"
     ]
     plain = _best([r for r in exact_rows if r.get("runs_on") in ("Python", "NumPy")], found)
     if plain is not None and plain is not use:
         parts.append(
-            f"without a compiler (only {plain.get('runs_on')}), `{plain['name']}` "
-            f"({figures.speedup_text(cumulative(plain, found) or 0)})"
+            f"without a compiler, `{spelled(plain['name'], found)}` "
+            f"({figures.speedup_text(cumulative(plain, found) or 0)}, {plain.get('runs_on')} "
+            "only)"
         )
     python = [r for r in exact_rows if r.get("runs_on") == "Python"]
     learn = max(python, key=lambda r: own_factor(r, found) or 0.0, default=None)
     if learn is not None and own_factor(learn, found):
         parts.append(
-            f"to learn from, `{learn['name']}`, the one change that buys the most in plain "
-            f"Python ({figures.speedup_text(own_factor(learn, found) or 0)} over "
-            f"`{learn['over']}`)"
+            f"to learn from, `{spelled(learn['name'], found)}`: one change, "
+            f"{figures.speedup_text(own_factor(learn, found) or 0)} over "
+            f"`{spelled(learn['over'], found)}` in plain Python"
         )
     options = [r for r in found if r.get("option") and own_factor(r, found) is not None]
     if options:
         worth = [
-            f"`{r['name']}` {figures.speedup_text(own_factor(r, found) or 0)}" for r in options
+            f"`{spelled(r['name'], found)}` {figures.speedup_text(own_factor(r, found) or 0)}"
+            for r in options
         ]
         parts.append(f"the options buy {', '.join(worth)} at the error shown")
-    text = "; ".join(parts)
-    return f"**Advice from this run: {text[0].lower()}{text[1:]}.**"
+    return f"**Advice from this run: {'; '.join(parts)}.**"
 
 
 # ------------------------------------------------------------------ blocks
@@ -356,6 +381,22 @@ def _anchor_notes(run: Run) -> list[Block]:
     if found.get("status") != "ok":
         return [Para(f"**No C++ anchor in this run:** {found.get('error', 'not run')}.")]
     out: list[Block] = []
+    points = [p for p in found.get("points", []) if "error" not in p and p.get("wall")]
+    timed = "; ".join(
+        f"on {p['threads']} thread{'s' if int(p['threads']) > 1 else ''} "
+        f"{_povray_time(p)}, {figures.seconds_text(p['wall'])} a render"
+        for p in points
+    )
+    failed = [f"on {p['threads']} thread(s): {p['error']}" for p in found.get("points", [])
+              if "error" in p]  # fmt: skip
+    out.append(
+        Para(
+            f"{found.get('version', 'POV-Ray')} (C++) renders `{found.get('file')}`, the "
+            f"reference scene written for it, timed as a whole process (start, parse, trace, "
+            f"write the PNG, exit) and by its own trace time: {timed or 'no render'}."
+            + (f" Failed: {'; '.join(failed)}." if failed else "")
+        )
+    )
     difference, where = found.get("difference"), found.get("where")
     if difference and where:
         box = where.get("box")
@@ -366,7 +407,8 @@ def _anchor_notes(run: Run) -> list[Block]:
         )
         out.append(
             Para(
-                f"POV-Ray's picture against `{difference['against']}`'s at {difference['size']}: "
+                f"POV-Ray's picture against `{difference['against']}`'s at {difference['size']}, "
+                "both as 8-bit PNGs: "
                 f"PSNR {summary.psnr_text(difference)}, {where['pixels_off']:,} of "
                 f"{where['pixels']:,} pixels off by more than 1/255{place}. The `.pov` file "
                 f"(`harness/scenes/{found.get('file', 'reference.pov')}`) names where the two "
@@ -395,6 +437,14 @@ def notes(run: Run, found: Sequence[Row], context: str = "") -> list[Block]:
         "rendered. Allocations per pixel: counted in one untimed render at the comparison "
         "size, set-up included.",
     ]
+    fixed = [f"`{spelled(r['name'], found)}`" for r in found if _ok(r)
+             and fixed_share(r) >= FIXED_SHARE]  # fmt: skip
+    if fixed:
+        items.append(
+            f"† {', '.join(fixed)}: fixed costs (a pool's start-up, a kernel's launch; the "
+            f"probes' estimate of a render of no pixels) are over {FIXED_SHARE:.0%} of the "
+            "render measured: its time per pixel overstates what another pixel costs."
+        )
     reused = [f"`{r['name']}`" for r in found if r.get("reused")]
     if reused:
         items.append(f"The table's rows of this run stand for {', '.join(reused)}.")
@@ -413,8 +463,27 @@ def notes(run: Run, found: Sequence[Row], context: str = "") -> list[Block]:
     if busy:
         out.append(Para(busy))
     out += _anchor_notes(run)
+    out += _step_maps(found)
     out += go_blocks()
     return out
+
+
+def _step_maps(found: Sequence[Row]) -> list[Block]:
+    """Where a step's picture differs from the step before's, for the steps that add
+    error (the heat maps on the logarithmic colour scale above)."""
+    entries = []
+    for row in found:
+        error = row.get("error_vs_over")
+        if not _ok(row) or not row.get("heatmap_over") or not error:
+            continue
+        caption = (
+            f"`{spelled(row['name'], found)}` against `{spelled(error['against'], found)}` "
+            f"({error['size']}): {_error_cell(row)}"
+        )
+        entries.append((caption, [Picture(f"runs/{row['heatmap_over']}", "difference", 320)]))
+    if not entries:
+        return []
+    return [Gallery(["where a step adds error", "difference from the step before"], entries)]
 
 
 def console_lines(run: Run) -> list[str]:

@@ -471,8 +471,8 @@ def ladder_plot(run: Mapping[str, Any], path: Path) -> Path | None:
     steps = [r for r in found if r.get("status") == "ok" and r.get("wall")]
     if not steps:
         return None
-    figure, axes = plt.subplots(figsize=(10, 2.5))
-    names = [r["name"].replace(":", ":\n").replace("[", "\n[") for r in steps]
+    figure, axes = plt.subplots(figsize=(10, 2.3))
+    names = [str(r.get("step") or r["name"]).replace("[", "\n[") for r in steps]
     values = [lr.per_pixel(r) for r in steps]
     busy = [figures.is_busy(r) for r in steps]
     colours = ["#cc6677" if r.get("option") else "#4477aa" for r in steps]
