@@ -223,12 +223,23 @@ def table_point(found: Mapping[str, Any]) -> Mapping[str, Any] | None:
     return max(points, key=lambda p: int(p["threads"]), default=None)
 
 
+def povray_fixed_share(point: Mapping[str, Any]) -> float:
+    """The share of POV-Ray's whole process that is not tracing (start-up, parsing, writing
+    the picture): its fixed costs."""
+    trace = point.get("trace")
+    if not trace or not point.get("wall"):
+        return 0.0
+    return max(0.0, 1.0 - float(trace) / float(point["wall"]))
+
+
 def _povray_time(point: Mapping[str, Any]) -> str:
     w, h = point["size"]
     text = f"{figures.per_pixel_text(point['wall'] / (w * h))} ({w}x{h}"
     if point.get("trace"):
         text += f"; trace {figures.per_pixel_text(point['trace'] / (w * h))}"
     text += ")"
+    if povray_fixed_share(point) >= FIXED_SHARE:
+        text += " †"
     if point_busy(point):
         text += " **busy**"
     return text
@@ -331,11 +342,12 @@ def advice(run: Run) -> str:
         )
     options = [r for r in found if r.get("option") and own_factor(r, found) is not None]
     if options:
-        worth = [
-            f"`{spelled(r['name'], found)}` {figures.speedup_text(own_factor(r, found) or 0)}"
+        speeds = " and ".join(
+            f"`{spelled(r['name'], found)}` {figures.speedup_text(own_factor(r, found) or 0)} "
+            f"`{spelled(r['over'], found)}`'s speed"
             for r in options
-        ]
-        parts.append(f"the options buy {', '.join(worth)} at the error shown")
+        )
+        parts.append(f"the options run at {speeds}, with the error shown")
     return f"**Advice from this run: {'; '.join(parts)}.**"
 
 
@@ -439,6 +451,11 @@ def notes(run: Run, found: Sequence[Row], context: str = "") -> list[Block]:
     ]
     fixed = [f"`{spelled(r['name'], found)}`" for r in found if _ok(r)
              and fixed_share(r) >= FIXED_SHARE]  # fmt: skip
+    found_anchor = anchor(run)
+    point = table_point(found_anchor) if found_anchor is not None else None
+    if point is not None and povray_fixed_share(point) >= FIXED_SHARE:
+        fixed.append(f"POV-Ray (its start-up, parsing and writing: "
+                     f"{povray_fixed_share(point):.0%} of its whole process)")  # fmt: skip
     if fixed:
         items.append(
             f"† {', '.join(fixed)}: fixed costs (a pool's start-up, a kernel's launch; the "
@@ -471,7 +488,7 @@ def notes(run: Run, found: Sequence[Row], context: str = "") -> list[Block]:
 def _step_maps(found: Sequence[Row]) -> list[Block]:
     """Where a step's picture differs from the step before's, for the steps that add
     error (the heat maps on the logarithmic colour scale above)."""
-    entries = []
+    entries: list[tuple[str, list[Picture | None]]] = []
     for row in found:
         error = row.get("error_vs_over")
         if not _ok(row) or not row.get("heatmap_over") or not error:

@@ -127,7 +127,7 @@ def test_the_advice_is_computed_from_the_rows():
     assert text.startswith("**Advice from this run: use `numba` for the book's scenes (10,000x")
     assert "without a compiler, `wavefront` (1,000x, NumPy only)" in text
     assert "to learn from, `prealloc`: one change, 30x over `cached` in plain Python" in text
-    assert "`numba[float32]` 1.5x" in text
+    assert "the options run at `numba[float32]` 1.5x `numba`'s speed, with the error shown" in text
     assert text.endswith(".**")
     slow = _run()
     slow["rows"][4]["wall"] = [30.72] * 3  # numba now slower than wavefront
@@ -144,6 +144,7 @@ def test_povray_stands_beside_the_steps_when_the_run_had_it():
     assert row[5] == "PSNR 30.5 dB vs `numba` (640x480)"
     text = to_markdown(ladder_report.blocks(_run(POVRAY), None))
     assert "x 150-330, y 115-300" in text
+    assert "†" in row[2] and "POV-Ray (its start-up, parsing and writing: 50% of" in text
     assert "No C++ anchor" not in text
 
 
