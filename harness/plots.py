@@ -471,7 +471,7 @@ def ladder_plot(run: Mapping[str, Any], path: Path) -> Path | None:
     steps = [r for r in found if r.get("status") == "ok" and r.get("wall")]
     if not steps:
         return None
-    figure, axes = plt.subplots(figsize=(10, 2.3))
+    figure, axes = plt.subplots(figsize=(10, 2.1))
     names = [str(r.get("step") or r["name"]).replace("[", "\n[") for r in steps]
     values = [lr.per_pixel(r) for r in steps]
     busy = [figures.is_busy(r) for r in steps]
