@@ -31,10 +31,13 @@ from collections.abc import Callable
 from contextlib import ExitStack
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from harness.presets import SceneRef
 from harness.sizes import Size
+
+if TYPE_CHECKING:
+    from harness.bench import Bench
 
 SECTION = "cluster"
 CONFIGS = (
@@ -201,6 +204,17 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
     np.save(folder / "image.npy", canvas_array(canvas, variant.api.get("pixel_at")))
     result["image"] = "image.npy"
     return result
+
+
+def measure(bench: Bench) -> None:
+    """The section in a bench run (``harness.bench.Bench``): its plan from the run's
+    settings, its entry into the run's series."""
+    s = bench.settings
+    plan = Plan(
+        scene=s.scene, size=s.size, samples=s.samples, depth=s.depth, seed=s.seed,
+        epsilon=s.epsilon, repeat=s.repeat,
+    )  # fmt: skip
+    bench.series.extend(run(plan, bench.jobs_folder(SECTION), bench.log, bench.save_image))
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -5,7 +5,8 @@ cost per tile, and lines for the terminal."""
 from __future__ import annotations
 
 import statistics
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
+from pathlib import Path
 from typing import Any
 
 from harness import figures
@@ -20,7 +21,7 @@ def entries(run: Run) -> list[Mapping[str, Any]]:
     return [e for e in run.get("series", []) if e["section"] == SECTION]
 
 
-def newest(runs: list[Run]) -> Run | None:
+def newest(runs: Sequence[Run]) -> Run | None:
     """The newest of ``runs`` (oldest first) that measured this section, if any."""
     return next((run for run in reversed(runs) if entries(run)), None)
 
@@ -108,7 +109,14 @@ def verdict(entry: Mapping[str, Any]) -> str:
     return f"2 local workers give {ratio:.2f}x the throughput of 1: this {met} the target of 1.7x."
 
 
-def blocks(run: Run, plot: Any, context: str) -> list[Block]:
+def plot(run: Run, path: Path) -> Path | None:
+    """The section's plot (``plots.cluster_plot``)."""
+    from harness import plots
+
+    return plots.cluster_plot(run, path)
+
+
+def blocks(run: Run, plot: Any, context: str, runs: Sequence[Run] = ()) -> list[Block]:
     """The report's section for ``run`` (nothing if it has none); ``plot``: the plot's path
     relative to the results folder, or None; ``context``: the machine and run line."""
     found = entries(run)

@@ -152,8 +152,8 @@ def measurements(run: Run) -> list[Measured]:
             found.append(item)
 
     for row in run.get("rows") or []:
-        if row.get("status") != "ok" or not row.get("wall"):
-            continue
+        if row.get("status") != "ok" or not row.get("wall") or row.get("reused"):
+            continue  # a reused row is another section's measurement
         w, h = row["size"]
         key = RowKey(
             str(row["section"]), str(row.get("scene", "")), str(row["name"]),

@@ -1,8 +1,9 @@
 """A tiny document model written out as Markdown and as one self-contained HTML page.
 
 Text uses three inline marks, the same in both outputs: ```code```, ``**bold**`` and
-``[text](path)``, a link (a path relative to the results folder). Images are
-paths relative to the results folder: linked from the Markdown, inlined (base64) in the HTML.
+``[text](path)``, a link (a path relative to the results folder, or ``#anchor``: a heading of
+the same page, ``anchor(heading text)``, as GitHub names it). Images are paths relative to the
+results folder: linked from the Markdown, inlined (base64) in the HTML.
 """
 
 from __future__ import annotations
@@ -35,6 +36,7 @@ class Table:
     header: list[str]
     rows: list[list[str]]
     right: set[int] = field(default_factory=set)  # columns aligned right (numbers)
+    compact: bool = False  # HTML: a smaller font (a table that must fit the first screen)
 
 
 @dataclass
@@ -55,6 +57,15 @@ class Gallery:
 
 
 Block = Heading | Para | Bullets | Table | Picture | Gallery
+
+
+def anchor(text: str) -> str:
+    """A heading's anchor as GitHub makes it from its text (lower case, punctuation but
+    hyphens dropped, spaces as hyphens); the HTML page gives its headings the same ids, so
+    ``[text](#anchor)`` links work in both."""
+    plain = re.sub(r"[`*]", "", text).strip().lower()
+    plain = re.sub(r"[^\w\- ]", "", plain)
+    return plain.replace(" ", "-")
 
 
 def _md_cell(text: str) -> str:
@@ -123,7 +134,8 @@ body { font-family: system-ui, sans-serif; margin: 2em auto; max-width: 1200px; 
 table { border-collapse: collapse; margin: 1em 0; font-size: 0.85em; }
 th, td { border: 1px solid #ccc; padding: 0.25em 0.5em; vertical-align: top; }
 th { background: #f0f0f0; }
-td.num { text-align: right; font-variant-numeric: tabular-nums; }
+td.num { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
+table.compact { font-size: 0.78em; }
 img { image-rendering: pixelated; }
 code { background: #f4f4f4; padding: 0 0.2em; }
 """
@@ -138,14 +150,18 @@ def to_html(blocks: list[Block], folder: Path, title: str) -> str:
     ]
     for block in blocks:
         if isinstance(block, Heading):
-            out.append(f"<h{block.level}>{_inline_html(block.text)}</h{block.level}>")
+            ident = html.escape(anchor(block.text))
+            out.append(f'<h{block.level} id="{ident}">{_inline_html(block.text)}</h{block.level}>')
         elif isinstance(block, Para):
             out.append(f"<p>{_inline_html(block.text)}</p>")
         elif isinstance(block, Bullets):
             out.append("<ul>" + "".join(f"<li>{_inline_html(i)}</li>" for i in block.items))
             out.append("</ul>")
         elif isinstance(block, Table):
-            out.append("<table><tr>" + "".join(f"<th>{_inline_html(h)}</th>" for h in block.header))
+            opening = '<table class="compact">' if block.compact else "<table>"
+            out.append(
+                opening + "<tr>" + "".join(f"<th>{_inline_html(h)}</th>" for h in block.header)
+            )
             out.append("</tr>")
             for row in block.rows:
                 cells = [

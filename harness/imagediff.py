@@ -108,12 +108,39 @@ def save_png(image: np.ndarray, path: Path, scale: int = 1) -> None:
     Image.fromarray(rgb, "RGB").save(path, format="PNG")
 
 
-def heat_map(image: np.ndarray, reference: np.ndarray, full_scale: float) -> np.ndarray:
-    """Where two pictures differ: each pixel's largest channel difference, ``full_scale`` and
-    above shown brightest, through the 'inferno' color map, as an RGB float array."""
+HEAT_LOW = 1e-6  # heat maps: a difference this small or smaller is black
+HEAT_HIGH = 1.0  # ... and this large is the brightest colour
+HEAT_MAP = "inferno"
+
+
+def heat_level(difference: np.ndarray | float, low: float = HEAT_LOW) -> np.ndarray:
+    """Where a difference falls on the heat maps' logarithmic scale: 0 at ``low`` and
+    below, 1 at ``HEAT_HIGH``; each tenfold larger difference a step up."""
+    value = np.maximum(np.asarray(difference, dtype=np.float64), low)
+    return np.asarray(np.clip(np.log10(value / low) / np.log10(HEAT_HIGH / low), 0.0, 1.0))
+
+
+def heat_map(image: np.ndarray, reference: np.ndarray, low: float = HEAT_LOW) -> np.ndarray:
+    """Where two pictures differ: each pixel's largest channel difference on a logarithmic
+    colour scale (``heat_level``: ``low`` and below black, 1 the brightest), through the
+    'inferno' colour map, as an RGB float array. The scale is amplified so that a float32
+    rounding (1e-6) and a whole step of a byte (1/255) both show, apart."""
     from matplotlib import colormaps
 
     diff = np.abs(clamped(image) - clamped(reference)).max(axis=2)
-    level = np.clip(diff / full_scale, 0.0, 1.0)
-    colored = colormaps["inferno"](level)[..., :3]
+    colored = colormaps[HEAT_MAP](heat_level(diff, low))[..., :3]
     return np.asarray(colored, dtype=np.float64)
+
+
+def where_different(image: np.ndarray, reference: np.ndarray) -> dict[str, Any]:
+    """Where two pictures differ by more than one step of a byte (``ONE_STEP``): how many
+    pixels, and the box (x0, y0, x1, y1, pixels from the top left, inclusive) holding the
+    middle 90% of them across and down (stray pixels elsewhere left out)."""
+    off = np.abs(clamped(image) - clamped(reference)).max(axis=2) > ONE_STEP
+    ys, xs = np.nonzero(off)
+    found: dict[str, Any] = {"pixels_off": int(off.sum()), "pixels": int(off.size)}
+    if len(xs):
+        x0, x1 = np.percentile(xs, [5, 95])
+        y0, y1 = np.percentile(ys, [5, 95])
+        found["box"] = [int(x0), int(y0), int(x1), int(y1)]
+    return found

@@ -15,10 +15,11 @@ closer to the truth) says which knob buys more quality per second.
 ``repeat`` timed renders per point (the median is the point's time, the first render its
 picture: the picture does not change between renders); a point whose time the previous
 point predicts (linear in the samples) to exceed the budget is skipped and says so.
-Everything lands in the run file's ``series`` (sections ``light-truth`` and
-``light-samples``); ``harness.light_samples_report`` draws the report's section. Beside
-them, the bonus chapters' other scene (``PICTURES``: the texture maps) is rendered once at
-the same size and settings (section ``bonus-picture``), so the report shows it.
+Everything lands in the run file's ``series`` (section ``light-samples``: the ground truth as
+part ``truth``, then an entry per configuration); ``harness.light_samples_report`` draws
+the report's section. Beside them, the bonus chapters' other scene (``PICTURES``: the
+texture maps) is rendered once at the same size and settings (part ``picture``), so the
+report shows it.
 """
 
 from __future__ import annotations
@@ -30,17 +31,20 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import yaml
 
 from harness.sizes import Size
 
+if TYPE_CHECKING:
+    from harness.bench import Bench
+
 SECTION = "light-samples"
-TRUTH_SECTION = "light-truth"
+TRUTH_PART = "truth"
 SCENE = Path(__file__).parent / "scenes" / "soft-shadows.yml"
 PICTURES = (Path(__file__).parent / "scenes" / "textures.yml",)
-PICTURE_SECTION = "bonus-picture"
+PICTURE_PART = "picture"
 DEFAULT_VARIANT = "numba"
 CELLS = (1, 4, 16, 64)  # cells per area light: square grids, 1x1 to 8x8
 SAMPLES = (1, 4, 16, 64)  # samples per pixel
@@ -156,13 +160,14 @@ def run(
     except LookupError as error:
         reason = str(error.args[0] if error.args else error)
         log(f"{SECTION}: {plan.variant} not run: {reason}")
-        return [{"section": TRUTH_SECTION, "name": plan.variant, **base,
+        return [{"section": SECTION, "part": TRUTH_PART, "name": plan.variant, **base,
                  "status": "unavailable", "error": reason, "points": []}]  # fmt: skip
     log(f"{SECTION}: ground truth, {plan.truth.label} at {plan.truth_samples} spp")
     folder = jobs / "truth"
     job = _job(plan, plan.truth, [plan.truth_samples], None, plan.scene)
     result = _run_job(folder, job, plan.threads)
-    truth: dict[str, Any] = {"section": TRUTH_SECTION, "name": plan.truth.label, **base}
+    truth: dict[str, Any] = {"section": SECTION, "part": TRUTH_PART, "name": plan.truth.label}
+    truth.update(base)
     truth.update(cells=plan.truth.cells, jitter=plan.truth.jitter)
     if "error" in result or not result.get("points"):
         truth.update(status="failed", error=result.get("error", "no picture"), points=[])
@@ -200,7 +205,8 @@ def run(
         log(f"{SECTION}: the picture of {scene.name}")
         folder = jobs / f"picture-{index:02d}"
         result = _run_job(folder, _job(plan, None, [1], None, scene), plan.threads)
-        entry = {"section": PICTURE_SECTION, "name": scene.stem, **base, "scene": scene.stem}
+        entry = {"section": SECTION, "part": PICTURE_PART, "name": scene.stem, **base,
+                 "scene": scene.stem}  # fmt: skip
         if "error" in result or not result.get("points"):
             entry.update(status="failed", error=result.get("error", "no picture"), points=[])
         else:
@@ -270,6 +276,17 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
         point.update(wall=wall, walls=timings.walls, cpu=statistics.median(timings.shares))
         previous = (samples, wall)
     return result
+
+
+def measure(bench: Bench) -> None:
+    """The section in a bench run (``harness.bench.Bench``): its plan from the run's
+    settings (``--light-variant``), its entries into the run's series."""
+    s = bench.settings
+    plan = Plan(
+        variant=s.light_variant, size=s.size, depth=s.depth, seed=s.seed,
+        repeat=s.repeat, threads=s.threads, budget=s.budget,
+    )  # fmt: skip
+    bench.series.extend(run(plan, bench.jobs_folder(SECTION), bench.log, bench.save_image))
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -4,30 +4,32 @@ marked, the plot, the pictures, and lines for the terminal."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
+from pathlib import Path
 from typing import Any
 
 from harness import figures
 from harness.document import Block, Bullets, Gallery, Heading, Para, Picture, Table
-from harness.light_samples import PICTURE_SECTION, SECTION, TRUTH_SECTION
+from harness.light_samples import PICTURE_PART, SECTION, TRUTH_PART
+from harness.runinfo import part
 
 Run = Mapping[str, Any]
 
 
 def entries(run: Run) -> list[Mapping[str, Any]]:
     """The configurations' entries of ``run``, in the order measured."""
-    return [e for e in run.get("series", []) if e["section"] == SECTION]
+    return part(run, SECTION)
 
 
 def truth_entry(run: Run) -> Mapping[str, Any] | None:
-    return next((e for e in run.get("series", []) if e["section"] == TRUTH_SECTION), None)
+    return next(iter(part(run, SECTION, TRUTH_PART)), None)
 
 
 def has_section(run: Run) -> bool:
     return truth_entry(run) is not None
 
 
-def newest(runs: list[Run]) -> Run | None:
+def newest(runs: Sequence[Run]) -> Run | None:
     """The newest of ``runs`` (oldest first) that measured this section, if any."""
     return next((run for run in reversed(runs) if has_section(run)), None)
 
@@ -69,7 +71,14 @@ def _findings(run: Run) -> list[str]:
     return lines
 
 
-def blocks(run: Run, plot: str | None, context: str) -> list[Block]:
+def plot(run: Run, path: Path) -> Path | None:
+    """The section's plot (``plots.light_samples_plot``)."""
+    from harness import plots
+
+    return plots.light_samples_plot(run, path)
+
+
+def blocks(run: Run, plot: str | None, context: str, runs: Sequence[Run] = ()) -> list[Block]:
     truth = truth_entry(run)
     if truth is None:
         return []
@@ -161,7 +170,7 @@ def _gallery(run: Run, truth: Mapping[str, Any]) -> list[Block]:
 
 def _picture_blocks(run: Run) -> list[Block]:
     """The bonus chapters' other scenes, rendered once each (the texture maps)."""
-    found = [e for e in run.get("series", []) if e["section"] == PICTURE_SECTION]
+    found = part(run, SECTION, PICTURE_PART)
     rows: list[tuple[str, list[Picture | None]]] = []
     for entry in found:
         if entry.get("status") != "ok":

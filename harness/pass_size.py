@@ -29,10 +29,13 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from harness.presets import SceneRef
 from harness.sizes import Size
+
+if TYPE_CHECKING:
+    from harness.bench import Bench
 
 SECTION = "pass-size"
 DEFAULT_VARIANT = "wavefront"
@@ -239,6 +242,18 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
         np.save(folder / "image.npy", image)
         result["image"] = "image.npy"
     return result
+
+
+def measure(bench: Bench) -> None:
+    """The section in a bench run (``harness.bench.Bench``): its plan from the run's
+    settings (``--pass-variant``), its entries into the run's series."""
+    s = bench.settings
+    plan = Plan(
+        variant=s.pass_variant, scene=s.scene, size=s.size, samples=s.samples,
+        depth=s.depth, seed=s.seed, epsilon=s.epsilon, threads=s.threads,
+        repeat=s.repeat, budget=s.budget,
+    )  # fmt: skip
+    bench.series.extend(run(plan, bench.jobs_folder(SECTION), bench.log, bench.save_image))
 
 
 def main(argv: list[str] | None = None) -> int:

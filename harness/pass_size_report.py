@@ -5,7 +5,8 @@ big point against the issue's memory target, and lines for the terminal."""
 from __future__ import annotations
 
 import statistics
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
+from pathlib import Path
 from typing import Any
 
 from harness import figures
@@ -26,7 +27,7 @@ def has_section(run: Run) -> bool:
     return bool(entries(run))
 
 
-def newest(runs: list[Run]) -> Run | None:
+def newest(runs: Sequence[Run]) -> Run | None:
     """The newest of ``runs`` (oldest first) that measured this section, if any."""
     return next((run for run in reversed(runs) if has_section(run)), None)
 
@@ -122,7 +123,14 @@ def big_text(point: Mapping[str, Any]) -> str:
     )
 
 
-def blocks(run: Run, plot: Any, context: str) -> list[Block]:
+def plot(run: Run, path: Path) -> Path | None:
+    """The section's plot (``plots.pass_size_plot``)."""
+    from harness import plots
+
+    return plots.pass_size_plot(run, path)
+
+
+def blocks(run: Run, plot: Any, context: str, runs: Sequence[Run] = ()) -> list[Block]:
     """The report's section for ``run`` (nothing if it has none); ``plot``: the plot's path
     relative to the results folder, or None; ``context``: the machine and run line."""
     found = entries(run)

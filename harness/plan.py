@@ -14,24 +14,16 @@ from typing import Any
 
 from harness.make_meshes import SCALE_MESHES
 from harness.presets import PRESETS, SceneRef
+from harness.sections import DEFAULTS, NAMES, measuring_order
 from harness.sizes import Size, smaller_sizes
 
 BASELINE = "naive"
-SECTIONS = (
-    "table", "sweep", "scaling", "preset", "kata", "scene-size", "light-samples", "profile",
-    "pass-size", "cluster",
-)  # fmt: skip
-DEFAULT_SECTIONS = ("table", "sweep", "scaling", "preset", "kata")
-"""What ``rtc bench`` runs without ``--sections``: ``scene-size`` (``harness.scene_size``)
-loads and packs meshes of up to a million triangles, minutes on its own, so it runs only
-when asked for; ``light-samples`` (``harness.light_samples``) renders a soft-shadow scene 24
-times and needs numba's area-light kernels compiled, so it too runs when asked for;
-``profile`` (``harness.profiling``) profiles naive, cached, prealloc and numba at 32x24, about
-a minute, most of it naive under cProfile; ``pass-size`` (``harness.pass_size``) renders the
-scene through ``wavefront`` at four ``max_mb`` and, within the budget, once at 4000x3000 with
-16 samples (about ten minutes); ``cluster`` (``harness.cluster``) renders for at least 5 s
-per configuration through numba on 1 and 2 threads and 1 and 2 local Dask workers (about two
-minutes)."""
+SECTIONS = NAMES  # every section, in the report's order (harness.sections.SECTIONS)
+DEFAULT_SECTIONS = tuple(measuring_order(DEFAULTS))
+"""What ``rtc bench`` runs without ``--sections``, in the order it measures them: the
+sections the table marks ``default`` (the others take minutes each: scene-size,
+light-samples, profile, pass-size, cluster)."""
+AGAIN = 2  # a busy row is timed again up to this many times (``--again``)
 PARALLEL_OPTIONS = ("workers", "threads")  # options whose value is a worker or thread count
 BENCH_CONFIGS: dict[str, tuple[str, ...]] = {
     "pooled": (
@@ -99,7 +91,8 @@ class BenchSettings:
     light_variant: the ``light-samples`` section's (``harness.light_samples``);
     pass_variant: the ``pass-size`` section's (``harness.pass_size``); sweep_on: the Dask
     cluster the error sweep's configurations run on (``harness.cluster_jobs``; None: here,
-    one after the other).
+    one after the other); again: how many times a busy row is timed again
+    (``Bench.measure_row``).
     """
 
     scene: SceneRef
@@ -122,6 +115,7 @@ class BenchSettings:
     light_variant: str = "numba"
     pass_variant: str = "wavefront"
     sweep_on: str | None = None
+    again: int = AGAIN
 
     def as_dict(self) -> dict[str, Any]:
         data = asdict(self)

@@ -40,7 +40,9 @@ def _caption(run: Mapping[str, Any]) -> str:
 def sweep_plot(run: Mapping[str, Any], path: Path) -> Path | None:
     """Each (configuration, samples) as a point of time against RMSE from the ground truth;
     the Pareto front (nothing both faster and more accurate) joined by a line."""
-    entries = [e for e in run["series"] if e["section"] == "sweep" and e["status"] == "ok"]
+    from harness.runinfo import part
+
+    entries = [e for e in part(run, "sweep") if e["status"] == "ok"]
     points: list[tuple[float, float]] = []
     labels: list[str] = []
     figure, axes = plt.subplots(figsize=(7.5, 5))
@@ -82,7 +84,7 @@ def sweep_plot(run: Mapping[str, Any], path: Path) -> Path | None:
     axes.set_yscale("log")
     axes.set_xlabel("render time (s)")
     axes.set_ylabel("RMSE against the ground truth")
-    truth = next((e for e in run["series"] if e["section"] == "truth"), None)
+    truth = next(iter(part(run, "sweep", "truth")), None)
     if truth is not None:
         w, h = truth["points"][0]["size"]
         axes.set_title(
@@ -96,15 +98,36 @@ def sweep_plot(run: Mapping[str, Any], path: Path) -> Path | None:
     return _save(figure, path)
 
 
-def pixels_plot(run: Mapping[str, Any], path: Path) -> Path | None:
+def scaling_plot(run: Mapping[str, Any], path: Path) -> Path | None:
+    """The scaling section's two panels, side by side where the run has both: time against
+    pixel count (``_pixels_axes``) and throughput against workers or threads
+    (``_threads_axes``)."""
+    from harness.runinfo import part, rows
+
+    sizes = [e for e in part(run, "scaling", "sizes") if e["status"] == "ok"]
+    sizes = [e for e in sizes if any("wall" in p for p in e["points"])]
+    threads = [r for r in rows(run, "scaling") if r["status"] == "ok"]
+    groups: dict[str, list[Mapping[str, Any]]] = {}
+    for row in threads:
+        groups.setdefault(row["group"], []).append(row)
+    groups = {k: v for k, v in groups.items() if any(r["count"] == 1 for r in v)}
+    panels = int(bool(sizes)) + int(bool(groups))
+    if not panels:
+        return None
+    figure, found = plt.subplots(1, panels, figsize=(7.5 * panels, 5), squeeze=False)
+    axes = list(found[0])
+    if sizes:
+        _pixels_axes(run, sizes, axes.pop(0))
+    if groups:
+        _threads_axes(run, groups, axes.pop(0))
+    return _save(figure, path)
+
+
+def _pixels_axes(run: Mapping[str, Any], entries: list[Mapping[str, Any]], axes: Any) -> None:
     """Render time against pixel count, one line per variant (log-log)."""
-    entries = [e for e in run["series"] if e["section"] == "sizes" and e["status"] == "ok"]
-    figure, axes = plt.subplots(figsize=(7.5, 5))
-    drawn = any_busy = False
+    any_busy = False
     for entry in entries:
         measured = [p for p in entry["points"] if "wall" in p]
-        if not measured:
-            continue
         xs = [p["size"][0] * p["size"][1] for p in measured]
         ys = [p["wall"] for p in measured]
         (line,) = axes.plot(xs, ys, marker="o", label=entry["name"])
@@ -113,10 +136,6 @@ def pixels_plot(run: Mapping[str, Any], path: Path) -> Path | None:
                 any_busy = True
                 axes.plot([x], [y], marker="o", markersize=8, color=line.get_color(),
                           markerfacecolor="white")  # fmt: skip
-        drawn = True
-    if not drawn:
-        plt.close(figure)
-        return None
     if any_busy:
         note = f"hollow: busy (CPU under {figures.BUSY_SHARE:.0%} of the cores asked)"
         axes.plot([], [], marker="o", linestyle="none", color="gray", markerfacecolor="white",
@@ -130,25 +149,18 @@ def pixels_plot(run: Mapping[str, Any], path: Path) -> Path | None:
     )
     axes.grid(True, which="both", alpha=0.3)
     axes.legend(fontsize=7)
-    return _save(figure, path)
 
 
-def threads_plot(run: Mapping[str, Any], path: Path) -> Path | None:
+def _threads_axes(
+    run: Mapping[str, Any], groups: dict[str, list[Mapping[str, Any]]], axes: Any
+) -> None:
     """Throughput relative to one worker or thread against the count, one line per variant
     option, with the linear ideal dotted (absolute MRay/s are in the report's table)."""
-    rows = [r for r in run["rows"] if r["section"] == "threads" and r["status"] == "ok"]
-    groups: dict[str, list[dict[str, Any]]] = {}
-    for row in rows:
-        groups.setdefault(row["group"], []).append(row)
-    groups = {k: v for k, v in groups.items() if any(r["count"] == 1 for r in v)}
-    if not groups:
-        return None
-    figure, axes = plt.subplots(figsize=(7.5, 5))
-    counts = sorted({r["count"] for r in rows})
+    counts = sorted({r["count"] for members in groups.values() for r in members})
     axes.plot(counts, counts, linestyle=":", color="gray", label="linear (ideal)")
     any_busy = False
     for label, members in groups.items():
-        members.sort(key=lambda r: r["count"])
+        members = sorted(members, key=lambda r: r["count"])
         one = figures.mrays(next(r for r in members if r["count"] == 1))
         xs = [r["count"] for r in members]
         ys = [figures.mrays(r) / one for r in members]
@@ -174,7 +186,6 @@ def threads_plot(run: Mapping[str, Any], path: Path) -> Path | None:
     )
     axes.grid(True, alpha=0.3)
     axes.legend(fontsize=7)
-    return _save(figure, path)
 
 
 def speedup_plot(run: Mapping[str, Any], path: Path) -> Path | None:
@@ -447,4 +458,83 @@ def cluster_plot(run: Mapping[str, Any], path: Path) -> Path | None:
     )
     for axes in (start, speed):
         axes.grid(True, axis="x", alpha=0.3)
+    return _save(figure, path)
+
+
+def ladder_plot(run: Mapping[str, Any], path: Path) -> Path | None:
+    """The ladder (``harness.ladder_report``): each step's time per pixel as a bar (log
+    scale), labelled with its factor over naive and its own over the step before; POV-Ray's
+    points as dashed lines across (whole process), when the run had them."""
+    from harness import ladder_report as lr
+
+    found = lr.rows(run)
+    steps = [r for r in found if r.get("status") == "ok" and r.get("wall")]
+    if not steps:
+        return None
+    figure, axes = plt.subplots(figsize=(10, 2.1))
+    names = [str(r.get("step") or r["name"]).replace("[", "\n[") for r in steps]
+    values = [lr.per_pixel(r) for r in steps]
+    busy = [figures.is_busy(r) for r in steps]
+    colours = ["#cc6677" if r.get("option") else "#4477aa" for r in steps]
+    axes.bar(
+        range(len(steps)), values, color=["white" if b else c for b, c in zip(busy, colours,
+        strict=True)], edgecolor=colours, hatch=["//" if b else "" for b in busy],
+    )  # fmt: skip
+    for i, row in enumerate(steps):
+        total = lr.cumulative(row, found)
+        own = lr.own_factor(row, found)
+        label = "naive" if total is None else figures.speedup_text(total)
+        if own is not None:
+            label += f"\n({figures.speedup_text(own)} own)"
+        axes.annotate(label, (i, values[i]), xytext=(0, 2), textcoords="offset points",
+                      ha="center", va="bottom", fontsize=7)  # fmt: skip
+    anchor = lr.anchor(run)
+    for point in (anchor or {}).get("points", []) if (anchor or {}).get("status") == "ok" else []:
+        if not point.get("wall"):
+            continue
+        w, h = point["size"]
+        dashes = "--" if point["threads"] > 1 else ":"
+        axes.axhline(
+            point["wall"] / (w * h), color="#228833", linestyle=dashes, linewidth=1, zorder=0,
+            label=f"POV-Ray (C++), {point['threads']} thread(s), whole process",
+        )  # fmt: skip
+        axes.legend(fontsize=6, loc="upper right")
+    axes.set_yscale("log")
+    axes.set_xticks(range(len(steps)), names, fontsize=7)
+    axes.set_ylabel("time per pixel (s, log)", fontsize=8)
+    axes.tick_params(axis="y", labelsize=7)
+    top = max(values)
+    axes.set_ylim(min(values) / 3, top * 12)
+    axes.set_title(
+        "Step by step: time per pixel; labels: factor over naive (own factor over the step "
+        f"before); red: options; hatched: busy. {_caption(run)}",
+        fontsize=8,
+    )
+    axes.grid(True, axis="y", which="major", alpha=0.3)
+    return _save(figure, path)
+
+
+def heat_scale_plot(path: Path) -> Path:
+    """The colour bar of the heat maps (``imagediff.heat_map``: logarithmic, black at
+    ``HEAT_LOW`` and below)."""
+    import numpy as np
+    from matplotlib import colormaps
+
+    from harness import imagediff
+
+    figure, axes = plt.subplots(figsize=(5.5, 0.75))
+    ramp = np.linspace(0.0, 1.0, 256)[np.newaxis, :]
+    axes.imshow(ramp, aspect="auto", cmap=colormaps[imagediff.HEAT_MAP],
+                extent=(0.0, 1.0, 0.0, 1.0))  # fmt: skip
+    low, high = imagediff.HEAT_LOW, imagediff.HEAT_HIGH
+    decades = round(float(np.log10(high / low)))
+    ticks = [low * 10**k for k in range(decades + 1)]
+    axes.set_xticks([float(imagediff.heat_level(v)) for v in ticks],
+                    [f"{v:.0e}" if v < 1 else f"{v:g}" for v in ticks], fontsize=7)  # fmt: skip
+    step = float(imagediff.heat_level(imagediff.ONE_STEP))
+    axes.axvline(step, color="white", linewidth=1)
+    axes.annotate("1/255", (step, 0.5), xytext=(3, 0), textcoords="offset points",
+                  color="white", fontsize=7, va="center")  # fmt: skip
+    axes.set_yticks([])
+    axes.set_title("difference in the largest channel (log scale)", fontsize=7)
     return _save(figure, path)

@@ -45,10 +45,13 @@ import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from harness.figures import seconds_text
 from harness.sizes import Size, scaled
+
+if TYPE_CHECKING:
+    from harness.bench import Bench
 
 SECTION = "profile"
 BENCH_VARIANTS = ("naive", "cached", "prealloc", "numba")
@@ -469,6 +472,14 @@ def _watch_parent() -> None:
                 os._exit(3)
 
     threading.Thread(target=watch, daemon=True, name="watch-parent").start()
+
+
+def measure(bench: Bench) -> None:
+    """The section in a bench run (``harness.bench.Bench``): ``plan_for`` its settings, its
+    entries into the run's series, the flame graphs into the run's folder."""
+    plan = plan_for(bench.settings)
+    staging, stem = bench.writer.staging, bench.writer.stem
+    bench.series.extend(run(plan, bench.jobs_folder(SECTION), bench.log, staging, stem))
 
 
 def main(argv: list[str] | None = None) -> int:

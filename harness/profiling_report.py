@@ -3,7 +3,7 @@ prints, the report's "Where the time goes" section and the lines ``rtc bench`` p
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 from harness import figures
@@ -138,7 +138,7 @@ def entries(run: Run) -> list[Entry]:
     return [e for e in run.get("series", []) if e["section"] == SECTION]
 
 
-def newest(runs: list[Run]) -> Run | None:
+def newest(runs: Sequence[Run]) -> Run | None:
     """The newest of ``runs`` (oldest first) that profiled, if any."""
     return next((run for run in reversed(runs) if entries(run)), None)
 
@@ -224,7 +224,7 @@ def overview(found: list[Entry]) -> Table:
     return Table(header, body, right={1, 2, 3, 4, 5, 6, 7})
 
 
-def blocks(run: Run, context: str) -> list[Block]:
+def blocks(run: Run, plot: str | None, context: str, runs: Sequence[Run] = ()) -> list[Block]:
     """The report's "Where the time goes" section for ``run`` (nothing if it has none);
     ``context``: the machine and run line."""
     found = entries(run)

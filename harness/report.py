@@ -1,10 +1,11 @@
 """``rtc report``: ``results/README.md`` and ``results/report.html`` from the run history.
 
-Each section comes from the newest run that measured it: the tables (time; cost and
-accuracy) and the pictures beside their heat maps, error against time, scaling, the C++
-workload and the chapter progress, with the plots (``results/report/*.png``); every run is
-summarized in the history. The machine and the settings are printed beside
-every table. The HTML page holds the same content with the images inlined.
+The report is the bench's sections (``harness.sections``) in the table's order, each from
+the newest run that measured it, drawn by its reporting module with its plot
+(``results/report/*.png``) and the line naming the machine and the run; then the run's
+notes, the history of every run, and the stability table (``rtc stability``). The top links
+to the sections further down (``LINKS``). The HTML page holds the same content with the
+images inlined.
 """
 
 from __future__ import annotations
@@ -12,515 +13,36 @@ from __future__ import annotations
 import math
 import os
 import tempfile
-from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from harness import (
-    cluster_report,
-    figures,
-    light_samples_report,
-    pass_size_report,
-    plots,
-    profiling_report,
-    scene_size_report,
-    sharing,
-    summary,
-)
-from harness.alloccount import FREE_LIST_NOTE, METHOD_NOTES
+from harness import figures, ladder_report, plots, sections
 from harness.document import (
     Block,
     Bullets,
-    Gallery,
     Heading,
     Para,
     Picture,
     Table,
+    anchor,
     to_html,
     to_markdown,
 )
 from harness.results import ResultFileError, check_run, list_runs, load_run
+from harness.runinfo import HEAT_SCALE_PNG, REPORT_DIR, context_line, git_text, rows
+from harness.table_report import heat_visible
 
-REPORT_DIR = "report"
-C_PLUS_PLUS_ANCHOR = "the C++ report reached 44.9 MRay/s on this workload, on a whole lab machine"
+__all__ = ["build_report", "console_table", "heat_visible", "load_history", "pick_runs"]
 
 Run = Mapping[str, Any]
-
-
-def _rows(run: Run, section: str) -> list[Mapping[str, Any]]:
-    return [r for r in run["rows"] if r["section"] == section]
-
-
-def _size(row: Mapping[str, Any]) -> str:
-    return "x".join(str(v) for v in row["size"])
-
-
-def _git(run: Run) -> str:
-    m = run["machine"]
-    commit = (m.get("commit") or "unknown")[:10]
-    return f"{commit}{' (dirty tree)' if m.get('dirty') else ''}"
-
-
-def machine_line(run: Run) -> str:
-    m = run["machine"]
-    load = m.get("load_average")
-    load_text = f", load average {load[0]:.2f} at start" if load else ""
-    return (
-        f"Machine: `{m['hostname']}`, {m['cpu_model']}, {m['cores_available']} of "
-        f"{m['cpu_count']} cores{load_text}; Python {m['python']}, numpy {m.get('numpy')}, "
-        f"numba {m.get('numba')}; commit {_git(run)}; run `{run['stem']}` started "
-        f"{run['started'][:19]} UTC, took {run['seconds']:.0f} s."
-        + (f" **Shared machine:** {run['shared']}" if run.get("shared") else "")
-    )
-
-
-def context_line(run: Run) -> str:
-    """The machine and run in one line, repeated beside every section's numbers."""
-    m = run["machine"]
-    load = m.get("load_average")
-    load_text = f", load {load[0]:.1f} at start" if load else ""
-    return (
-        f"Measured on `{m['hostname']}` ({m['cpu_model']}, {m['cores_available']} cores"
-        f"{load_text}), Python {m['python']}, numba {m.get('numba')}, commit {_git(run)}, "
-        f"run `{run['stem']}`, budget {run['settings']['budget'] or 0:g} s per row "
-        f"(naive: 3x), mode {run['settings']['mode']['name']}."
-        + (f" **Shared machine** ({sharing.brief(run.get('load'))})." if run.get("shared") else "")
-    )
-
-
-def settings_line(run: Run, section: str = "table") -> str:
-    s = run["settings"]
-    threads = s["threads"] or "all"
-    budget = f"{s['budget']:g} s" if s["budget"] else "none"
-    if section == "preset":
-        scene = s.get("preset", "cpp-spheres")
-        return (
-            f"Settings: scene `{scene}`, requested {s['mode']['preset_size'][0]}x"
-            f"{s['mode']['preset_size'][1]}, 8 samples per pixel, depth 5, "
-            f"{s['mode']['side_repeat']} timed render(s) per row, budget {budget} per row, "
-            f"CPUs: {threads}."
-        )
-    return (
-        f"Settings: scene `{s['scene']['name']}`, requested {s['size'][0]}x{s['size'][1]}, "
-        f"{s['samples']} sample(s) per pixel, depth {s['depth']}, seed {s['seed']}, "
-        f"epsilon {s.get('epsilon') or 'the book default (0.0001)'}, "
-        f"{s['repeat']} timed renders per row, budget {budget} per row (naive: 3x), mode "
-        f"{s['mode']['name']}, CPUs: {threads}."
-    )
-
-
-# ----------------------------------------------------------------- the table's cells
-
-
-def _error_cells(row: Mapping[str, Any]) -> list[str]:
-    error = row.get("error_vs_naive")
-    if row["name"] == "naive":
-        return ["(the reference)", "", "", "", ""]
-    if not error:
-        return ["-"] * 5
-    psnr = "∞ (identical)" if error["psnr"] is None else f"{error['psnr']:.1f} dB"
-    return [
-        f"{error['max_abs']:.3g}",
-        f"{error['mean_abs']:.3g}",
-        f"{error['rmse']:.3g}",
-        psnr,
-        f"{error['pixels_over_one_step']} of {error['pixels']}",
-    ]
-
-
-def _alloc_cells(row: Mapping[str, Any]) -> list[str]:
-    found = row.get("allocations")
-    if not found:
-        return ["-", "-", "-"]
-    count = figures.count_text(found["count"])
-    size = figures.bytes_text(found["bytes"])
-    method = found["method"]
-    extra = []
-    if found.get("workers"):
-        n = found["workers"]["processes"]
-        extra.append(f"incl. {n} worker process{'es' if n != 1 else ''}")
-    if found.get("nrt") is not None:
-        extra.append(f"+ {figures.count_text(found['nrt'])} numba NRT")
-    if method == "tracemalloc":
-        count, size = f"≥{count} (net)", f"≥{size}"
-    return [count, size, method + (f" ({'; '.join(extra)})" if extra else "")]
-
-
-def _peak_cell(row: Mapping[str, Any]) -> str:
-    peak = row.get("peak_memory")
-    if not peak:
-        return "-"
-    text = figures.bytes_text(peak["main"])
-    if peak.get("workers"):
-        text += f" + workers {figures.bytes_text(peak['workers'])}"
-    return text
-
-
-def _speedup_cell(row: Mapping[str, Any]) -> str:
-    found = row.get("speedup")
-    if not found:
-        return "-"
-    mark = "" if found["basis"] == "same size" else " (per pixel)"
-    return f"{figures.speedup_text(found['value'])}{mark}"
-
-
-def _rays_cells(row: Mapping[str, Any]) -> list[str]:
-    rays = row.get("rays")
-    if not rays:
-        return ["-", "-"]
-    parts = ", ".join(
-        f"{k} {figures.count_text(rays[k])}" for k in ("camera", "shadow", "secondary") if k in rays
-    )
-    camera = rays.get("camera")
-    ratio = f"{rays['total'] / camera:.2f}" if camera else "-"
-    return [f"{figures.count_text(rays['total'])} ({parts})", ratio]
-
-
-def _notes(rows: list[Mapping[str, Any]]) -> tuple[dict[str, str], list[str]]:
-    """Footnote marks per row name (rows the budget rule shrank), and the footnotes."""
-    marks: dict[str, str] = {}
-    notes: list[str] = []
-    for row in rows:
-        if row.get("reduced"):
-            notes.append(f"[{len(notes) + 1}] `{row['name']}`: {row['budget_note']}")
-            marks[row["name"]] = f" [{len(notes)}]"
-    return marks, notes
-
-
-def time_table(rows: list[Mapping[str, Any]]) -> Table:
-    marks, _ = _notes(rows)
-    body = []
-    for row in rows:
-        name = f"`{row['name']}`{marks.get(row['name'], '')}"
-        if row["status"] != "ok":
-            body.append([name, "failed", row.get("error", "")[:200], *["-"] * 7])
-            continue
-        w = row["wall"]
-        warm = row.get("warmup", {})
-        first = warm.get("first", 0.0) - warm.get("second", 0.0)
-        body.append(
-            [
-                name,
-                _size(row),
-                figures.seconds_text(figures.median_wall(row)),
-                figures.seconds_text(min(w)),
-                figures.seconds_text(max(w)),
-                summary.cpu_text(row),
-                _speedup_cell(row),
-                f"{figures.mrays(row):.3g}",
-                _peak_cell(row),
-                figures.seconds_text(max(first, 0.0)),
-            ]
-        )
-    header = [
-        "variant",
-        "size",
-        "median",
-        "min",
-        "max",
-        "CPU: cores used of asked",
-        "speed-up",
-        "MRay/s",
-        "peak memory (RSS)",
-        "first-call extra (JIT)",
-    ]
-    return Table(header, body, right={2, 3, 4, 5, 6, 7, 8, 9})
-
-
-def cost_table(rows: list[Mapping[str, Any]]) -> Table:
-    marks, _ = _notes(rows)
-    body = []
-    for row in rows:
-        if row["status"] != "ok":
-            continue
-        name = f"`{row['name']}`{marks.get(row['name'], '')}"
-        body.append([name, *_rays_cells(row), *_alloc_cells(row), *_error_cells(row)])
-    header = [
-        "variant",
-        "rays cast (all kinds)",
-        "rays per camera ray",
-        "allocations",
-        "bytes allocated",
-        "counted by",
-        "max abs error",
-        "mean abs error",
-        "RMSE",
-        "PSNR",
-        "pixels off > 1/255",
-    ]
-    return Table(header, body, right={2, 3, 4, 6, 7, 8, 9, 10})
-
-
-# ----------------------------------------------------------------- sections
-
-
-def heat_visible(max_abs: float, full_scale: float) -> bool:
-    """Whether a heat map of a difference at most ``max_abs`` shows anything: its colour map
-    (``imagediff.heat_map``) gives the darkest of its N colours to differences below
-    ``full_scale / N``, so a smaller one draws an all-black map."""
-    from matplotlib import colormaps
-
-    return max_abs > 0 and max_abs * colormaps["inferno"].N >= full_scale
-
-
-def _picture_of(row: Mapping[str, Any]) -> tuple[str, str] | None:
-    """The row's largest picture (measured or comparison size) as (path, size)."""
-    found = []
-    if row.get("image"):
-        found.append((str(row["image"]), list(row["size"])))
-    compare = row.get("compare_image")
-    if compare and str(compare).endswith(".png") and row.get("compare_size"):
-        found.append((str(compare), list(row["compare_size"])))
-    if not found:
-        return None
-    path, size = max(found, key=lambda item: item[1][0] * item[1][1])
-    return path, "x".join(map(str, size))
-
-
-def _gallery(rows: list[Mapping[str, Any]], full_scale: float, compare: str) -> list[Block]:
-    entries = []
-    for row in rows:
-        picture = _picture_of(row) if row["status"] == "ok" else None
-        if picture is None:
-            continue
-        path, size = picture
-        error = row.get("error_vs_naive")
-        heat = row.get("heatmap")
-        if row["name"] == "naive":
-            note = "the reference"
-        elif not error:
-            note = "not compared"
-        elif error["max_abs"] == 0:
-            note = f"identical to naive's at {compare}"
-        elif not heat_visible(error["max_abs"], full_scale):
-            note = f"within {error['max_abs']:.2g} of naive's at {compare}: no visible map"
-        else:
-            note = (
-                f"differs from naive's at {compare}: max {error['max_abs']:.3g} "
-                f"({error['max_abs'] * 255:.2g}/255)"
-            )
-        show_heat = bool(heat) and error and heat_visible(error["max_abs"], full_scale)
-        heat_pic = (
-            Picture(f"runs/{heat}", f"difference {row['name']} - naive", 160) if show_heat else None
-        )
-        caption = f"`{row['name']}` ({size}): {note}"
-        entries.append((caption, [Picture(f"runs/{path}", row["name"], 160), heat_pic]))
-    if not entries:
-        return []
-    return [
-        Para(
-            "Each variant's picture once, at the larger of its measured and comparison sizes, "
-            f"and a heat map of its difference from naive's picture at {compare} only where "
-            f"the map is not all black (black: identical; brightest: {full_scale * 255:.0f}/255 "
-            "or more in some channel)."
-        ),
-        Gallery(["variant", "picture", "difference from naive"], entries),
-    ]
-
-
-def _skip_reason(points: list[Mapping[str, Any]]) -> str:
-    """One reason for several skipped points: the first one's (the cheapest)."""
-    reason = str(points[0]["skipped"])
-    return reason if len(points) == 1 else f"{reason} (the cheapest of them)"
-
-
-def _sweep_blocks(run: Run, plot: Path | None) -> list[Block]:
-    truth = next((e for e in run["series"] if e["section"] == "truth"), None)
-    sweeps = [e for e in run["series"] if e["section"] == "sweep"]
-    if truth is None and not sweeps:
-        return []
-    blocks: list[Block] = [Heading(2, "Error against run time"), Para(context_line(run))]
-    if truth is not None and truth.get("points") and "wall" in truth["points"][0]:
-        p = truth["points"][0]
-        blocks.append(
-            Para(
-                f"Ground truth: `{truth['name']}` (the fastest variant whose table picture equals "
-                f"naive's) at {p['size'][0]}x{p['size'][1]} with {p['samples']} samples per pixel "
-                f"({figures.seconds_text(p['wall'])}). Sample positions are a pure function of "
-                "(seed, pixel, sample), so exact variants render the same pictures and differ only "
-                "in time; float32 and fastmath options also differ in error. One render per point."
-            )
-        )
-    if plot is not None:
-        blocks.append(Picture(f"{REPORT_DIR}/{plot.name}", "error against time"))
-    body = []
-    for entry in sweeps:
-        for p in entry.get("points", []):
-            if "wall" in p and p.get("error"):
-                e = p["error"]
-                psnr = "∞" if e["psnr"] is None else f"{e['psnr']:.1f}"
-                body.append(
-                    [
-                        f"`{entry['name']}`",
-                        str(p["samples"]),
-                        figures.seconds_text(p["wall"]),
-                        f"{e['rmse']:.4g}",
-                        psnr,
-                        f"{e['max_abs']:.3g}",
-                    ]
-                )
-        skipped = [p for p in entry.get("points", []) if p.get("skipped")]
-        if skipped:
-            spp = ", ".join(str(p["samples"]) for p in skipped)
-            body.append(
-                [f"`{entry['name']}`", spp, "skipped: " + _skip_reason(skipped), "-", "-", "-"]
-            )
-        if entry["status"] != "ok":
-            body.append(
-                [f"`{entry['name']}`", "-", "failed: " + entry.get("error", ""), "-", "-", "-"]
-            )
-    if body:
-        blocks.append(
-            Table(
-                ["configuration", "samples/pixel", "time", "RMSE", "PSNR (dB)", "max abs error"],
-                body,
-                right={1, 2, 3, 4, 5},
-            )
-        )
-    return blocks
-
-
-def _scaling_blocks(run: Run, pixels_png: Path | None, threads_png: Path | None) -> list[Block]:
-    sizes = [e for e in run["series"] if e["section"] == "sizes"]
-    threads = _rows(run, "threads")
-    if not sizes and not threads:
-        return []
-    blocks: list[Block] = [Heading(2, "Scaling"), Para(context_line(run))]
-    if pixels_png is not None:
-        blocks.append(Picture(f"{REPORT_DIR}/{pixels_png.name}", "time against pixel count"))
-    body = []
-    for entry in sizes:
-        for p in entry.get("points", []):
-            w, h = p["size"]
-            if "wall" in p:
-                per_pixel = p["wall"] / (w * h)
-                body.append(
-                    [
-                        f"`{entry['name']}`",
-                        f"{w}x{h}",
-                        figures.seconds_text(p["wall"]),
-                        figures.per_pixel_text(per_pixel),
-                        summary.point_cpu_text(entry, p),
-                    ]
-                )
-        skipped = [p for p in entry.get("points", []) if p.get("skipped")]
-        if skipped:
-            sizes_text = ", ".join("x".join(map(str, p["size"])) for p in skipped)
-            body.append(
-                [f"`{entry['name']}`", sizes_text, "skipped: " + _skip_reason(skipped), "-", "-"]
-            )
-    if body:
-        header = ["variant", "size", "time", "time per pixel", "CPU: cores used of asked"]
-        blocks.append(Table(header, body, right={2, 3, 4}))
-        busy_points = [f"`{e['name']}` at {'x'.join(map(str, p['size']))}" for e in sizes
-                       for p in e.get("points", []) if summary.point_busy(e, p)]  # fmt: skip
-        if busy_points:
-            blocks.append(Para(summary.busy_points_text(run, busy_points)))
-    if threads_png is not None:
-        blocks.append(Picture(f"{REPORT_DIR}/{threads_png.name}", "throughput against workers"))
-    if threads:
-        body = []
-        ones = {r["group"]: r for r in threads if r["count"] == 1 and r["status"] == "ok"}
-        for row in threads:
-            if row["status"] != "ok":
-                body.append(
-                    [row["group"], str(row["count"]), f"`{row['name']}`", "failed", "-", "-", "-"]
-                )
-                continue
-            one = ones.get(row["group"])
-            gain = f"{figures.mrays(row) / figures.mrays(one):.2f}x" if one else "-"
-            body.append(
-                [
-                    row["group"],
-                    str(row["count"]),
-                    f"`{row['name']}`",
-                    _size(row),
-                    f"{figures.mrays(row):.3g}",
-                    gain,
-                    summary.cpu_text(row),
-                ]
-            )
-        blocks.append(
-            Table(
-                [
-                    "variant (option)",
-                    "count",
-                    "name",
-                    "size",
-                    "MRay/s",
-                    "over 1",
-                    "CPU: cores used of asked",
-                ],
-                body,
-                right={1, 4, 5, 6},
-            )
-        )
-        busy_threads = summary.busy_text(run, threads)
-        if busy_threads:
-            blocks.append(Para(busy_threads + " On the plot: hollow markers."))
-    return blocks
-
-
-def _preset_blocks(run: Run) -> list[Block]:
-    rows = _rows(run, "preset")
-    if not rows:
-        return []
-    body = []
-    for row in rows:
-        if row["status"] != "ok":
-            body.append([f"`{row['name']}`", "failed", row.get("error", "")[:120], "-", "-", "-"])
-            continue
-        note = row["budget_note"] if row.get("reduced") else ""
-        body.append(
-            [
-                f"`{row['name']}`",
-                _size(row),
-                figures.seconds_text(figures.median_wall(row)),
-                f"{figures.mrays(row):.3g}",
-                _speedup_cell(row),
-                note,
-            ]
-        )
-    return [
-        Heading(2, "The C++ report's workload (cpp-spheres)"),
-        Para(context_line(run)),
-        Para(settings_line(run, "preset") + f" For scale: {C_PLUS_PLUS_ANCHOR}."),
-        Table(["variant", "size", "median", "MRay/s", "speed-up", "note"], body, right={2, 3, 4}),
-    ]
-
-
-def _kata_blocks(run: Run) -> list[Block]:
-    kata = run.get("kata")
-    if not kata or not kata.get("summary"):
-        return []
-    variants = list(kata.get("variants") or [])
-    chapters: dict[Any, dict[str, Mapping[str, Any]]] = {}
-    titles: dict[Any, str] = {}
-    for entry in kata["summary"]:
-        chapters.setdefault(entry["chapter"], {})[entry["variant"]] = entry
-        titles[entry["chapter"]] = entry["title"]
-    body = []
-    for chapter, by_variant in chapters.items():
-        cells = []
-        for variant in variants:
-            e = by_variant.get(variant)
-            if e is None:
-                cells.append("-")
-                continue
-            total = e["passed"] + e["failed"] + e["undefined"] + e.get("skipped", 0)
-            total += e.get("todo", 0)  # stubs not written yet (rtc new)
-            mark = "✓" if e["passed"] == total else "✗"
-            cells.append(f"{mark} {e['passed']}/{total}")
-        body.append([f"{chapter or '?'} {titles[chapter]}", *cells])
-    return [
-        Heading(2, "Chapter progress"),
-        Para(
-            "Scenarios passed per chapter and variant (`rtc kata --variant all`), "
-            "at the commit of the latest run."
-        ),
-        Table(["chapter", *[f"`{v}`" for v in variants]], body),
-    ]
+OPENING = "ladder"  # the section the report opens with, before the introduction
+INTRO = (
+    "Generated by `rtc report` from the run files in `results/runs/` (one per `rtc bench`, "
+    "never overwritten). Each section shows the newest run that measured it, named beside "
+    "it; every run is summarized under History. Timings are wall-clock seconds of whole "
+    "renders in a fresh process per variant; treat them as valid for the machine named."
+)
 
 
 def _changes_by_run(runs: list[Run]) -> dict[int, list[Any]]:
@@ -537,13 +59,14 @@ def _changes_by_run(runs: list[Run]) -> dict[int, list[Any]]:
 
 
 def _history_blocks(runs: list[Run], plot: Path | None = None) -> list[Block]:
+    """Every run kept, newest first, with the significant changes between them."""
     from harness import compare
 
     changes = _changes_by_run(runs)
     body = []
     for index in reversed(range(len(runs))):
         run = runs[index]
-        table = [r for r in _rows(run, "table") if r["status"] == "ok"]
+        table = [r for r in rows(run, "table") if r["status"] == "ok"]
         naive = next((r for r in table if r["name"] == "naive"), None)
         best = max(
             (r for r in table if r.get("speedup")),
@@ -565,7 +88,7 @@ def _history_blocks(runs: list[Run], plot: Path | None = None) -> list[Block]:
                 s["mode"]["name"],
                 f"{s['size'][0]}x{s['size'][1]}, {s['samples']} spp",
                 f"{m['hostname']}, {m.get('cpu_model', '?')}, {m['cores_available']} cores",
-                _git(run),
+                git_text(run),
                 f"{figures.median_wall(naive) / figures.pixels(naive) * 1e3:.3g} ms"
                 if naive
                 else "-",
@@ -621,7 +144,7 @@ def _history_blocks(runs: list[Run], plot: Path | None = None) -> list[Block]:
             parts.append(
                 f"`{point.measured.key.name}` {change.ratio_text()} ({change.test_text()}{marks})"
             )
-        where = f"commit {_git(run)}"
+        where = f"commit {git_text(run)}"
         if other_cpus:
             where += f"; on {cpu}, the runs before on {', '.join(sorted(other_cpus))}"
         items.append(f"`{run['stem']}` ({where}): " + "; ".join(parts) + ".")
@@ -633,148 +156,64 @@ def _history_blocks(runs: list[Run], plot: Path | None = None) -> list[Block]:
     return blocks
 
 
-SECTION_TESTS: dict[str, Any] = {
-    "table": lambda run: bool(_rows(run, "table")),
-    "sweep": lambda run: any(e["section"] in ("truth", "sweep") for e in run["series"]),
-    "scaling": lambda run: (
-        any(e["section"] == "sizes" for e in run["series"]) or bool(_rows(run, "threads"))
-    ),
-    "preset": lambda run: bool(_rows(run, "preset")),
-    "kata": lambda run: bool((run.get("kata") or {}).get("summary")),
-}
+def pick_runs(runs: Sequence[Run]) -> dict[str, Run]:
+    """For each section some run measured, the newest run that did (``rtc bench
+    --sections`` runs only some)."""
+    found = {}
+    for section in sections.SECTIONS:
+        run = sections.reporting(section.name).newest(runs)
+        if run is not None:
+            found[section.name] = run
+    return found
 
 
-def pick_runs(runs: list[Run]) -> dict[str, Run]:
-    """For each section of the report, the newest run that measured it (``rtc bench
-    --sections`` runs only some), falling back to the newest run."""
-    return {
-        section: next((run for run in reversed(runs) if has(run)), runs[-1])
-        for section, has in SECTION_TESTS.items()
-    }
-
-
-@dataclass(frozen=True)
-class SideSection:
-    """A section beside the table (``rtc bench --sections NAME``), in the report: its
-    ``_report`` module (``newest(runs)``, ``blocks(run, [plot,] context)``) and its plot
-    (``plot(run, path)`` drawn into ``plot_file``; None: no plot)."""
-
-    name: str
-    report: Any
-    plot: Callable[[Run, Path], Path | None] | None = None
-    plot_file: str = ""
-
-
-SIDE_SECTIONS = (
-    SideSection("scene-size", scene_size_report, plots.scene_size_plot, "time-vs-triangles.png"),
-    SideSection(
-        "light-samples",
-        light_samples_report,
-        plots.light_samples_plot,
-        "soft-shadows-error-vs-time.png",
-    ),
-    SideSection("profile", profiling_report),
-    SideSection("cluster", cluster_report, plots.cluster_plot, "cluster.png"),
-    SideSection("pass-size", pass_size_report, plots.pass_size_plot, "pass-size.png"),
+LINKS = (
+    ("every variant", "Summary"),
+    ("error against time", "Error against run time"),
+    ("numerical stability", "Numerical stability"),
+    ("pictures", "Pictures"),
+    ("history", "History"),
 )
-"""The sections beside the table, in the report's order."""
+"""The sections linked from the top of the report (text, heading), where the report has them."""
 
 
-def build_blocks(runs: list[Run], plot_files: Mapping[str, Path | None]) -> list[Block]:
-    chosen = pick_runs(runs)
-    latest = chosen["table"]
-    table_rows = summary.fastest_first(_rows(latest, "table"))
-    blocks: list[Block] = [
-        Heading(1, "Benchmark results"),
-        Para(
-            "Generated by `rtc report` from the run files in `results/runs/` (one per "
-            "`rtc bench`, never overwritten). Each section shows the newest run that measured "
-            "it, named beside it; every run is summarized under History. Timings are "
-            "wall-clock seconds of whole renders in a fresh process per variant; treat them "
-            "as valid for the machine named."
-        ),
-        Para(machine_line(latest)),
-    ]
-    speedup_png = plot_files.get("speedup")
-    blocks += summary.blocks(
-        latest, runs, None if speedup_png is None else f"{REPORT_DIR}/{speedup_png.name}"
-    )
-    if table_rows:
-        _, notes = _notes(table_rows)
-        methods = sorted(
-            {str(r["allocations"]["method"]) for r in table_rows if r.get("allocations")}
-        )
-        compare = "x".join(str(v) for v in latest["compare_size"])
-        blocks += [
-            Heading(2, "Time"),
-            Para(settings_line(latest) + " Fastest first."),
-            time_table(table_rows),
-        ]
-        busy = summary.busy_text(latest, table_rows)
-        if busy:
-            blocks.append(Para(busy))
-        blocks += [
-            Heading(2, "Cost and accuracy"),
-            Para(
-                f"One untimed render per variant at the comparison size {compare} (the same "
-                "for every row, so the figures compare): the rays it cast, the allocations it "
-                "made, and its picture's error against naive's picture at the same size and "
-                "settings (colors clamped to [0, 1])."
-            ),
-            cost_table(table_rows),
-            Bullets(
-                [
-                    *notes,
-                    "Speed-up: throughput (pixels x samples per second) over naive's, measured in "
-                    "this run; '(per pixel)' where the two were measured at different sizes.",
-                    "MRay/s: width x height x samples per second / 1e6 (camera samples, as the C++ "
-                    "report counts).",
-                    "Rays cast: every ray, camera, shadow and secondary (reflected and refracted), "
-                    "counted in a separate untimed render where the variant can be counted "
-                    "(its tracer's own count_rays, or a counting subclass of its tracer when "
-                    "its render goes through the pipeline's steps); '-' where it cannot.",
-                    "CPU: cores used (CPU seconds of the process and its workers per wall second "
-                    "of the timed renders) of the cores the variant asks for; **busy** where "
-                    f"under {figures.BUSY_SHARE:.0%} of them: it did not get them.",
-                    "First-call extra: first tiny render minus the second (JIT compilation and "
-                    "first-use costs), excluded from the timings.",
-                    *[f"Allocations counted by {m}: {METHOD_NOTES.get(m, m)}." for m in methods],
-                    "Worker processes count their own allocations (they are included, and named "
-                    "in the 'counted by' column); allocations made while a worker's interpreter "
-                    "starts, before the counters are installed, are not.",
-                    f"Not counted: {FREE_LIST_NOTE}.",
-                    "Peak memory: the resident-set high-water mark of the measuring process during "
-                    "the timed renders, and the largest of its worker processes'.",
-                ]
-            ),
-        ]
-        blocks += [Heading(2, "Pictures")]
-        blocks += _gallery(table_rows, float(latest.get("heat_full_scale", 16 / 255)), compare)
-    unavailable = latest.get("unavailable") or {}
-    if unavailable:
-        blocks += [
-            Heading(3, "Variants not available on this machine"),
-            Bullets([f"`{name}`: {why}" for name, why in unavailable.items()]),
-        ]
-    blocks += _sweep_blocks(chosen["sweep"], plot_files.get("sweep"))
-    blocks += _scaling_blocks(
-        chosen["scaling"], plot_files.get("pixels"), plot_files.get("threads")
-    )
-    blocks += _preset_blocks(chosen["preset"])
-    for side in SIDE_SECTIONS:
-        measured = side.report.newest(runs)
-        if measured is None:
+def _links(blocks: list[Block]) -> list[tuple[str, str]]:
+    headings = {block.text for block in blocks if isinstance(block, Heading)}
+    return [(text, anchor(heading)) for text, heading in LINKS if heading in headings]
+
+
+def build_blocks(
+    runs: list[Run], plot_files: Mapping[str, Path | None], tail: Sequence[Block] = ()
+) -> list[Block]:
+    """The report's blocks from ``runs`` (oldest first) and the plots drawn
+    (``plot_files``: section name -> file), ``tail`` (the stability section) last; the top
+    links to the sections it has (``LINKS``)."""
+    blocks: list[Block] = [Heading(1, "Benchmark results")]
+    intro_at = 1
+    for section in sections.SECTIONS:
+        module = sections.reporting(section.name)
+        run = module.newest(runs)
+        if run is None:
             continue
-        if side.plot is None:
-            blocks += side.report.blocks(measured, context_line(measured))
-            continue
-        png = plot_files.get(side.name)
+        png = plot_files.get(section.name)
         plot = None if png is None else f"{REPORT_DIR}/{png.name}"
-        blocks += side.report.blocks(measured, plot, context_line(measured))
-    blocks += _kata_blocks(chosen["kata"])
+        blocks += module.blocks(run, plot, context_line(run), runs)
+        if section.name == OPENING:
+            intro_at = len(blocks)
+    blocks.insert(intro_at, Para(INTRO))
+    latest = runs[-1]
     if latest.get("notes"):
         blocks += [Heading(2, "Notes"), Bullets(list(latest["notes"]))]
     blocks += _history_blocks(runs, plot_files.get("history"))
+    blocks += tail
+    links = _links(blocks)
+    if links:
+        at = next(
+            (i + 1 for i, b in enumerate(blocks)
+             if isinstance(b, Picture) and b.alt == ladder_report.PLOT_ALT),
+            1,
+        )  # fmt: skip
+        blocks.insert(at, Para("See also: " + " · ".join(f"[{t}](#{a})" for t, a in links) + "."))
     return blocks
 
 
@@ -787,6 +226,15 @@ def _write_text(path: Path, text: str) -> None:
         os.replace(temporary, path)
     finally:
         Path(temporary).unlink(missing_ok=True)
+
+
+def _remove_stale(folder: Path, drawn: Sequence[Path]) -> None:
+    """Remove the plots of ``folder`` (the report's) that this report did not draw: a
+    section that has no plot any more, or whose plot was renamed, leaves none behind."""
+    keep = {path.name for path in drawn}
+    for path in folder.glob("*.png"):
+        if path.name not in keep:
+            path.unlink(missing_ok=True)
 
 
 def load_history(results: Path) -> tuple[list[Run], list[str]]:
@@ -843,24 +291,24 @@ def build_report(
         )
     folder = results / REPORT_DIR
     folder.mkdir(parents=True, exist_ok=True)
+    tail: list[Block] = []
+    if stability is not None:
+        tail += stability_table.report_blocks(stability)
     if runs:
-        chosen = pick_runs(runs)
-        plot_files = {
-            "speedup": plots.speedup_plot(chosen["table"], folder / "speedup.png"),
-            "sweep": plots.sweep_plot(chosen["sweep"], folder / "error-vs-time.png"),
-            "pixels": plots.pixels_plot(chosen["scaling"], folder / "time-vs-pixels.png"),
-            "threads": plots.threads_plot(chosen["scaling"], folder / "throughput-vs-workers.png"),
-            "history": plots.history_plot(runs, folder / "history.png"),
+        plot_files: dict[str, Path | None] = {
+            "history": plots.history_plot(runs, folder / "history.png")
         }
-        for side in SIDE_SECTIONS:
-            measured = side.report.newest(runs)
-            if measured is not None and side.plot is not None:
-                plot_files[side.name] = side.plot(measured, folder / side.plot_file)
-        blocks = build_blocks(runs, plot_files)
+        for section in sections.SECTIONS:
+            module = sections.reporting(section.name)
+            run = module.newest(runs) if section.plot_file else None
+            if run is not None:
+                plot_files[section.name] = module.plot(run, folder / section.plot_file)
+        plot_files["heat-scale"] = plots.heat_scale_plot(folder / HEAT_SCALE_PNG)
+        _remove_stale(folder, [p for p in plot_files.values() if p is not None])
+        blocks = build_blocks(runs, plot_files, tail)
     else:
         blocks = [Heading(1, "Benchmark results"), Para("No bench run yet (`rtc bench`).")]
-    if stability is not None:
-        blocks += stability_table.report_blocks(stability)
+        blocks += tail
     if problems:
         blocks += [Heading(2, "Unreadable result files"), Bullets(problems)]
     readme, page = results / "README.md", results / "report.html"
@@ -870,37 +318,10 @@ def build_report(
 
 
 def console_table(run: Run) -> str:
-    """The table's main figures as plain text, for the terminal after ``rtc bench``."""
-    lines = [
-        f"{'variant':<44} {'size':>9} {'median':>9} {'speed-up':>14} {'MRay/s':>8} "
-        f"{'allocs':>8} {'RMSE':>9}"
-    ]
-    if not _rows(run, "table") and not _rows(run, "preset"):
-        lines = []  # a run of other sections only (scene-size)
-    for row in _rows(run, "table"):
-        if row["status"] != "ok":
-            lines.append(f"{row['name']:<44} failed: {row.get('error', '')[:60]}")
-            continue
-        error = row.get("error_vs_naive")
-        rmse = "-" if not error else f"{error['rmse']:.3g}"
-        allocs = figures.count_text((row.get("allocations") or {}).get("count"))
-        lines.append(
-            f"{row['name']:<44} {_size(row):>9} "
-            f"{figures.seconds_text(figures.median_wall(row)):>9} {_speedup_cell(row):>14} "
-            f"{figures.mrays(row):>8.3g} {allocs:>8} {rmse:>9}"
-        )
-    for row in _rows(run, "preset"):
-        if row["status"] == "ok":
-            lines.append(
-                f"cpp-spheres {row['name']:<32} {_size(row):>9} "
-                f"{figures.seconds_text(figures.median_wall(row)):>9} {'':>14} "
-                f"{figures.mrays(row):>8.3g}"
-            )
-    lines += scene_size_report.console_lines(run)
-    lines += light_samples_report.console_lines(run)
-    lines += pass_size_report.console_lines(run)
-    lines += cluster_report.console_lines(run)
-    lines += profiling_report.console_lines(run)
+    """What ``rtc bench`` prints after a run: each section's lines, in the table's order."""
+    lines: list[str] = []
+    for section in sections.SECTIONS:
+        lines += sections.reporting(section.name).console_lines(run)
     if math.isfinite(run["seconds"]):
         lines.append(f"(the run took {run['seconds']:.0f} s)")
     return "\n".join(lines)

@@ -36,12 +36,37 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
-SCHEMA_VERSION = 1
+SCHEMA_VERSION = 2
 RUNS = "runs"
 STAGING_PREFIX = ".staging-"
 
+RENAMED_SECTIONS = {
+    "truth": ("sweep", "truth"),
+    "sizes": ("scaling", "sizes"),
+    "threads": ("scaling", "threads"),
+    "light-truth": ("light-samples", "truth"),
+    "bonus-picture": ("light-samples", "picture"),
+}
+"""Schema 1's names of rows and series entries that were not ``rtc bench --sections``
+names -> the section (as the command line names it) and the part of it, in schema 2."""
+
+
+def _sections_named_as_the_command_line(data: dict[str, Any]) -> dict[str, Any]:
+    """Schema 1 -> 2: every row and series entry's ``section`` is a ``--sections`` name,
+    with a ``part`` where the section writes several kinds (``RENAMED_SECTIONS``)."""
+    rtc = data["rtc"]
+    for key in ("rows", "series"):
+        items = rtc.get(key)
+        for item in items if isinstance(items, list) else []:
+            if isinstance(item, dict) and item.get("section") in RENAMED_SECTIONS:
+                item["section"], item["part"] = RENAMED_SECTIONS[item["section"]]
+    return data
+
+
 # version -> function turning a file of that version into the next version's shape
-MIGRATIONS: dict[int, Callable[[dict[str, Any]], dict[str, Any]]] = {}
+MIGRATIONS: dict[int, Callable[[dict[str, Any]], dict[str, Any]]] = {
+    1: _sections_named_as_the_command_line,
+}
 
 
 class ResultFileError(ValueError):
@@ -239,7 +264,7 @@ SETTINGS: Spec = {
     "scene": {"name": str}, "?preset": str,
     "mode": {"name": str, "?preset_size": SIZE, "?side_repeat": int},
 }  # fmt: skip
-ROW: Spec = {"section": str, "name": str, "status": str, "?error": str}
+ROW: Spec = {"section": str, "name": str, "status": str, "?error": str, "?part": str}
 ROW_OK: Spec = {
     "size": SIZE, "samples": int, "wall": TIMES, "cpu": [NUMBER], "?cores": int,
     "?reduced": bool, "?budget_note": (str, None), "?compare_size": SIZE,
@@ -257,12 +282,13 @@ POINT: Spec = {
     "?size": SIZE, "?samples": int, "?wall": NUMBER, "?cpu": (NUMBER, [NUMBER]),
     "?skipped": str, "?image": (str, None),
 }  # fmt: skip
-SERIES: Spec = {"section": str, "name": str, "?status": str, "?points": [POINT]}
+SERIES: Spec = {"section": str, "name": str, "?status": str, "?part": str, "?points": [POINT]}
 RUN: Spec = {
     "stem": str, "started": str, "seconds": NUMBER, "machine": MACHINE,
     "settings": SETTINGS, "rows": [ROW], "series": [SERIES], "compare_size": SIZE,
     "?notes": [str], "?kata": (dict, None), "?unavailable": (dict, None),
-    "?heat_full_scale": NUMBER, "?load": (dict, None), "?shared": (str, None),
+    "?heat_full_scale": NUMBER, "?heat_scale": {"kind": str, "low": NUMBER, "high": NUMBER},
+    "?load": (dict, None), "?shared": (str, None),
 }  # fmt: skip
 
 

@@ -46,6 +46,52 @@ def load_average() -> list[float] | None:
         return None
 
 
+PROC_STAT = Path("/proc/stat")
+
+
+def _cpu_times() -> tuple[float, float] | None:
+    """(busy, total) jiffies of every CPU of the machine since boot, or None without
+    ``/proc/stat``."""
+    try:
+        first = PROC_STAT.read_text().splitlines()[0].split()
+    except (OSError, IndexError):
+        return None
+    values = [float(v) for v in first[1:]]
+    idle = values[3] + (values[4] if len(values) > 4 else 0.0)  # idle and iowait
+    return sum(values) - idle, sum(values)
+
+
+def busy_cores(seconds: float = 1.0) -> float | None:
+    """How many of the machine's cores were busy over the next ``seconds`` (all processes,
+    ours included), from ``/proc/stat``; else the 1-minute load average; None without
+    either."""
+    before = _cpu_times()
+    time.sleep(seconds)
+    if before is None:
+        load = load_average()
+        return None if load is None else load[0]
+    after = _cpu_times()
+    if after is None or after[1] <= before[1]:
+        return None
+    return (after[0] - before[0]) / (after[1] - before[1]) * (os.cpu_count() or 1)
+
+
+def wait_for_quiet(cores: int, longest: float, step: float = 1.0) -> str:
+    """Wait until ``cores`` cores are idle (the others' work leaves room for a measurement
+    asking for them), or ``longest`` seconds at most; says what it saw, for the log."""
+    total = os.cpu_count() or 1
+    waited = 0.0
+    while True:
+        busy = busy_cores(step)
+        waited += step
+        if busy is None:
+            return "the machine's load is unknown here"
+        if total - busy >= min(cores, total) - 0.2:
+            return f"{total - busy:.1f} of {total} cores idle after {waited:.0f} s"
+        if waited >= longest:
+            return f"still {busy:.1f} of {total} cores busy after {waited:.0f} s"
+
+
 def _alive(pid: int) -> bool:
     try:
         os.kill(pid, 0)

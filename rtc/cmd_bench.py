@@ -20,7 +20,8 @@ HELP = "time, count allocations and measure image error per variant; writes resu
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    from harness.plan import DEFAULT_SECTIONS, SECTIONS
+    from harness.plan import AGAIN, DEFAULT_SECTIONS, SECTIONS
+    from harness.sections import help_text
 
     parser.add_argument(
         "--scene",
@@ -65,6 +66,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--repeat", type=int, default=None, metavar="N", help="timed renders")
     parser.add_argument(
+        "--again", type=int, default=AGAIN, metavar="N",
+        help="a row that did not get the cores it asked for (busy) is timed again up to N "
+        f"times, each after waiting up to 20 s for a quieter machine (default {AGAIN}; 0: "
+        "never)",
+    )  # fmt: skip
+    parser.add_argument(
         "--budget",
         type=float,
         default=None,
@@ -76,12 +83,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--sections",
         default=",".join(DEFAULT_SECTIONS),
         metavar="A,B",
-        help=f"which parts to run, of {', '.join(SECTIONS)} (default: all but scene-size, "
-        "which takes minutes: render, load and pack time against a mesh's triangle count, "
-        "light-samples: soft shadows' light cells against pixel samples, pass-size: the "
-        "wavefront variant's time and memory against max_mb, profile: where "
-        "the time goes in naive, cached, prealloc and numba, about a minute, and cluster: "
-        "numba on 1 and 2 threads against 1 and 2 local Dask workers, about two minutes)",
+        help=f"which parts to run, of {', '.join(SECTIONS)}; {help_text()}",
     )
     parser.add_argument(
         "--mesh-variants", default="numba,numba[bvh=off]", metavar="A,B",
@@ -139,6 +141,7 @@ def settings_from(args: argparse.Namespace) -> BenchSettings:
     """The run's settings from the command line; ``UserError`` for a bad value."""
     from harness.plan import FULL, QUICK, SECTIONS, BenchSettings, expand_variants
     from harness.presets import resolve_scene
+    from harness.sections import measuring_order
     from harness.sizes import parse_size
 
     mode = FULL if args.full else QUICK
@@ -153,6 +156,7 @@ def settings_from(args: argparse.Namespace) -> BenchSettings:
         ("--seed", args.seed, 0, 2**64 - 1),
         ("--repeat", args.repeat, 1, 1000),
         ("--threads", args.threads, 1, 4096),
+        ("--again", args.again, 0, 100),
     ):
         if value is not None and not low <= value <= high:
             raise UserError(f"{flag} {value}: expected a whole number {low} to {high}")
@@ -164,6 +168,7 @@ def settings_from(args: argparse.Namespace) -> BenchSettings:
     unknown = [s for s in sections if s not in SECTIONS]
     if unknown or not sections:
         raise UserError(f"--sections {args.sections!r}: choose from {', '.join(SECTIONS)}")
+    sections = tuple(measuring_order(sections))  # the order they are measured in
     try:
         names, unavailable = expand_variants(args.variants)
     except LookupError as error:
@@ -191,6 +196,7 @@ def settings_from(args: argparse.Namespace) -> BenchSettings:
         light_variant=args.light_variant,
         pass_variant=args.pass_variant,
         sweep_on=_sweep_on(args.sweep_on, sections),
+        again=args.again,
     )
 
 

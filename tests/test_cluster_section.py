@@ -11,7 +11,7 @@ from typing import Any
 import pytest
 
 from harness import cluster, cluster_report
-from harness.bench import _series_task
+from harness.bench import series_task
 from harness.cluster_jobs import cluster_jobs, cluster_options
 from harness.document import Para, Table
 from harness.presets import resolve_scene
@@ -103,7 +103,7 @@ def test_a_bad_cluster_spelling_is_a_value_error(text: str, words: str) -> None:
 
 def test_jobs_on_a_local_cluster_come_back_with_their_pictures(tmp_path: Path) -> None:
     scene = resolve_scene("reference")
-    task = _series_task("sweep", [(Size(8, 6), 1), (Size(8, 6), 2)], None)
+    task = series_task([(Size(8, 6), 1), (Size(8, 6), 2)], None)
     jobs = [
         (tmp_path / f"{n:03d}", {"variant": name, "scene": scene.as_dict(), "depth": 5,
                                  "seed": 0, "epsilon": None, "threads": 1, "tasks": [task]})

@@ -204,6 +204,45 @@ def test_a_heat_map_is_shown_only_where_it_is_not_all_black():
     assert heat_visible(full, full)
 
 
+def test_heat_maps_are_amplified_on_a_logarithmic_scale_that_shows_float32_rounding():
+    import numpy as np
+
+    from harness import imagediff
+    from harness.table_report import HeatScale, heat_scale
+
+    assert imagediff.heat_level(0.0) == 0 and imagediff.heat_level(imagediff.HEAT_LOW) == 0
+    assert imagediff.heat_level(1.0) == pytest.approx(1.0)
+    assert imagediff.heat_level(1e-3) == pytest.approx(0.5)  # half way, in decades
+    reference = np.zeros((2, 3, 3))
+    image = reference.copy()
+    image[0, 0, 1] = 3e-6  # a float32 rounding: dark, but not black
+    image[1, 2, 0] = 1 / 255  # a byte's step: brighter
+    heat = imagediff.heat_map(image, reference)
+    black = heat[0, 1].sum()
+    assert black < heat[0, 0].sum() < heat[1, 2].sum()
+    scale = heat_scale({"heat_scale": {"kind": "log", "low": 1e-6, "high": 1.0}})
+    assert scale.visible(3e-6) and not scale.visible(1e-7)
+    assert "logarithmic" in scale.text()
+    older = heat_scale({"heat_full_scale": 16 / 255})  # a run before the log scale
+    assert older == HeatScale("linear", 0.0, 16 / 255) and not older.visible(1.8e-10)
+
+
+def test_where_two_pictures_differ_is_the_box_of_most_of_their_differing_pixels():
+    import numpy as np
+
+    from harness import imagediff
+
+    reference = np.zeros((100, 100, 3))
+    image = reference.copy()
+    image[40:60, 20:50] = 0.5  # 600 pixels
+    image[0, 99] = 0.5  # a stray one
+    found = imagediff.where_different(image, reference)
+    assert found["pixels_off"] == 601 and found["pixels"] == 10_000
+    x0, y0, x1, y1 = found["box"]
+    assert x0 >= 20 and x1 <= 50 and y0 >= 40 and y1 <= 60  # the stray pixel left out
+    assert "box" not in imagediff.where_different(reference, reference)
+
+
 # ------------------------------------------------------------------ from the run files
 
 
@@ -234,7 +273,7 @@ def test_the_report_opens_with_the_summary_sorted_fastest_first(report):
     assert values == sorted(values, reverse=True)
     assert "e+0" not in readme.split("## Error against run time")[0]
     assert "**Fastest: `" in readme
-    assert "<h2>Summary</h2>" in page and "Fastest: <code>" in page
+    assert '<h2 id="summary">Summary</h2>' in page and "Fastest: <code>" in page
 
 
 def test_the_report_flags_what_the_run_files_say_was_busy(report):

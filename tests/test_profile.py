@@ -205,7 +205,7 @@ def test_the_bench_section_records_entries_and_keeps_the_flame_graph(tmp_path: P
     json.dumps(entries)  # the run file keeps them as they are
 
     run = {"series": [{"section": "scene-size", "name": "x"}, *entries]}
-    blocks = profiling_report.blocks(run, "context line")
+    blocks = profiling_report.blocks(run, None, "context line")
     markdown = to_markdown(blocks)
     assert markdown.startswith("## Where the time goes")
     assert "[runs/run/profile-prealloc.svg](runs/run/profile-prealloc.svg)" in markdown

@@ -1,0 +1,84 @@
+"""The bench's sections in one table (``harness.sections``): every section has a module that
+measures and one that reports, with the functions the protocol names; the command line, the
+plan and the report read the table; the run files name rows and entries by the command
+line's section names (schema 1's other names migrated); the report leaves no stale plot."""
+
+from __future__ import annotations
+
+import inspect
+import json
+from pathlib import Path
+
+import pytest
+
+from harness import plan, sections
+from harness.results import RENAMED_SECTIONS, load_run
+
+SCHEMA1 = Path(__file__).parent / "data" / "bench-schema1.json"
+
+
+@pytest.mark.parametrize("section", sections.SECTIONS, ids=lambda s: s.name)
+def test_each_section_has_a_measuring_and_a_reporting_module(section):
+    measure = sections._resolve(section.measures, "measure")
+    assert list(inspect.signature(measure).parameters) == ["bench"]
+    report = sections.reporting(section.name)
+    for name in ("newest", "blocks", "console_lines"):
+        assert callable(getattr(report, name)), name
+    assert len(inspect.signature(report.blocks).parameters) == 4  # run, plot, context, runs
+    assert callable(getattr(report, "plot", None)) == bool(section.plot_file)
+    assert report.newest([]) is None
+
+
+def test_the_command_line_and_the_plan_read_the_table():
+    assert tuple(s.name for s in sections.SECTIONS) == plan.SECTIONS
+    assert set(plan.DEFAULT_SECTIONS) == {s.name for s in sections.SECTIONS if s.default}
+    import argparse
+
+    from rtc.cli import build_parser
+
+    parser = build_parser(["bench"])
+    (commands,) = [a for a in parser._actions if isinstance(a, argparse._SubParsersAction)]
+    bench = commands.choices["bench"]
+    (option,) = [a for a in bench._actions if a.dest == "sections"]
+    assert all(f"{s.name}{' (default)' if s.default else ''}: {s.about}" in option.help
+               for s in sections.SECTIONS)  # fmt: skip
+    assert option.default == ",".join(plan.DEFAULT_SECTIONS)
+
+
+def test_a_section_is_measured_after_the_sections_it_reads():
+    assert sections.measuring_order(["ladder", "kata", "table"]) == ["table", "ladder", "kata"]
+    assert sections.measuring_order(["ladder"]) == ["ladder"]  # the table not asked for
+    for section in sections.SECTIONS:
+        assert all(other in sections.BY_NAME for other in section.after)
+
+
+def test_schema_1_names_are_the_command_lines_with_a_part(tmp_path):
+    data = json.loads(SCHEMA1.read_text(encoding="utf-8"))
+    data["rtc"]["rows"].append({**data["rtc"]["rows"][0], "section": "threads"})
+    data["rtc"]["series"] = [
+        {"section": old, "name": "x", "points": []} for old in RENAMED_SECTIONS
+    ] + [{"section": "sweep", "name": "y", "points": []}]
+    path = tmp_path / "bench-old.json"
+    path.write_text(json.dumps(data))
+    rtc = load_run(path)["rtc"]
+    assert rtc["rows"][-1]["section"] == "scaling" and rtc["rows"][-1]["part"] == "threads"
+    found = [(e["section"], e.get("part")) for e in rtc["series"]]
+    assert found == [*RENAMED_SECTIONS.values(), ("sweep", None)]
+    names = {section for section, _ in found} | {r["section"] for r in rtc["rows"]}
+    assert names <= set(plan.SECTIONS)
+
+
+def test_the_report_removes_the_plots_it_no_longer_draws(tmp_path):
+    import shutil
+
+    from harness.report import build_report
+
+    shutil.copy(SCHEMA1, tmp_path / "x.json")
+    (tmp_path / "runs").mkdir()
+    shutil.copy(SCHEMA1, tmp_path / "runs" / "bench-20250101T000000000Z-aaaaaa.json")
+    (tmp_path / "report").mkdir()
+    stale = tmp_path / "report" / "time-vs-pixels.png"  # an older report's name
+    stale.write_bytes(b"old")
+    build_report(tmp_path)
+    assert not stale.exists()
+    assert (tmp_path / "report" / "speedup.png").is_file()
