@@ -27,6 +27,9 @@ in the catalogue. ``mesh_path(name)`` does the same for the benchmarks.
 - ``knot-23k.obj``: a stand-in for the bonus chapter's dragon: a tube (radius 0.16) along a
   (2, 3) torus knot (a trefoil), 575 rings of 20 corners, exactly 23,000 smooth triangles
   (``f v//vn``, a normal per vertex), closed, about 2.3 units across, centred on the origin.
+- ``knot-368.obj``: the same knot, 23 rings of 8 corners: 368 smooth triangles, the size of
+  the bonus chapter's low-poly teapot (``six-small-knots.yml`` renders six of them where
+  ``six-knots.yml`` renders six of the large one: what the meshes themselves cost).
 """
 
 from __future__ import annotations
@@ -177,6 +180,7 @@ CATALOGUE: dict[str, MeshSpec] = {
         MeshSpec("ring-100k.obj", "ring", 250, 200, "a noisy torus"),
         MeshSpec("ring-1m.obj", "ring", 1000, 500, "a noisy torus"),
         MeshSpec("knot-23k.obj", "knot", 575, 20, "a trefoil knot tube (the dragon's stand-in)"),
+        MeshSpec("knot-368.obj", "knot", 23, 8, "a coarse trefoil knot tube (the teapot's size)"),
     )
 }
 SCALE_MESHES = ("ring-1k.obj", "ring-10k.obj", "ring-100k.obj", "ring-1m.obj")

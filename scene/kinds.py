@@ -20,6 +20,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+from raytracer.api import BOOK_API
 from raytracer.shapes.cone import Cone
 from raytracer.shapes.cube import Cube
 from raytracer.shapes.cylinder import Cylinder
@@ -61,8 +62,8 @@ class Parameter:
 class Kind:
     """One kind of leaf shape.
 
-    name: the book's factory (``cylinder()``) and the scene format's ``add:``; chapter: where
-    the book introduces it; reference: the reference's class; parameters: what a shape of
+    name: the book's factory (``cylinder()``) and the scene format's ``add:``; reference:
+    the reference's class; parameters: what a shape of
     this kind holds besides its transform and material; max_hits: the most intersections a
     ray can have with one; addable: a scene file can ``add:`` it (triangles come from OBJ
     models); renders: a tracer can render it (the test shape records rays in Python);
@@ -71,7 +72,6 @@ class Kind:
     """
 
     name: str
-    chapter: int
     reference: type[Shape]
     max_hits: int
     parameters: tuple[Parameter, ...] = ()
@@ -79,6 +79,11 @@ class Kind:
     renders: bool = True
     corners: int = 0
     smooth: bool = False
+
+    @property
+    def chapter(self) -> int:
+        """Where the book introduces it (its factory's chapter, ``raytracer.api``)."""
+        return BOOK_API[self.name]
 
     @property
     def number(self) -> int:
@@ -116,14 +121,14 @@ CAPPED = (
 )
 
 KINDS: tuple[Kind, ...] = (
-    Kind("sphere", 5, Sphere, max_hits=2),
-    Kind("plane", 9, Plane, max_hits=1),
-    Kind("cube", 12, Cube, max_hits=2),
-    Kind("cylinder", 13, Cylinder, max_hits=4, parameters=CAPPED),
-    Kind("cone", 13, Cone, max_hits=4, parameters=CAPPED),
-    Kind("triangle", 15, Triangle, max_hits=1, addable=False, corners=3),
-    Kind("smooth_triangle", 15, SmoothTriangle, max_hits=1, addable=False, corners=3, smooth=True),
-    Kind("test_shape", 9, TestShape, max_hits=0, addable=False, renders=False),
+    Kind("sphere", Sphere, max_hits=2),
+    Kind("plane", Plane, max_hits=1),
+    Kind("cube", Cube, max_hits=2),
+    Kind("cylinder", Cylinder, max_hits=4, parameters=CAPPED),
+    Kind("cone", Cone, max_hits=4, parameters=CAPPED),
+    Kind("triangle", Triangle, max_hits=1, addable=False, corners=3),
+    Kind("smooth_triangle", SmoothTriangle, max_hits=1, addable=False, corners=3, smooth=True),
+    Kind("test_shape", TestShape, max_hits=0, addable=False, renders=False),
 )
 """Every leaf kind, in the order tracers number them."""
 

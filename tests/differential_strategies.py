@@ -16,11 +16,13 @@ from typing import Any
 
 from hypothesis import strategies as st
 
+from scene.kinds import BY_NAME, KINDS
+
 Api = Mapping[str, Any]
 Op = tuple[str, tuple[float, ...]]  # ("translation", (1.0, 2.0, 3.0)): a chapter-4 call
 Triple = tuple[float, float, float]
 
-LEAF_KINDS = ("sphere", "plane", "cube", "cylinder", "cone", "triangle", "smooth_triangle")
+LEAF_KINDS = tuple(kind.name for kind in KINDS if kind.renders)  # the kind table's
 COMPOSITE_KINDS = ("group", "csg")
 # every shape kind the reference defines but chapter 9's test shape (it only records a ray)
 SHAPE_KINDS = LEAF_KINDS + COMPOSITE_KINDS
@@ -131,20 +133,16 @@ def build_shape(api: Api, spec: ShapeSpec, leaves: list[Any] | None = None) -> A
     leaves = [] if leaves is None else leaves
     kind = spec.kind
     shape: Any
-    if kind in ("sphere", "plane", "cube"):
-        shape = api[kind]()
-        leaves.append(shape)
-    elif kind in ("cylinder", "cone"):
-        shape = api[kind]()
-        shape.minimum, shape.maximum, shape.closed = spec.params
-        leaves.append(shape)
-    elif kind == "triangle":
-        shape = api["triangle"](*(api["point"](*p) for p in spec.params))
-        leaves.append(shape)
-    elif kind == "smooth_triangle":
-        corners = [api["point"](*p) for p in spec.params[:3]]
-        normals = [api["vector"](*n) for n in spec.params[3:]]
-        shape = api["smooth_triangle"](*corners, *normals)
+    leaf = BY_NAME.get(kind)
+    if leaf is not None:  # a leaf kind of the kind table: its factory, then its parameters
+        if leaf.corners:
+            points = [api["point"](*p) for p in spec.params[: leaf.corners]]
+            normals = [api["vector"](*n) for n in spec.params[leaf.corners :]]
+            shape = api[kind](*points, *normals)
+        else:
+            shape = api[kind]()
+            for parameter, value in zip(leaf.parameters, spec.params, strict=True):
+                setattr(shape, parameter.attribute, value)
         leaves.append(shape)
     elif kind == "group":
         shape = api["group"]()
@@ -251,20 +249,27 @@ def bounds(draw: st.DrawFn) -> tuple[float, float, bool]:
     return (low, low + draw(floats(0.1, 3)), draw(st.booleans()))
 
 
+PARAMETERS: dict[tuple[str, ...], st.SearchStrategy[tuple[Any, ...]]] = {
+    ("min", "max", "closed"): bounds(),
+}
+"""How to draw each set of parameters a leaf kind of the kind table has (by its keys)."""
+
+
 @st.composite
 def leaves(
     draw: st.DrawFn, with_material: bool = False, kinds: Sequence[str] = LEAF_KINDS
 ) -> ShapeSpec:
     kind = draw(st.sampled_from(kinds))
+    leaf = BY_NAME[kind]
     params: tuple[Any, ...] = ()
-    if kind in ("cylinder", "cone"):
-        params = draw(bounds())
-    elif kind == "triangle":
-        params = tuple(draw(st.lists(triples(-2, 2), min_size=3, max_size=3)))
-    elif kind == "smooth_triangle":
-        corners = draw(st.lists(triples(-2, 2), min_size=3, max_size=3))
-        normals = draw(st.lists(triples(-1, 1), min_size=3, max_size=3))
-        params = (*corners, *normals)
+    if leaf.parameters:
+        params = draw(PARAMETERS[leaf.keys])
+    elif leaf.corners:
+        corners = draw(st.lists(triples(-2, 2), min_size=leaf.corners, max_size=leaf.corners))
+        params = tuple(corners)
+        if leaf.smooth:
+            normals = draw(st.lists(triples(-1, 1), min_size=leaf.corners, max_size=leaf.corners))
+            params = (*corners, *normals)
     material = draw(materials()) if with_material else None
     return ShapeSpec(kind, draw(TRANSFORMS), params, material=material)
 

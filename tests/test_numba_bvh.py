@@ -206,6 +206,13 @@ def _world_box(shape: Any) -> np.ndarray:
     return np.concatenate([corners.min(axis=0), corners.max(axis=0)])
 
 
+def _triangle_of(packed: Packed, k: int, first: Any) -> Any:
+    """The book's triangle k places after ``first`` in its parent group (a run of compact
+    triangles holds its parent's children in order)."""
+    siblings = first.parent.children
+    return siblings[siblings.index(first) + k]
+
+
 def _contains(outer: np.ndarray, inner: np.ndarray) -> bool:
     slack = 1e-9 * (1 + np.abs(inner).max())
     return bool((outer[:3] <= inner[:3] + slack).all() and (outer[3:] >= inner[3:] - slack).all())
@@ -218,12 +225,23 @@ def _check_hierarchy(packed: Packed) -> None:
     items, boxes = packed.items, packed.boxes
     n = len(items)
     seen: list[int] = [int(r) for r in packed.balls[L.B_PRIM]]
+    triangles: list[int] = []  # compact ones
     for item in items:
         if item[L.ITEM_TYPE] == L.I_PRIM:
             seen.append(int(item[L.ITEM_A]))
         elif item[L.ITEM_TYPE] == L.I_CSG:
             seen.extend(range(int(item[L.ITEM_C]), int(item[L.ITEM_D])))
-    assert sorted(seen) == list(range(len(packed.pf))), "every primitive exactly once"
+        elif item[L.ITEM_TYPE] == L.I_TRI:
+            triangles.append(int(item[L.ITEM_B]))
+            first, count = packed.pi[item[L.ITEM_A], [L.TRI_FIRST, L.TRI_COUNT]]
+            assert first <= item[L.ITEM_B] < first + count, "a triangle of its run"
+    runs = packed.pi[:, L.TRI_FIRST] >= 0
+    expected = np.flatnonzero(~runs).tolist()
+    assert sorted(seen) == expected, "every primitive exactly once"
+    assert sorted(triangles) == list(range(len(packed.tg))), "every triangle exactly once"
+    assert len(boxes) == int((items[:, L.ITEM_TYPE] == L.I_BOX).sum())
+    box_of = {i: int(items[i, L.ITEM_D]) for i in range(n) if items[i, L.ITEM_TYPE] == L.I_BOX}
+    assert sorted(box_of.values()) == list(range(len(boxes))), "a box row per box item"
 
     def end_of(i: int) -> int:  # one past item i's subtree
         return int(items[i, L.ITEM_A]) if items[i, L.ITEM_TYPE] == L.I_BOX else i + 1
@@ -242,12 +260,16 @@ def _check_hierarchy(packed: Packed) -> None:
             assert end_of(j) <= skip, f"item {j} runs past its parent {i}"
             j = end_of(j)
         assert j == skip
+        outer = boxes[box_of[i]]
         for j in range(i + 1, skip):
             if items[j, L.ITEM_TYPE] == L.I_BOX:
-                assert _contains(boxes[i], boxes[j]), f"box {i} does not hold box {j}"
-            elif items[j, L.ITEM_TYPE] == L.I_PRIM:
+                assert _contains(outer, boxes[box_of[j]]), f"box {i} does not hold box {j}"
+            elif items[j, L.ITEM_TYPE] in (L.I_PRIM, L.I_TRI):
                 shape = packed.shapes[int(items[j, L.ITEM_A])]
-                assert _contains(boxes[i], _world_box(shape)), f"box {i} misses item {j}"
+                if items[j, L.ITEM_TYPE] == L.I_TRI:  # the run's first triangle's shape:
+                    first = packed.pi[items[j, L.ITEM_A], L.TRI_FIRST]
+                    shape = _triangle_of(packed, int(items[j, L.ITEM_B]) - int(first), shape)
+                assert _contains(outer, _world_box(shape)), f"box {i} misses item {j}"
         if items[i, L.ITEM_C] > 0:  # an inner node of the hierarchy: two children
             assert len(children) == 2
             assert int(items[i, L.ITEM_B]) == children[1]
@@ -261,6 +283,7 @@ def test_the_hierarchy_of_a_mixed_world_keeps_its_invariants() -> None:
         _, w = build(api)
         for structure in ("sah", "groups", "off"):
             _check_hierarchy(pack_world(w, structure=structure))
+            _check_hierarchy(pack_world(w, structure=structure, compact=True))
 
 
 def test_a_mesh_hierarchy_keeps_its_invariants_and_reports_itself() -> None:
@@ -271,6 +294,7 @@ def test_a_mesh_hierarchy_keeps_its_invariants_and_reports_itself() -> None:
     w.objects.append(mesh)
     packed = pack_world(w)
     _check_hierarchy(packed)
+    _check_hierarchy(pack_world(w, compact=True))
     h = packed.hierarchy
     assert (h.units, h.outside) == (1280, 0)
     assert h.nodes >= 2 * 1280 / bvh.LEAF_MAX - 1
@@ -285,7 +309,7 @@ def test_a_mesh_hierarchy_keeps_its_invariants_and_reports_itself() -> None:
 def test_degenerate_units_still_give_a_shallow_tree() -> None:
     """5,000 units with the same box (no split separates them): stretches are halved."""
     n = 5000
-    unit_items = np.zeros((n, L.NITEM), dtype=np.int64)
+    unit_items = np.zeros((n, L.NITEM), dtype=np.int32)
     unit_items[:, L.ITEM_A] = np.arange(n)
     unit_boxes = np.tile([0.0, 0.0, 0.0, 1.0, 1.0, 1.0], (n, 1))
     items, boxes, h = build_tree(unit_items, unit_boxes)
@@ -293,7 +317,8 @@ def test_degenerate_units_still_give_a_shallow_tree() -> None:
     assert sorted(prims.tolist()) == list(range(n))
     assert h.depth < L.BVH_DEPTH
     assert h.depth <= math.ceil(math.log2(n)) + 1
-    assert (boxes[items[:, L.ITEM_TYPE] == L.I_BOX] == [0, 0, 0, 1, 1, 1]).all()
+    assert len(boxes) == (items[:, L.ITEM_TYPE] == L.I_BOX).sum()
+    assert (boxes == [0, 0, 0, 1, 1, 1]).all()
 
 
 def test_the_builder_constants_are_the_layout_ones() -> None:

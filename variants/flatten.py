@@ -28,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from compiled.library import Recipe, load
 from raytracer.matrices import Matrix, identity_matrix, inverse
 from raytracer.shapes.csg import CSG
 from raytracer.shapes.group import Group as BookGroup
@@ -35,6 +36,7 @@ from raytracer.shapes.shape import Shape
 from raytracer.world import World
 from scene.build import make_material
 from scene.kinds import BY_NAME, SHAPE_METHODS, Kind, reference_kind, unchanged
+from scene.obj_mesh import Mesh
 from scene.shapes import ShapeSpec
 
 BOX_PAD = 1e-9  # a world box grows by this much (relative, plus absolute): no hit is lost
@@ -100,29 +102,55 @@ class Leaf:
 
 @dataclass(eq=False)
 class Triangles:
-    """Triangles of one ``kind`` (``triangle`` or ``smooth_triangle``), n of them, in their
-    parent's space (no transform of their own): ``corners`` (n, 3, 3: p1, p2, p3), ``edges``
-    (n, 2, 3: e1 = p2 - p1, e2 = p3 - p1), ``normal`` (n, 3: the face normal, zero for a
-    degenerate one), ``normals`` (smooth: n, 3, 3: n1, n2, n3); ``materials`` and ``shadow``
-    per triangle (``material_of``: an index into ``materials``); ``inv``, ``fwd``: their
-    parent's; ``sources``: the book's triangles they were made from, if any."""
+    """Triangles of one ``kind`` (``triangle`` or ``smooth_triangle``), ``count`` of them, in
+    their parent's space (no transform of their own), from one of two sources: an OBJ
+    model's arrays (``mesh`` and its ``rows``: nothing else is made until a packer asks),
+    or the book's triangles' numbers (``given``: corners (n, 3, 3: p1, p2, p3), edges (n, 2,
+    3: e1, e2), face normals (n, 3)); ``materials`` and ``shadow`` per triangle
+    (``material_of``: an index into ``materials``); ``inv``, ``fwd``: their parent's;
+    ``sources``: the book's triangles they were made from, if any."""
 
     kind: Kind
-    corners: np.ndarray
-    edges: np.ndarray
-    normal: np.ndarray
-    normals: np.ndarray | None
+    count: int
     materials: list[Any]
     material_of: np.ndarray
     shadow: np.ndarray
     inv: Matrix
     fwd: Matrix
     where: str
+    mesh: Mesh | None = None
+    rows: slice = field(default_factory=lambda: slice(0))
+    given: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None] | None = None
     sources: list[Shape] | None = None
 
-    @property
-    def count(self) -> int:
-        return len(self.corners)
+    def corners(self) -> np.ndarray:
+        """(n, 3, 3): each triangle's corners p1, p2, p3."""
+        if self.mesh is not None:
+            return self.mesh.corners(self.rows)
+        assert self.given is not None
+        return self.given[0]
+
+    def normals(self) -> np.ndarray | None:
+        """(n, 3, 3): a smooth triangle's corner normals n1, n2, n3; None for flat ones."""
+        if not self.kind.smooth:
+            return None
+        if self.mesh is not None:
+            assert self.mesh.corner_normals is not None
+            return self.mesh.normals[self.mesh.corner_normals[self.rows]]
+        assert self.given is not None
+        return self.given[3]
+
+    def geometry(self) -> tuple[np.ndarray, np.ndarray]:
+        """(tg, bounds): each triangle's p1, e1, e2 and face normal (n, 12: the reference
+        ``Triangle``'s numbers) and its world box (n, 6, NaN rows where not finite). An OBJ
+        model's are computed by compiled code straight from its arrays, in one pass."""
+        if self.mesh is not None:
+            return mesh_geometry(self.mesh, self.rows, self.fwd)
+        assert self.given is not None
+        corners, edges, normal, _ = self.given
+        n = self.count
+        tg = np.concatenate([corners[:, 0], edges.reshape(n, 6), normal], axis=1)
+        return tg, world_boxes(self.fwd, corners)
 
 
 @dataclass(eq=False)
@@ -231,32 +259,30 @@ def union(boxes: Sequence[np.ndarray]) -> np.ndarray:
 # ------------------------------------------------------------------------ the triangles
 
 
-def face_normals(edges: np.ndarray) -> np.ndarray:
-    """Chapter 15's ``normalize(cross(e2, e1))`` for every triangle (n, 2, 3 edges), term
-    by term as the reference computes it; zero where the cross product is."""
-    e1, e2 = edges[:, 0], edges[:, 1]
-    nx = e2[:, 1] * e1[:, 2] - e2[:, 2] * e1[:, 1]
-    ny = e2[:, 2] * e1[:, 0] - e2[:, 0] * e1[:, 2]
-    nz = e2[:, 0] * e1[:, 1] - e2[:, 1] * e1[:, 0]
-    length = np.sqrt(nx * nx + ny * ny + nz * nz + 0.0)
-    safe = np.where(length == 0, 1.0, length)
-    normal = np.stack([nx / safe, ny / safe, nz / safe], axis=1)
-    normal[length == 0] = 0.0
-    return normal
+MESH_PACKER = Recipe(
+    name="pack_mesh",
+    module="variants.mesh_kernel",
+    function="pack_mesh",
+    parameters=(
+        ("int64_t", "n"), ("double *", "positions"), ("int32_t *", "tri"), ("double *", "fwd"),
+        ("double *", "tg"), ("double *", "bounds"), ("double", "pad"),
+    ),
+    what="the mesh packer",
+)  # fmt: skip
 
 
-def mesh_triangles(
-    kind: Kind, corners: np.ndarray, normals: np.ndarray | None, material: Any, shadow: bool,
-    inv: Matrix, fwd: Matrix, where: str,
-) -> Triangles:  # fmt: skip
-    """``Triangles`` of one material from corner points (n, 3, 3) and, for smooth ones,
-    their corner normals (n, 3, 3)."""
-    edges = np.stack([corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]], axis=1)
-    n = len(corners)
-    return Triangles(
-        kind, corners, edges, face_normals(edges), normals, [material],
-        np.zeros(n, dtype=np.int64), np.full(n, shadow), inv, fwd, where,
-    )  # fmt: skip
+def mesh_geometry(mesh: Mesh, rows: slice, fwd: Matrix) -> tuple[np.ndarray, np.ndarray]:
+    """``Triangles.geometry`` of an OBJ model's triangles ``rows`` (``variants.mesh_kernel``):
+    the numbers ``face_normals`` and ``world_boxes`` give, term by term."""
+    tri = np.ascontiguousarray(mesh.triangles[rows], dtype=np.int32)
+    n = len(tri)
+    tg = np.empty((n, 12), dtype=np.float64)
+    bounds = np.empty((n, 6), dtype=np.float64)
+    if n:
+        positions = np.ascontiguousarray(mesh.positions, dtype=np.float64)
+        m = np.array([float(v) for row in fwd.rows[:3] for v in row], dtype=np.float64)
+        load(MESH_PACKER).function(n, positions, tri, m, tg, bounds, BOX_PAD)
+    return tg, bounds
 
 
 _CORNERS = operator.attrgetter(
@@ -288,10 +314,13 @@ def book_triangles(run: list[Shape], kind: Kind, inv: Matrix, fwd: Matrix, where
             listed.append(m)
         material_of[k] = found
     shadow = np.fromiter((bool(s.casts_shadow) for s in run), dtype=bool, count=n)
-    return Triangles(
-        kind, values[:, 0:9].reshape(n, 3, 3), values[:, 9:15].reshape(n, 2, 3),
-        values[:, 15:18], normals, listed, material_of, shadow, inv, fwd, where, list(run),
+    given = (
+        values[:, 0:9].reshape(n, 3, 3), values[:, 9:15].reshape(n, 2, 3), values[:, 15:18],
+        normals,
     )  # fmt: skip
+    return Triangles(
+        kind, n, listed, material_of, shadow, inv, fwd, where, given=given, sources=list(run)
+    )
 
 
 # ------------------------------------------------------------------- from the book's shapes
@@ -447,15 +476,13 @@ def _model(
         for cut, end in itertools.pairwise(cuts):
             if cut == end:
                 continue
-            rows = slice(cut, end)
             kind = BY_NAME["smooth_triangle" if smooth[cut] else "triangle"]
-            normals = None
-            if kind.smooth:
-                assert mesh.corner_normals is not None
-                normals = mesh.normals[mesh.corner_normals[rows]]
-            runs.append(
-                mesh_triangles(kind, mesh.corners(rows), normals, made, shadow, inv, fwd, where)
-            )
+            n = end - cut
+            run = Triangles(
+                kind, n, [made], np.zeros(n, dtype=np.int64), np.full(n, shadow), inv, fwd,
+                where, mesh=mesh, rows=slice(cut, end),
+            )  # fmt: skip
+            runs.append(run)
         parts.append(Group(runs, where))
         start = stop
     return Group(parts, spec.label)

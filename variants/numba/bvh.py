@@ -73,23 +73,30 @@ class Hierarchy:
         )
 
 
-def build_tree(
-    unit_items: np.ndarray, unit_boxes: np.ndarray
-) -> tuple[np.ndarray, np.ndarray, Hierarchy]:
-    """The hierarchy over units (``unit_items``: n x NITEM, ``unit_boxes``: n x 6 world-space
-    boxes, finite): its items and boxes tables (box rows of the units' items are 0; jumps
-    count from the tree's first item) and what it is (``outside`` left 0)."""
+def outward32(boxes: np.ndarray) -> np.ndarray:
+    """Boxes (lo x, y, z, hi x, y, z) as float32, rounded outwards (never smaller)."""
+    rounded = boxes.astype(np.float32)
+    lo, hi = rounded[:, 0:3], rounded[:, 3:6]
+    low = lo.astype(np.float64) > boxes[:, 0:3]
+    high = hi.astype(np.float64) < boxes[:, 3:6]
+    lo[low] = np.nextafter(lo[low], np.float32(-np.inf))
+    hi[high] = np.nextafter(hi[high], np.float32(np.inf))
+    return rounded
+
+
+def build_into(
+    items: np.ndarray, units: np.ndarray, order: np.ndarray, out: np.ndarray, base: int
+) -> tuple[int, np.ndarray, Hierarchy]:
+    """The hierarchy over n units written into ``out`` (int32, NITEM columns) from row
+    ``base`` on (room for 2 n - 1 rows there). ``units``: their world boxes (n x 6 float32,
+    rounded outwards; reordered); ``order``: the row of ``items`` each unit stands for (n
+    ints; reordered). Returns (rows of ``out`` used, the box items' boxes: one row each,
+    named by their ITEM_D, what was built)."""
     from variants.numba.specialize import load_bvh_builder
 
-    n = len(unit_items)
+    n = len(units)
     started = time.perf_counter()
-    units = np.empty((n, L.BVH_UNIT), dtype=np.float64)
-    units[:, 0:3] = (unit_boxes[:, 0:3] + unit_boxes[:, 3:6]) * 0.5
-    units[:, 3:9] = unit_boxes
-    order = np.arange(n, dtype=np.int64)
-    uitems = np.ascontiguousarray(unit_items, dtype=np.int64)
-    items = np.zeros((3 * n + 1, L.NITEM), dtype=np.int64)
-    boxes = np.zeros((3 * n + 1, L.NBOX), dtype=np.float64)
+    boxes = np.zeros((max(n, 1), L.NBOX), dtype=np.float64)
     work = np.zeros(6 * L.BVH_STACK + 3 * L.BVH_BINS, dtype=np.int64)
     fwork = np.zeros(3 * L.BVH_BINS * 6 + 2 * L.BVH_BINS, dtype=np.float64)
     stats = np.zeros(L.BVH_STATS, dtype=np.int64)
@@ -97,12 +104,26 @@ def build_tree(
     # depth stays within BVH_DEPTH (the kernels' range stack)
     sah_depth = L.BVH_DEPTH - math.ceil(math.log2(max(n, 2))) - 2
     count = load_bvh_builder().function(
-        n, units.reshape(-1), order, uitems.reshape(-1), items.reshape(-1), boxes.reshape(-1),
-        work, fwork, LEAF_MAX, sah_depth, UNIT_COST, stats,
+        n, units.reshape(-1), order, items.reshape(-1), out.reshape(-1), boxes.reshape(-1),
+        base, work, fwork, LEAF_MAX, sah_depth, UNIT_COST, stats,
     )  # fmt: skip
     if count < 0 or stats[3] >= L.BVH_DEPTH:
         raise RuntimeError(f"numba: the hierarchy over {n} units went too deep (a bug)")
     seconds = time.perf_counter() - started
     nodes, leaves, box_items, depth, _ = (int(v) for v in stats)
     hierarchy = Hierarchy("sah", n, 0, nodes, leaves, box_items, depth, seconds)
-    return items[:count], boxes[:count], hierarchy
+    return int(count), boxes[:box_items], hierarchy
+
+
+def build_tree(
+    unit_items: np.ndarray, unit_boxes: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, Hierarchy]:
+    """The hierarchy over units (``unit_items``: n x NITEM, ``unit_boxes``: n x 6 world-space
+    boxes, finite): its items (int32) and box rows (``build_into``) and what it is."""
+    n = len(unit_items)
+    items = np.ascontiguousarray(unit_items, dtype=np.int32)
+    out = np.zeros((max(2 * n - 1, 1), L.NITEM), dtype=np.int32)
+    count, boxes, hierarchy = build_into(
+        items, outward32(unit_boxes), np.arange(n, dtype=np.int64), out, 0
+    )
+    return out[:count], boxes, hierarchy

@@ -42,9 +42,10 @@ NBOX = 6
 
 BINS = 16  # bins per axis (layout.BVH_BINS)
 STACK = 256  # the most pending nodes (layout.BVH_STACK; the depth stays far below)
-UNIT_WIDTH = 9  # per unit: centroid x, y, z, lo x, y, z, hi x, y, z (layout.BVH_UNIT)
+UNIT_WIDTH = 6  # per unit (float32): lo x, y, z, hi x, y, z; its centroid is their mean
 STATS = 5  # nodes, leaves, box items, depth, items written (layout.BVH_STATS)
 TRAVERSAL = 1.0  # the cost of a box test (``unit_cost``: a unit's test, in box tests)
+WIDEST_ONLY = 256  # a node of more units bins only its widest axis (a third of the work)
 
 
 @njit(cache=True, error_model="numpy")
@@ -59,6 +60,12 @@ def _area(lx, ly, lz, hx, hy, hz):
 
 
 @njit(cache=True, error_model="numpy")
+def _centroid(units, u, axis):
+    """The centre of the unit's box along ``axis``."""
+    return (np.float64(units[u + axis]) + np.float64(units[u + 3 + axis])) * 0.5
+
+
+@njit(cache=True, error_model="numpy")
 def _bin_of(c, lo, scale):
     b = int((c - lo) * scale)
     if b < 0:
@@ -69,16 +76,19 @@ def _bin_of(c, lo, scale):
 
 
 @njit(cache=True, error_model="numpy")
-def build(n, units, order, uitems, items, boxes, work, fwork, leaf_max, sah_depth, unit_cost,
-          stats):  # fmt: skip
+def build(n, units, order, uitems, items, boxes, base, work, fwork, leaf_max, sah_depth,
+          unit_cost, stats):  # fmt: skip
     """Build the hierarchy over ``n`` units; returns the number of items written.
 
-    units: n x UNIT_WIDTH floats (flat; reordered in place); order: the unit numbers
-    (n ints, reordered with them); uitems: each unit's item (n x NITEM, by unit number);
-    items, boxes: the tables written (room for 3 n + 1 items); work: 6 STACK + 3 BINS ints;
-    fwork: 3 BINS x 6 + 2 BINS floats; leaf_max: the most units in a leaf; sah_depth:
-    the depth from which stretches are halved; unit_cost: a unit's test in box tests;
-    stats: STATS ints written (nodes, leaves, box items, depth, items)."""
+    units: n x UNIT_WIDTH float32 boxes (flat; reordered in place); order: each unit's item
+    in ``uitems`` (n ints, reordered with them); uitems: the items the units stand for
+    (NITEM int32 each); items: the table written from row ``base`` on (int32; a tree over n
+    units has at most 2 n - 1 items: a leaf of one unit is its item alone, any other node a
+    box item); boxes: one row per box item written (at most n - 1), whose ITEM_D names it;
+    work: 6 STACK + 3 BINS ints; fwork: 3 BINS x 6 + 2 BINS floats; leaf_max: the most
+    units in a leaf; sah_depth: the depth from which stretches are halved; unit_cost: a
+    unit's test in box tests; stats: STATS ints written (nodes, leaves, box items, depth,
+    items)."""
     task = 0  # work[task + 4 k ...]: start, end, depth, the parent box whose ITEM_B it is
     opened = 4 * STACK  # work[opened + 2 k ...]: an open box item and its depth
     counts = 6 * STACK  # work[counts + axis * BINS + b]
@@ -89,7 +99,7 @@ def build(n, units, order, uitems, items, boxes, work, fwork, leaf_max, sah_dept
     leaves = 0
     box_items = 0
     deepest = 0
-    pos = 0
+    pos = base
     tasks = 0
     n_open = 0
     if n > 0:
@@ -130,18 +140,27 @@ def build(n, units, order, uitems, items, boxes, work, fwork, leaf_max, sah_dept
         chz = -np.inf
         for j in range(start, end):
             u = j * UNIT_WIDTH
-            clx = min(clx, units[u])
-            cly = min(cly, units[u + 1])
-            clz = min(clz, units[u + 2])
-            chx = max(chx, units[u])
-            chy = max(chy, units[u + 1])
-            chz = max(chz, units[u + 2])
-            lx = min(lx, units[u + 3])
-            ly = min(ly, units[u + 4])
-            lz = min(lz, units[u + 5])
-            hx = max(hx, units[u + 6])
-            hy = max(hy, units[u + 7])
-            hz = max(hz, units[u + 8])
+            ulx = np.float64(units[u])
+            uly = np.float64(units[u + 1])
+            ulz = np.float64(units[u + 2])
+            uhx = np.float64(units[u + 3])
+            uhy = np.float64(units[u + 4])
+            uhz = np.float64(units[u + 5])
+            cx = (ulx + uhx) * 0.5
+            cy = (uly + uhy) * 0.5
+            cz = (ulz + uhz) * 0.5
+            clx = min(clx, cx)
+            cly = min(cly, cy)
+            clz = min(clz, cz)
+            chx = max(chx, cx)
+            chy = max(chy, cy)
+            chz = max(chz, cz)
+            lx = min(lx, ulx)
+            ly = min(ly, uly)
+            lz = min(lz, ulz)
+            hx = max(hx, uhx)
+            hy = max(hy, uhy)
+            hz = max(hz, uhz)
         split = -1  # the first bin of the right side
         axis = -1
         if m > 1 and depth < sah_depth:
@@ -158,22 +177,43 @@ def build(n, units, order, uitems, items, boxes, work, fwork, leaf_max, sah_dept
             s0 = BINS / (chx - clx) if chx > clx else 0.0
             s1 = BINS / (chy - cly) if chy > cly else 0.0
             s2 = BINS / (chz - clz) if chz > clz else 0.0
+            if m > WIDEST_ONLY:
+                # a large node: only the axis its centroids spread widest along
+                wx = chx - clx
+                wy = chy - cly
+                wz = chz - clz
+                if wx >= wy and wx >= wz:
+                    s1 = 0.0
+                    s2 = 0.0
+                elif wy >= wz:
+                    s0 = 0.0
+                    s2 = 0.0
+                else:
+                    s0 = 0.0
+                    s1 = 0.0
             for j in range(start, end):
                 u = j * UNIT_WIDTH
+                ulx = np.float64(units[u])
+                uly = np.float64(units[u + 1])
+                ulz = np.float64(units[u + 2])
+                uhx = np.float64(units[u + 3])
+                uhy = np.float64(units[u + 4])
+                uhz = np.float64(units[u + 5])
                 for a in range(3):
                     scale = s0 if a == 0 else (s1 if a == 1 else s2)
                     if scale == 0.0:
                         continue
                     low = clx if a == 0 else (cly if a == 1 else clz)
-                    k = a * BINS + _bin_of(units[u + a], low, scale)
+                    c = _centroid(units, u, a)
+                    k = a * BINS + _bin_of(c, low, scale)
                     work[counts + k] += 1
                     f = bin_box + k * 6
-                    fwork[f] = min(fwork[f], units[u + 3])
-                    fwork[f + 1] = min(fwork[f + 1], units[u + 4])
-                    fwork[f + 2] = min(fwork[f + 2], units[u + 5])
-                    fwork[f + 3] = max(fwork[f + 3], units[u + 6])
-                    fwork[f + 4] = max(fwork[f + 4], units[u + 7])
-                    fwork[f + 5] = max(fwork[f + 5], units[u + 8])
+                    fwork[f] = min(fwork[f], ulx)
+                    fwork[f + 1] = min(fwork[f + 1], uly)
+                    fwork[f + 2] = min(fwork[f + 2], ulz)
+                    fwork[f + 3] = max(fwork[f + 3], uhx)
+                    fwork[f + 4] = max(fwork[f + 4], uhy)
+                    fwork[f + 5] = max(fwork[f + 5], uhz)
             best = np.inf
             for a in range(3):
                 scale = s0 if a == 0 else (s1 if a == 1 else s2)
@@ -246,16 +286,14 @@ def build(n, units, order, uitems, items, boxes, work, fwork, leaf_max, sah_dept
                 items[pos * NITEM + ITEM_A] = pos + 1 + m
                 items[pos * NITEM + ITEM_B] = 0
                 items[pos * NITEM + ITEM_C] = 0
-                items[pos * NITEM + ITEM_D] = 0
-                _write_box(boxes, pos, lx, ly, lz, hx, hy, hz)
+                items[pos * NITEM + ITEM_D] = box_items
+                _write_box(boxes, box_items, lx, ly, lz, hx, hy, hz)
                 box_items += 1
                 pos += 1
             for j in range(start, end):
                 unit = order[j]
                 for c in range(NITEM):
                     items[pos * NITEM + c] = uitems[unit * NITEM + c]
-                for c in range(NBOX):
-                    boxes[pos * NBOX + c] = 0.0
                 pos += 1
             continue
         mid = start + m // 2
@@ -267,7 +305,7 @@ def build(n, units, order, uitems, items, boxes, work, fwork, leaf_max, sah_dept
             i = start
             k = end - 1
             while i <= k:
-                if _bin_of(units[i * UNIT_WIDTH + axis], low, scale) < split:
+                if _bin_of(_centroid(units, i * UNIT_WIDTH, axis), low, scale) < split:
                     i += 1
                 else:
                     for c in range(UNIT_WIDTH):
@@ -284,8 +322,8 @@ def build(n, units, order, uitems, items, boxes, work, fwork, leaf_max, sah_dept
         items[pos * NITEM + ITEM_A] = 0
         items[pos * NITEM + ITEM_B] = 0
         items[pos * NITEM + ITEM_C] = axis + 1 if not halve else 0
-        items[pos * NITEM + ITEM_D] = 0
-        _write_box(boxes, pos, lx, ly, lz, hx, hy, hz)
+        items[pos * NITEM + ITEM_D] = box_items
+        _write_box(boxes, box_items, lx, ly, lz, hx, hy, hz)
         box_items += 1
         if n_open >= STACK or tasks + 2 > STACK:
             return -1  # cannot happen: the depth is bounded (see above)
@@ -328,12 +366,16 @@ def _write_box(boxes, pos, lx, ly, lz, hx, hy, hz):
 
 def make_entry(cache):
     """``build`` as a C function over raw pointers (numba's ``cfunc``): ``int64 f(int64 n,
-    double *units, int64 *order, int64 *uitems, int64 *items, double *boxes, int64 *work,
-    double *fwork, int64 leaf_max, int64 sah_depth, double unit_cost, int64 *stats)``;
-    ``cache``: numba's disk cache."""
+    float *units, int64 *order, int32 *uitems, int32 *items, double *boxes, int64 base,
+    int64 *work, double *fwork, int64 leaf_max, int64 sah_depth, double unit_cost, int64
+    *stats)``; ``cache``: numba's disk cache."""
     fp = types.CPointer(types.float64)
     ip = types.CPointer(types.int64)
+    i32p = types.CPointer(types.int32)
     i64 = types.int64
-    signature = types.int64(i64, fp, ip, ip, ip, fp, ip, fp, i64, i64, types.float64, ip)
+    signature = types.int64(
+        i64, types.CPointer(types.float32), ip, i32p, i32p, fp, i64, ip, fp, i64, i64,
+        types.float64, ip,
+    )  # fmt: skip
     flags: dict[str, Any] = {"_nrt": False, "error_model": "numpy"}
     return cfunc(signature, cache=cache, **flags)(build.py_func)

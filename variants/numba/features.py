@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from scene.kinds import KINDS
 from variants.numba import kernel_flags
 from variants.numba import layout as L
 from variants.numba.pack import KIND_NAMES, PATTERN_NAMES, Packed
@@ -23,16 +24,8 @@ from variants.numba.pack import KIND_NAMES, PATTERN_NAMES, Packed
 ALL_FLAGS: tuple[str, ...] = tuple(
     name for name in vars(kernel_flags) if name.startswith("HAS_")
 )  # in the order kernel_flags lists them
-KIND_FLAGS = {
-    L.K_SPHERE: "HAS_SPHERE",
-    L.K_PLANE: "HAS_PLANE",
-    L.K_CUBE: "HAS_CUBE",
-    L.K_CYLINDER: "HAS_CYLINDER",
-    L.K_CONE: "HAS_CONE",
-    L.K_TRIANGLE: "HAS_TRIANGLE",
-    L.K_SMOOTH_TRIANGLE: "HAS_SMOOTH_TRIANGLE",
-    L.K_TEST: "HAS_TEST_SHAPE",
-}
+KIND_FLAGS = {kind.number: f"HAS_{kind.name.upper()}" for kind in KINDS}
+"""Each kind of the kind table's switch (``kernel_flags`` holds one for every kind)."""
 PATTERN_FLAGS = {
     L.P_STRIPE: "HAS_STRIPE",
     L.P_GRADIENT: "HAS_GRADIENT",

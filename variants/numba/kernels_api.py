@@ -110,7 +110,8 @@ def api_intersections(
                 n += 1
             i += 1
         elif HAS_BOXES and kind == I_BOX:
-            if box_range(boxes, i, ox, oy, oz, ONE / dx, ONE / dy, ONE / dz, -INF, INF):
+            b = items[i * NITEM + ITEM_D]
+            if box_range(boxes, b, ox, oy, oz, ONE / dx, ONE / dy, ONE / dz, -INF, INF):
                 i += 1
             else:
                 i = items[i * NITEM + ITEM_A]

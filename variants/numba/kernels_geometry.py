@@ -726,11 +726,11 @@ def slab(o, inverse_d, lo, hi, tlo, thi):
 
 
 @njit(**INLINE)
-def box_range(boxes, i, ox, oy, oz, ix, iy, iz, tlo, thi):
-    """Chapter 14 (bounding boxes): does the ray (origin, 1 / direction) meet item i's
-    world-space box for some t in [tlo, thi]? The boxes are padded: rounding in the
-    reciprocal never loses a hit."""
-    m = i * NBOX
+def box_range(boxes, b, ox, oy, oz, ix, iy, iz, tlo, thi):
+    """Chapter 14 (bounding boxes): does the ray (origin, 1 / direction) meet world-space
+    box b (a box item's ITEM_D) for some t in [tlo, thi]? The boxes are padded: rounding in
+    the reciprocal never loses a hit."""
+    m = b * NBOX
     tlo, thi = slab(ox, ix, boxes[m], boxes[m + 3], tlo, thi)
     if tlo > thi:
         return False

@@ -312,7 +312,7 @@ def nearest_hit(w, s, ox, oy, oz, dx, dy, dz, eps):
                 best_t, best_p, best_l, best_u, best_v = t, p, q, u, v
             i += 1
         elif HAS_BOXES and kind == I_BOX:
-            if box_range(boxes, i, ox, oy, oz, ix, iy, iz, ZERO, best_t):
+            if box_range(boxes, items[i * NITEM + ITEM_D], ox, oy, oz, ix, iy, iz, ZERO, best_t):
                 axis = items[i * NITEM + ITEM_C]
                 if axis != 0 and (dx if axis == 1 else (dy if axis == 2 else dz)) < ZERO:
                     # a hierarchy's node split along an axis the ray goes down: its second
@@ -434,7 +434,7 @@ def shadowed(w, s, ox, oy, oz, vx, vy, vz, eps, slot):
                 return True
             i += 1
         elif HAS_BOXES and kind == I_BOX:
-            if box_range(boxes, i, ox, oy, oz, ix, iy, iz, ZERO, distance):
+            if box_range(boxes, items[i * NITEM + ITEM_D], ox, oy, oz, ix, iy, iz, ZERO, distance):
                 i += 1
             else:
                 i = items[i * NITEM + ITEM_A]
@@ -535,7 +535,7 @@ def refractive_indices(w, s, ox, oy, oz, dx, dy, dz, eps, t_hit, p_hit, l_hit):
             state = tally(p, q, True, n, t0, INF, INF, INF, t_hit, p_hit, l_hit, state)
             i += 1
         elif HAS_BOXES and kind == I_BOX:
-            if box_range(boxes, i, ox, oy, oz, ix, iy, iz, -INF, t_hit):
+            if box_range(boxes, items[i * NITEM + ITEM_D], ox, oy, oz, ix, iy, iz, -INF, t_hit):
                 i += 1
             else:
                 i = items[i * NITEM + ITEM_A]
@@ -927,7 +927,7 @@ def render_entry(
 def make_render_entry(cache):
     """Compile ``render_entry`` as a C-callable function (numba's ``cfunc``) over raw
     pointers: ``int64 f(F* out, int64 x0, int64 y0, int64 x1, int64 y1, int64 k, int64
-    step, F* cam, F* pf, int64* pi, int64* items, int64 n_items, F* boxes, int64* csg, F*
+    step, F* cam, F* pf, int64* pi, int32* items, int64 n_items, F* boxes, int64* csg, F*
     balls, int64 n_balls, F* light, int64 n_lights, int64* ti, F* tf, F* tg, F* tn, int64
     depth, int64 samples, uint64 seed_key, float64 eps, F* stack, F* sf, int64* si, F* tb)``. Without the numba runtime: it cannot
     allocate. ``cache``: numba's disk cache (used only when the render cannot be linked as
@@ -937,9 +937,10 @@ def make_render_entry(cache):
     real = types.float32 if F is np.float32 else types.float64
     fp = types.CPointer(real)
     ip = types.CPointer(types.int64)
+    i32p = types.CPointer(types.int32)
     i64 = types.int64
     signature = types.int64(
-        fp, i64, i64, i64, i64, i64, i64, fp, fp, ip, ip, i64, fp, ip, fp, i64, fp, i64, ip, fp,
+        fp, i64, i64, i64, i64, i64, i64, fp, fp, ip, i32p, i64, fp, ip, fp, i64, fp, i64, ip, fp,
         fp, fp, i64, i64, types.uint64, types.float64, fp, fp, ip, fp,
     )  # fmt: skip
     flags: dict[str, Any] = {"_nrt": False, "fastmath": FASTMATH, "error_model": "numpy"}

@@ -36,6 +36,8 @@ This file is also the first part of every generated kernel module (see
 
 # ---- kernel template ----
 
+from scene.kinds import kind as _kind  # the kind table (``scene.kinds``) numbers the kinds
+
 # pf: primitive floats
 INV = 0  # 12: world -> object space, rows 0-2 of the composed inverse transform (row-major)
 NRM = 12  # 9: object -> world for normals: rows 0-2 of the inverse transpose (3x3)
@@ -88,14 +90,16 @@ NTG = 12
 NTN = 9
 
 # shape kinds
-K_SPHERE = 0
-K_PLANE = 1
-K_CUBE = 2
-K_CYLINDER = 3
-K_CONE = 4
-K_TRIANGLE = 5
-K_SMOOTH_TRIANGLE = 6
-K_TEST = 7  # the chapter 9 test shape: no intersections, normal = object-space point
+# shape kinds: their numbers in the kind table (a generated kernel module's header lists
+# them, so that a change of the table gives new kernels)
+K_SPHERE = _kind("sphere").number
+K_PLANE = _kind("plane").number
+K_CUBE = _kind("cube").number
+K_CYLINDER = _kind("cylinder").number
+K_CONE = _kind("cone").number
+K_TRIANGLE = _kind("triangle").number
+K_SMOOTH_TRIANGLE = _kind("smooth_triangle").number
+K_TEST = _kind("test_shape").number  # chapter 9's test shape: no hits, normal = the point
 
 # pattern kinds
 P_NONE = 0
@@ -171,13 +175,13 @@ B_SHADOW = 4  # 1.0 when it casts a shadow, else 0.0
 B_PRIM = 5  # its primitive row (a float; exact below 2**24 in float32)
 NBALL = 6
 
-# boxes: one row per item (only I_BOX rows are used): lo x, y, z, hi x, y, z
+# boxes: one row per box item (its ITEM_D): lo x, y, z, hi x, y, z
 NBOX = 6
 
 # the hierarchy's builder (``bvh``, ``bvh_kernel``: its own copies, checked by the tests)
 BVH_BINS = 16  # bins per axis
 BVH_STACK = 256  # its stack of nodes to build
-BVH_UNIT = 9  # per unit: centroid x, y, z, box lo x, y, z, hi x, y, z
+BVH_UNIT = 6  # per unit (float32): box lo x, y, z, hi x, y, z
 BVH_STATS = 5  # what it reports: nodes, leaves, box items, depth, items
 
 # lights: one row per light, then the area lights' jitter sequences (the values of each,

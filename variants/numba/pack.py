@@ -60,7 +60,7 @@ from raytracer.world import World
 from scene.kinds import BY_NAME, KINDS, reference_kind
 from variants import flatten as F
 from variants.numba import layout as L
-from variants.numba.bvh import BALLS_MAX, DEFAULT, STRUCTURES, Hierarchy, build_tree
+from variants.numba.bvh import BALLS_MAX, DEFAULT, STRUCTURES, Hierarchy, build_into, outward32
 from variants.numba.lights import light_rows
 from variants.numba.textures import TextureTable, texture_kind
 
@@ -282,22 +282,27 @@ def _flat(table: np.ndarray) -> np.ndarray:
 
 
 def _stack(parts: list[Any], width: int, dtype: Any) -> np.ndarray:
-    """Rows (lists) and blocks (2-D arrays) as one table, in order."""
-    blocks: list[np.ndarray] = []
+    """Rows (lists) and blocks (2-D arrays) as one table, in order. ``parts`` is emptied
+    as it goes, so that a block is let go once copied (a mesh's blocks are large)."""
+    rows = sum(len(p) if isinstance(p, np.ndarray) else 1 for p in parts)
+    if len(parts) == 1 and isinstance(parts[0], np.ndarray) and parts[0].dtype == dtype:
+        return parts.pop()
+    table = np.empty((rows, width), dtype=dtype)
+    at = 0
+    parts.reverse()
     pending: list[Any] = []
-    for part in parts:
+    while parts or pending:
+        part = parts.pop() if parts else None
+        if pending and (part is None or isinstance(part, np.ndarray)):
+            table[at : at + len(pending)] = np.array(pending, dtype=dtype).reshape(-1, width)
+            at += len(pending)
+            pending = []
         if isinstance(part, np.ndarray):
-            if pending:
-                blocks.append(np.array(pending, dtype=dtype).reshape(len(pending), width))
-                pending = []
-            blocks.append(part.astype(dtype, copy=False))
-        else:
+            table[at : at + len(part)] = part
+            at += len(part)
+        elif part is not None:
             pending.append(part)
-    if pending:
-        blocks.append(np.array(pending, dtype=dtype).reshape(len(pending), width))
-    if not blocks:
-        return np.zeros((0, width), dtype=dtype)
-    return blocks[0] if len(blocks) == 1 else np.concatenate(blocks)
+    return table
 
 
 def _outward(boxes: np.ndarray, dtype: Any) -> np.ndarray:
@@ -477,37 +482,35 @@ class _Packer:
             rows_i.append(i)
         pf = np.array(rows_f, dtype=np.float64)[which.reshape(-1)]
         pi = np.array(rows_i, dtype=np.int64)[which.reshape(-1)]
-        pf[:, L.TRI_P1 : L.TRI_P1 + 3] = run.corners[:, 0]
-        pf[:, L.TRI_E1 : L.TRI_E1 + 3] = run.edges[:, 0]
-        pf[:, L.TRI_E2 : L.TRI_E2 + 3] = run.edges[:, 1]
-        pf[:, L.TRI_NORMAL : L.TRI_NORMAL + 3] = run.normal
-        if run.normals is not None:
-            pf[:, L.TRI_N1 : L.TRI_N3 + 3] = run.normals.reshape(n, 9)
-        pf[:, L.BOUND : L.BOUND + 4] = _triangle_spheres(run.corners, run.fwd)
+        tg, bounds = run.geometry()
+        pf[:, L.TRI_P1 : L.TRI_P1 + 3] = tg[:, L.TG_P1 : L.TG_P1 + 3]
+        pf[:, L.TRI_E1 : L.TRI_E1 + 3] = tg[:, L.TG_E1 : L.TG_E1 + 3]
+        pf[:, L.TRI_E2 : L.TRI_E2 + 3] = tg[:, L.TG_E2 : L.TG_E2 + 3]
+        pf[:, L.TRI_NORMAL : L.TRI_NORMAL + 3] = tg[:, L.TG_NORMAL : L.TG_NORMAL + 3]
+        normals = run.normals()
+        if normals is not None:
+            pf[:, L.TRI_N1 : L.TRI_N3 + 3] = normals.reshape(n, 9)
+        pf[:, L.BOUND : L.BOUND + 4] = _triangle_spheres(run.corners(), run.fwd)
         self.rows_f.append(pf)
         self.rows_i.append(pi)
         self.shapes.extend(run.sources if run.sources is not None else [None] * n)
         self.n_rows += n
         self.capacity += n * run.kind.max_hits
-        return F.world_boxes(run.fwd, run.corners)
+        return bounds
 
     def compact_triangles(self, run: F.Triangles) -> np.ndarray:
         """Chapter 15 at scale, compactly: the triangles' numbers in ``tg`` (and ``tn``),
         one row per stretch of them with one material and shadow (their transform, material
         and where they are), one ``I_TRI`` item each. Returns their box (6,)."""
         n = run.count
-        smooth = run.normals is not None
-        tg = np.empty((n, L.NTG), dtype=np.float64)
-        tg[:, L.TG_P1 : L.TG_P1 + 3] = run.corners[:, 0]
-        tg[:, L.TG_E1 : L.TG_E1 + 3] = run.edges[:, 0]
-        tg[:, L.TG_E2 : L.TG_E2 + 3] = run.edges[:, 1]
-        tg[:, L.TG_NORMAL : L.TG_NORMAL + 3] = run.normal
+        tg, bounds = run.geometry()  # p1, e1, e2, normal: the layout of ``tg``
         first_t, first_n = self.n_tg, self.n_tn
         self.tg.append(tg)
         self.n_tg += n
-        if smooth:
-            assert run.normals is not None
-            self.tn.append(run.normals.reshape(n, L.NTN))
+        normals = run.normals()
+        smooth = normals is not None
+        if normals is not None:
+            self.tn.append(normals.reshape(n, L.NTN))
             self.n_tn += n
         items = np.zeros((n, L.NITEM), dtype=np.int64)
         items[:, L.ITEM_TYPE] = L.I_TRI
@@ -527,7 +530,6 @@ class _Packer:
             self.shapes.append(run.sources[a] if run.sources is not None else None)
             self.n_rows += 1
         self.capacity += n * run.kind.max_hits
-        bounds = F.world_boxes(run.fwd, run.corners)
         self.items.append(items)
         self.bounds.append(bounds)
         self.n_items += n
@@ -628,7 +630,7 @@ class _Packer:
         dtype = self.dtype
         pf = _stack(self.rows_f, L.NF, np.float64)
         pi = _stack(self.rows_i, L.NI, np.int64)
-        items = _stack(self.items, L.NITEM, np.int64)
+        items = _stack(self.items, L.NITEM, np.int32)
         bounds = _stack(self.bounds, L.NBOX, np.float64)
         # chapter 5: world spheres reached by a plain item (not in a CSG tree) leave the
         # items for the ball list (``sah``: while there are few of them), in item order
@@ -642,13 +644,15 @@ class _Packer:
         items, bounds = _drop_skips(items, bounds)
         hierarchy = Hierarchy(self.structure)
         if self.structure == "sah":
-            items, boxes, hierarchy = _hierarchy(items, bounds)
+            given = [bounds]
+            del bounds  # given away: _hierarchy lets it go as soon as it can
+            items, boxes, hierarchy = _hierarchy(items, given)
         else:
-            boxes = np.where((items[:, L.ITEM_TYPE] == L.I_BOX)[:, None], bounds, 0.0)
-            boxes = boxes.reshape(len(items), L.NBOX)
+            box = np.flatnonzero(items[:, L.ITEM_TYPE] == L.I_BOX)
+            boxes = bounds[box].reshape(len(box), L.NBOX)
+            items[box, L.ITEM_D] = np.arange(len(box))
             if self.structure == "groups":
-                found = int((items[:, L.ITEM_TYPE] == L.I_BOX).sum())
-                hierarchy = Hierarchy("groups", boxes=found)
+                hierarchy = Hierarchy("groups", boxes=len(box))
         balls = np.zeros((L.NBALL, len(ball_rows)), dtype=dtype)
         balls[L.B_X : L.B_Z + 1] = pf[ball_rows, L.SPH_CENTER : L.SPH_CENTER + 3].T
         balls[L.B_R2] = pf[ball_rows, L.SPH_R2]
@@ -685,22 +689,31 @@ def _drop_skips(items: np.ndarray, bounds: np.ndarray) -> tuple[np.ndarray, np.n
     return items[kept], bounds[kept]
 
 
-def _hierarchy(items: np.ndarray, bounds: np.ndarray) -> tuple[np.ndarray, np.ndarray, Hierarchy]:
-    """``sah``: the unbounded items first, then the hierarchy over the others."""
+UNIT_CHUNK = 1 << 16  # units rounded to float32 at a time (no full-size float64 copy)
+
+
+def _hierarchy(
+    items: np.ndarray, given: list[np.ndarray]
+) -> tuple[np.ndarray, np.ndarray, Hierarchy]:
+    """``sah``: the unbounded items first, then the hierarchy over the others, written
+    straight into the final table. ``given``: [the items' bounds], taken out of the list
+    and let go once the units' float32 boxes are made from them."""
+    bounds = given.pop()
     bounded = ~np.isnan(bounds).any(axis=1)
-    outside = items[~bounded]
-    units = items[bounded]
-    if len(units) < 2:
-        ordered = np.concatenate([outside, units])
-        boxes = np.zeros((len(ordered), L.NBOX), dtype=np.float64)
-        return ordered, boxes, Hierarchy("sah", len(units), len(outside))
-    tree, tree_boxes, hierarchy = build_tree(units, bounds[bounded])
-    box = tree[:, L.ITEM_TYPE] == L.I_BOX
-    tree[box, L.ITEM_A] += len(outside)
-    inner = box & (tree[:, L.ITEM_C] > 0)
-    tree[inner, L.ITEM_B] += len(outside)
-    boxes = np.concatenate([np.zeros((len(outside), L.NBOX)), tree_boxes])
-    return np.concatenate([outside, tree]), boxes, replace(hierarchy, outside=len(outside))
+    outside = np.flatnonzero(~bounded)
+    order = np.flatnonzero(bounded).astype(np.int64)
+    n = len(order)
+    if n < 2:
+        ordered = np.concatenate([items[outside], items[order]])
+        return ordered, np.zeros((0, L.NBOX)), Hierarchy("sah", n, len(outside))
+    units = np.empty((n, L.BVH_UNIT), dtype=np.float32)
+    for at in range(0, n, UNIT_CHUNK):
+        units[at : at + UNIT_CHUNK] = outward32(bounds[order[at : at + UNIT_CHUNK]])
+    del bounds
+    out = np.empty((len(outside) + 2 * n - 1, L.NITEM), dtype=np.int32)
+    out[: len(outside)] = items[outside]
+    count, boxes, hierarchy = build_into(items, units, order, out, len(outside))
+    return out[:count], boxes, replace(hierarchy, outside=len(outside))
 
 
 

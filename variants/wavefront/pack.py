@@ -311,11 +311,10 @@ class _Packer:
         with NumPy; returns their world boxes (n, 6)."""
         n = run.count
         kind = run.kind.number
-        self.tri.extend(
-            np.concatenate([run.corners[:, 0], run.edges.reshape(n, 6), run.normal], axis=1)
-        )
-        normals = run.normals.reshape(n, 9) if run.normals is not None else np.zeros((n, 9))
-        self.smooth.extend(normals)
+        tg, bounds = run.geometry()  # p1, e1, e2, normal: the layout of ``tri``
+        self.tri.extend(tg)
+        normals = run.normals()
+        self.smooth.extend(normals.reshape(n, 9) if normals is not None else np.zeros((n, 9)))
         firsts = [int(np.argmax(run.material_of == j)) for j in range(len(run.materials))]
         rows = np.array(
             [
@@ -331,7 +330,7 @@ class _Packer:
         self.row.extend(np.arange(self.tri.count - n, self.tri.count, dtype=np.float64))
         self.xform.extend(np.full(n, self.transform_row(run.inv), dtype=np.float64))
         self.shapes.extend(run.sources if run.sources is not None else [None] * n)
-        return F.world_boxes(run.fwd, run.corners)
+        return bounds
 
     def csg(self, node: F.Node) -> tuple[Node, np.ndarray]:
         """A CSG operand: its node and box."""

@@ -1,0 +1,78 @@
+"""One table of shape kinds (``scene.kinds``): every list of kinds elsewhere is derived from
+it, and what it says of a kind is what the reference's class does."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+import raytracer as rt
+from raytracer.api import BOOK_API, naive_api
+from raytracer.intersections import Intersection
+from scene import shapes as scene_shapes
+from scene.kinds import ADDABLE, BY_NAME, KINDS, Kind, reference_kind
+from variants.numba import features, kernel_flags
+from variants.numba import layout as L
+from variants.numba.pack import KIND_NAMES
+from variants.wavefront import scene as wavefront
+
+
+def test_the_kinds_are_numbered_by_their_place_and_named_by_the_books_factories() -> None:
+    assert [k.number for k in KINDS] == list(range(len(KINDS)))
+    book = naive_api()
+    corners = [rt.point(0, 0, 0), rt.point(1, 0, 0), rt.point(0, 1, 0)]
+    for kind in KINDS:
+        assert kind.name in BOOK_API and kind.chapter == BOOK_API[kind.name]
+        arguments = corners[: kind.corners] + [rt.vector(0, 0, 1)] * (3 if kind.smooth else 0)
+        made = book[kind.name](*arguments)
+        assert type(made) is kind.reference
+        assert reference_kind(made) == (kind, None)
+        for parameter in kind.parameters:
+            assert getattr(made, parameter.attribute) == parameter.default
+
+
+@pytest.mark.parametrize("kind", [k for k in KINDS if not k.corners], ids=lambda k: k.name)
+def test_a_kinds_box_is_the_reference_shapes(kind: Kind) -> None:
+    values = {"minimum": -0.5, "maximum": 2.0, "closed": True}
+    shape = kind.reference()
+    given = {p.attribute: values[p.attribute] for p in kind.parameters}
+    for attribute, value in given.items():
+        setattr(shape, attribute, value)
+    box = shape.local_bounds()
+    expected = ((box.min.x, box.min.y, box.min.z), (box.max.x, box.max.y, box.max.z))
+    if all(math.isfinite(v) for corner in expected for v in corner):
+        assert kind.local_box(given) == expected
+    else:
+        assert kind.local_box(given) is None
+    if kind.parameters:  # at the defaults (unbounded ends) there is no box
+        assert kind.local_box() is None
+
+
+def test_every_list_of_kinds_is_the_tables() -> None:
+    # the scene format: the keys of each addable kind, and what 'known:' lists
+    for kind in ADDABLE:
+        assert scene_shapes.KEYS[kind.name] == (*scene_shapes.COMMON_KEYS, *kind.keys)
+    assert [s for s in scene_shapes.SHAPES if s in BY_NAME] == [k.name for k in ADDABLE]
+    # numba: the numbers its kernels compare with, its switches and the names --explain uses
+    numbers = [L.K_SPHERE, L.K_PLANE, L.K_CUBE, L.K_CYLINDER, L.K_CONE, L.K_TRIANGLE,
+               L.K_SMOOTH_TRIANGLE, L.K_TEST]  # fmt: skip
+    assert numbers == [k.number for k in KINDS]
+    assert set(features.KIND_FLAGS.values()) <= set(vars(kernel_flags))
+    assert {k.number: k.name for k in KINDS} == KIND_NAMES
+    # wavefront: every kind that renders
+    assert tuple(k.name for k in KINDS if k.renders) == wavefront.KIND_NAMES
+    assert tuple(k.max_hits for k in KINDS if k.renders) == wavefront.SLOTS
+
+
+def test_a_subclass_that_changes_how_a_kind_intersects_is_no_kind() -> None:
+    class OddSphere(rt.Sphere):
+        def local_intersect(self, ray: object) -> list[Intersection]:
+            return []
+
+    class PlainSphere(rt.Sphere):
+        pass
+
+    assert reference_kind(OddSphere()) == (None, rt.Sphere)
+    assert reference_kind(PlainSphere()) == (BY_NAME["sphere"], None)
+    assert reference_kind(rt.group()) == (None, None)
