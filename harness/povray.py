@@ -35,6 +35,7 @@ from pathlib import Path
 import numpy as np
 
 from harness.sizes import Size
+from harness.usage import ProcessTimeout, wait_with_usage
 
 ENVIRONMENT = "RTC_POVRAY"
 EXECUTABLE = "povray"
@@ -64,7 +65,8 @@ class PovrayRender:
     from start to exit; cpu: CPU seconds of the process (user + system); parse, trace:
     seconds POV-Ray's own statistics give for parsing the scene and tracing its rays, and
     trace_cpu the CPU seconds of its trace threads (None where it printed none); threads:
-    the render threads asked for (``+WT``)."""
+    the render threads asked for (``+WT``); peak: the process's peak resident set, bytes
+    (the kernel's accounting of the child)."""
 
     image: np.ndarray
     size: Size
@@ -75,6 +77,7 @@ class PovrayRender:
     trace: float | None
     trace_cpu: float | None
     version: str
+    peak: int = 0
 
     def as_dict(self) -> dict[str, object]:
         """The figures, for a run file (no picture)."""
@@ -87,6 +90,7 @@ class PovrayRender:
             "trace": self.trace,
             "trace_cpu": self.trace_cpu,
             "version": self.version,
+            "peak": self.peak,
         }
 
 
@@ -196,7 +200,9 @@ def render(
                 stdout=subprocess.DEVNULL, stderr=err,
             )  # fmt: skip
             try:
-                status, cpu = _wait(process, timeout, started)
+                status, cpu, peak = wait_with_usage(process, timeout, started)
+            except ProcessTimeout:
+                raise PovrayError(f"POV-Ray ran over {timeout:g} s and was stopped") from None
             finally:
                 if process.poll() is None:
                     process.kill()
@@ -220,23 +226,8 @@ def render(
         stats["trace"],
         stats["trace_cpu"],
         povray.version,
+        peak,
     )
-
-
-def _wait(
-    process: subprocess.Popen[bytes], timeout: float | None, started: float
-) -> tuple[int, float]:
-    """Wait for ``process``: its exit status and CPU seconds (``os.wait4``'s usage of that
-    one child); a ``PovrayError`` after ``timeout`` seconds."""
-    while True:
-        block = 0 if timeout is None else os.WNOHANG
-        pid, status, usage = os.wait4(process.pid, block)
-        if pid == process.pid:
-            process.returncode = os.waitstatus_to_exitcode(status)
-            return process.returncode, usage.ru_utime + usage.ru_stime
-        if timeout is not None and time.perf_counter() - started > timeout:
-            raise PovrayError(f"POV-Ray ran over {timeout:g} s and was stopped")
-        time.sleep(0.002)
 
 
 def read_png(path: Path) -> np.ndarray:

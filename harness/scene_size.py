@@ -19,12 +19,22 @@ A point whose render the previous size predicts (linearly in the triangle count)
 longer than the run's budget is skipped, and says so; the flat loop stops where it gets too
 slow. Every variant's picture of a mesh is compared with the first variant's.
 
-Beside it, ``parse_obj_file`` alone on each mesh (the ``obj-parse`` entry, one fresh process
-per mesh, ``repeat`` parses): seconds, the resident set's growth (VmHWM, reset before the
-parse) and, up to ``TRACEMALLOC_MAX`` triangles, ``tracemalloc``'s current and peak bytes
-(tracemalloc slows the parse about 6x, so the largest mesh has the resident set only).
+Beside it, the OBJ readers alone on each mesh (the ``obj-parse`` entry, one fresh process
+per mesh, ``repeat`` reads each): the scene loader's ``read_mesh`` (arrays) and the book's
+``parse_obj_file`` (an object per triangle): seconds, the resident set's growth (VmHWM,
+reset before each) and, up to ``TRACEMALLOC_MAX`` triangles, ``tracemalloc``'s current and
+peak bytes for the book's parser (it slows the parse about 6x).
 
-Everything lands in the run file's ``series`` (``section``: ``scene-size`` and ``obj-parse``);
+And whole commands side by side (the ``scene-size-command`` entry): for each mesh,
+``rtc render`` with ``numba`` as a user runs it (a fresh process from start to exit, after
+one warm-up command that compiles what it needs) against POV-Ray 3.7 rendering the same
+scene (``pov_scene``: the mesh as a ``mesh2``, the same camera, light, floor and colours)
+with as many threads, ``repeat`` times each, in turns: wall and CPU seconds, peak resident
+set (the kernel's accounting of the child), and POV-Ray's own parse and trace times. Without
+POV-Ray (``harness.povray``) the entry says why and has our commands alone.
+
+Everything lands in the run file's ``series`` (``section``: ``scene-size``, ``obj-parse`` and
+``scene-size-command``);
 ``harness.scene_size_report`` turns it into the report's section and its log-log plot. The
 section is not part of the default ``rtc bench`` (the meshes take minutes to load and pack at
 a million triangles): run it on its own, ``rtc bench --sections scene-size``, and
@@ -47,6 +57,8 @@ from harness.sizes import Size
 
 SECTION = "scene-size"
 PARSE_SECTION = "obj-parse"
+COMMAND_SECTION = "scene-size-command"
+COMMAND_VARIANT = "numba"  # the variant of the whole commands set beside POV-Ray
 DEFAULT_VARIANTS = "numba,numba[bvh=off]"
 TRACEMALLOC_MAX = 100_000  # triangles: above this, the parse's memory is the resident set only
 WARM = Size(8, 6)  # the warm-up render's size
@@ -74,6 +86,44 @@ SCENE = """\
 """
 
 Log = Callable[[str], None]
+
+
+POV_SCENE = """\
+// the scene of rtc bench's scene-size section as POV-Ray 3.7 reads it (harness/scene_size.py)
+#version 3.7;
+global_settings {{ assumed_gamma 1.0 ambient_light rgb <1, 1, 1> }}
+camera {{ perspective location <0, 3, -4> look_at <0, 0, 0> sky <0, 1, 0>
+  right x * {width} / {height} up y angle degrees(0.8) }}
+light_source {{ <-5, 8, -6> color rgb <1, 1, 1> }}
+plane {{ y, -0.6 pigment {{ color rgb <1, 1, 1> }}
+  finish {{ ambient 0.1 diffuse 0.9 phong 0.9 phong_size 200 }} }}
+mesh2 {{
+"""
+POV_SCENE_END = """\
+  pigment { color rgb <0.8, 0.3, 0.2> }
+  finish { ambient 0.1 diffuse 0.9 phong 0.9 phong_size 200 }
+  scale 0.1
+}
+"""
+
+
+def pov_scene(mesh: Path, size: Size, target: Path) -> Path:
+    """Write ``target``: the section's scene (``scene_text``) for POV-Ray, the OBJ file
+    ``mesh`` as a ``mesh2`` (vertices and faces as the scene loader reads them)."""
+    import numpy as np
+
+    from scene.obj_mesh import read_mesh
+
+    model = read_mesh(mesh.read_bytes(), str(mesh))
+    with target.open("w", encoding="ascii") as out:
+        out.write(POV_SCENE.format(width=size.width, height=size.height))
+        out.write(f"  vertex_vectors {{ {len(model.positions)},\n")
+        np.savetxt(out, model.positions, fmt="    <%.17g, %.17g, %.17g>,")
+        out.write(f"  }}\n  face_indices {{ {model.count},\n")
+        np.savetxt(out, model.triangles, fmt="    <%d, %d, %d>,")
+        out.write("  }\n")
+        out.write(POV_SCENE_END)
+    return target
 
 
 def scene_text(mesh: str, size: Size) -> str:
@@ -125,6 +175,17 @@ class Plan:
     repeat: int = 3
     budget: float | None = None
     folder: Path = GENERATED
+
+
+def measure(bench: Any) -> None:
+    """The section under ``rtc bench`` (``harness.sections``): ``run`` with the bench's
+    settings, its entries added to the run's series."""
+    s = bench.settings
+    plan = Plan(
+        variants=s.mesh_variants, meshes=s.meshes, size=s.size, samples=s.samples,
+        depth=s.depth, seed=s.seed, threads=s.threads, repeat=s.repeat, budget=s.budget,
+    )  # fmt: skip
+    bench.series.extend(run(plan, bench.jobs_folder(SECTION), bench.log, bench.save_image))
 
 
 def predicted_render(points: list[dict[str, Any]], triangles: int) -> float | None:
@@ -233,7 +294,95 @@ def run(
                     point["image"] = save_image(image, f"{SECTION}-{slug}-{name[:-4]}.png")
             entry["points"].append(point)
         entries.append(entry)
+    entries.append(commands(plan, paths, jobs, log))
     return entries
+
+
+def _rtc_render(scene: Path, output: Path, size: Size, threads: int | None) -> list[str]:
+    """``rtc render`` with ``COMMAND_VARIANT`` (``threads`` of its own, if given)."""
+    variant = COMMAND_VARIANT if threads is None else f"{COMMAND_VARIANT}[threads={threads}]"
+    return [
+        sys.executable, "-m", "rtc.cli", "render", str(scene), "-o", str(output),
+        "--variant", variant, "--size", f"{size.width}x{size.height}",
+    ]  # fmt: skip
+
+
+def _command(args: list[str], cwd: Path) -> dict[str, Any]:
+    """One whole process, from start to exit: wall and CPU seconds, peak resident set."""
+    import subprocess
+
+    from harness.usage import ProcessTimeout, wait_with_usage
+
+    started = time.perf_counter()
+    process = subprocess.Popen(
+        args, cwd=cwd, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+    )  # fmt: skip
+    try:
+        status, cpu, peak = wait_with_usage(process, COMMAND_TIMEOUT, started)
+    except ProcessTimeout as error:
+        return {"error": f"{args[3]}: {error}"}
+    wall = time.perf_counter() - started
+    err = process.stderr.read().decode(errors="replace") if process.stderr else ""
+    if status != 0:
+        return {"error": f"exit status {status}: {err.strip()[-300:]}"}
+    return {"wall": wall, "cpu": cpu, "peak": peak}
+
+
+COMMAND_TIMEOUT = 600.0  # seconds one whole command may take
+
+
+def commands(
+    plan: Plan, paths: dict[str, Path], jobs: Path, log: Log
+) -> dict[str, Any]:
+    """The ``scene-size-command`` entry: per mesh, ``rtc render`` with ``numba`` against
+    POV-Ray on the same scene, whole processes, ``repeat`` times each in turns (see the
+    module)."""
+    from harness import povray
+
+    found = povray.find()
+    threads = plan.threads or 2
+    entry: dict[str, Any] = {
+        "section": COMMAND_SECTION, "name": COMMAND_VARIANT, "status": "ok", "points": [],
+        "threads": threads, "povray": found.version if found else None,
+        "povray_missing": None if found else povray.missing(),
+    }  # fmt: skip
+    folder = jobs / "commands"
+    folder.mkdir(parents=True, exist_ok=True)
+    for name in plan.meshes:
+        scene = folder / f"{name[:-4]}.yml"
+        scene.write_text(scene_text(str(paths[name]), plan.size), encoding="utf-8")
+        pov = pov_scene(paths[name], plan.size, folder / f"{name[:-4]}.pov") if found else None
+        ours = _rtc_render(scene, folder / f"{name[:-4]}.png", plan.size, plan.threads)
+        log(f"{COMMAND_SECTION}: rtc render --variant {COMMAND_VARIANT} and POV-Ray, {name}")
+        point: dict[str, Any] = {"mesh": name, "triangles": CATALOGUE[name].triangles}
+        warm = _command(ours, folder)  # compiles what the scene needs, if anything
+        if "error" in warm:
+            point["error"] = warm["error"]
+            entry["points"].append(point)
+            continue
+        runs: dict[str, list[dict[str, Any]]] = {"ours": [], "povray": []}
+        for _ in range(plan.repeat):
+            runs["ours"].append(_command(ours, folder))
+            if found is not None and pov is not None:
+                try:
+                    done = povray.render(found, pov, plan.size, threads, timeout=COMMAND_TIMEOUT)
+                except povray.PovrayError as error:
+                    runs["povray"].append({"error": str(error)})
+                else:
+                    runs["povray"].append(done.as_dict())
+        for key, measured_runs in runs.items():
+            good = [r for r in measured_runs if "error" not in r]
+            if measured_runs and not good:
+                point[key] = {"error": measured_runs[0]["error"]}
+            elif good:
+                point[key] = {
+                    field: statistics.median(float(r[field]) for r in good)
+                    for field in ("wall", "cpu", "peak", "parse", "trace")
+                    if all(r.get(field) is not None for r in good)
+                } | {"walls": [float(r["wall"]) for r in good]}
+        entry["points"].append(point)
+    return entry
 
 
 # ---------------------------------------------------------------------------- the jobs
@@ -246,20 +395,35 @@ def _peak_since_reset(was_reset: bool) -> int:
 
 
 def parse_job(job: dict[str, Any]) -> dict[str, Any]:
-    """``parse_obj_file`` on one file: read time, parse seconds (each of ``repeat``), the
-    resident set's growth during the first parse, and tracemalloc's figures if asked."""
+    """One OBJ file: the scene loader's ``read_mesh`` (seconds of each of ``repeat`` reads,
+    from the file's bytes, and the resident set's growth during the first), then the
+    book's ``parse_obj_file`` (read time, parse seconds, the resident set's growth during
+    the first parse, and tracemalloc's figures if asked)."""
     import gc
     import tracemalloc
 
     from harness.usage import current_rss, reset_peak_rss
     from raytracer.obj_file import parse_obj_file
+    from scene.obj_mesh import read_mesh
 
     path = Path(job["mesh"])
+    result: dict[str, Any] = {"arrays": []}
+    for attempt in range(int(job["repeat"])):
+        gc.collect()
+        before = current_rss()
+        was_reset = reset_peak_rss()
+        started = time.perf_counter()
+        mesh = read_mesh(path.read_bytes(), str(path))
+        result["arrays"].append(time.perf_counter() - started)
+        if attempt == 0:
+            result["arrays_rss_growth"] = max(_peak_since_reset(was_reset) - before, 0)
+            result["arrays_triangles"] = mesh.count
+        del mesh
+    result["arrays_median"] = statistics.median(result["arrays"])
     started = time.perf_counter()
     text = path.read_text(encoding="utf-8", errors="replace")
-    read = time.perf_counter() - started
+    result.update(read=time.perf_counter() - started, bytes=len(text))
     seconds: list[float] = []
-    result: dict[str, Any] = {"read": read, "bytes": len(text)}
     for attempt in range(int(job["repeat"])):
         gc.collect()
         before = current_rss()

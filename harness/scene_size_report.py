@@ -1,16 +1,25 @@
 """The report's "Cost against scene size" section (``harness.scene_size``'s entries of a run):
-tables of load, prepare and render time per variant and mesh, the fitted log-log slopes, the
-OBJ parser's time and memory per mesh, and lines for the terminal."""
+whole ``rtc render`` commands beside POV-Ray's, tables of load, prepare and render time per
+variant and mesh, the fitted log-log slopes, the OBJ readers' time and memory per mesh, and
+lines for the terminal."""
 
 from __future__ import annotations
 
 import statistics
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
+from pathlib import Path
 from typing import Any
 
 from harness import figures
 from harness.document import Block, Heading, Para, Picture, Table
-from harness.scene_size import PARSE_SECTION, SECTION, TRACEMALLOC_MAX, slope
+from harness.scene_size import (
+    COMMAND_SECTION,
+    COMMAND_VARIANT,
+    PARSE_SECTION,
+    SECTION,
+    TRACEMALLOC_MAX,
+    slope,
+)
 
 Run = Mapping[str, Any]
 PHASES = ("render", "prepare", "load")  # the times a slope is fitted to, as the table names them
@@ -25,8 +34,12 @@ def parse_entry(run: Run) -> Mapping[str, Any] | None:
     return next((e for e in run.get("series", []) if e["section"] == PARSE_SECTION), None)
 
 
+def command_entry(run: Run) -> Mapping[str, Any] | None:
+    return next((e for e in run.get("series", []) if e["section"] == COMMAND_SECTION), None)
+
+
 def has_section(run: Run) -> bool:
-    return bool(entries(run)) or parse_entry(run) is not None
+    return bool(entries(run)) or parse_entry(run) is not None or command_entry(run) is not None
 
 
 def newest(runs: list[Run]) -> Run | None:
@@ -164,14 +177,17 @@ def parse_table(entry: Mapping[str, Any]) -> Table:
         triangles = int(p["triangles"])
         if "error" in p:
             body.append([p["mesh"], _count(triangles), "failed: " + str(p["error"])[:160],
-                         *["-"] * 5])  # fmt: skip
+                         *["-"] * 7])  # fmt: skip
             continue
         traced = p.get("tracemalloc") or {}
+        arrays = p.get("arrays_median")
         body.append(
             [
                 p["mesh"],
                 _count(triangles),
                 figures.bytes_text(p.get("bytes")),
+                "-" if arrays is None else figures.seconds_text(arrays),
+                _per_triangle(p.get("arrays_rss_growth"), triangles),
                 figures.seconds_text(p["parse_median"])
                 + f" ({len(p['parse'])} parse{'s' if len(p['parse']) > 1 else ''})",
                 f"{p['parse_median'] / triangles * 1e6:.2f}",
@@ -182,15 +198,72 @@ def parse_table(entry: Mapping[str, Any]) -> Table:
         )
     return Table(
         [
-            "mesh", "triangles", "file", "parse_obj_file (median)", "µs per triangle",
-            "RSS growth (peak)", "tracemalloc: kept", "tracemalloc: peak",
+            "mesh", "triangles", "file", "read_mesh (median)", "its RSS growth",
+            "parse_obj_file (median)", "µs per triangle", "RSS growth (peak)",
+            "tracemalloc: kept", "tracemalloc: peak",
         ],
         body,
-        right={1, 2, 3, 4, 5, 6, 7},
+        right={1, 2, 3, 4, 5, 6, 7, 8, 9},
     )  # fmt: skip
 
 
-def blocks(run: Run, plot: Any, context: str) -> list[Block]:
+def _seconds(value: float | None) -> str:
+    return "-" if value is None else figures.seconds_text(value)
+
+
+def _ratio(ours: Mapping[str, Any], theirs: Mapping[str, Any], key: str) -> str:
+    a, b = ours.get(key), theirs.get(key)
+    return f"{float(a) / float(b):.2f}x" if a and b else "-"
+
+
+def command_table(entry: Mapping[str, Any]) -> Table:
+    """Per mesh: our whole command and POV-Ray's, their ratios."""
+    body = []
+    for p in entry.get("points", []):
+        head = [p["mesh"], _count(int(p["triangles"]))]
+        if "error" in p:
+            body.append([*head, "failed: " + str(p["error"])[:160], *["-"] * 6])
+            continue
+        ours, theirs = p.get("ours") or {}, p.get("povray") or {}
+        if "error" in ours:
+            body.append([*head, "failed: " + str(ours["error"])[:160], *["-"] * 6])
+            continue
+        pov = (
+            f"{_seconds(theirs['wall'])} (parse {_seconds(theirs.get('parse'))}, trace "
+            f"{_seconds(theirs.get('trace'))})"
+            if theirs.get("wall")
+            else str(theirs.get("error", "-"))[:160]
+        )
+        body.append(
+            [
+                *head,
+                _seconds(ours.get("wall")),
+                figures.bytes_text(ours.get("peak")),
+                pov,
+                figures.bytes_text(theirs.get("peak")),
+                _ratio(ours, theirs, "wall"),
+                _ratio(ours, theirs, "peak"),
+            ]
+        )
+    return Table(
+        [
+            "mesh", "triangles", f"rtc render ({COMMAND_VARIANT}), median", "its peak memory",
+            "POV-Ray, median", "its peak memory", "time: ours / POV-Ray",
+            "memory: ours / POV-Ray",
+        ],
+        body,
+        right={1, 2, 3, 5, 6, 7},
+    )  # fmt: skip
+
+
+def plot(run: Run, path: Path) -> Path | None:
+    """The section's plot (``harness.plots.scene_size_plot``)."""
+    from harness import plots
+
+    return plots.scene_size_plot(run, path)
+
+
+def blocks(run: Run, plot: Any, context: str, runs: Sequence[Run] = ()) -> list[Block]:
     """The report's section for ``run`` (nothing if it has none); ``plot``: the plot's path
     relative to the results folder, or None; ``context``: the machine and run line."""
     if not has_section(run):
@@ -213,6 +286,26 @@ def blocks(run: Run, plot: Any, context: str) -> list[Block]:
             f"memory the warm-up freed). Timings on a shared machine are noisy: medians."
         )
     )
+    command = command_entry(run)
+    if command is not None:
+        povray = command.get("povray")
+        out += [
+            Heading(3, "Whole commands beside POV-Ray"),
+            Para(
+                f"`rtc render --variant {COMMAND_VARIANT}` as a user runs it, a fresh process "
+                "from start to exit (reading the scene and the OBJ file, packing, building the "
+                "hierarchy, rendering, writing the PNG), after one warm-up command that "
+                "compiles what the scene needs; "
+                + (
+                    f"{povray} on the same scene (the mesh as a `mesh2`, the same camera, "
+                    f"light, floor and colours), {command.get('threads')} threads each, in "
+                    "turns; medians. Peak memory: the kernel's accounting of each process."
+                    if povray
+                    else f"no POV-Ray in this run: {command.get('povray_missing')}."
+                )
+            ),
+            command_table(command),
+        ]
     if plot is not None:
         out.append(Picture(str(plot), "render time against triangle count"))
     if entries(run):
@@ -231,12 +324,14 @@ def blocks(run: Run, plot: Any, context: str) -> list[Block]:
         out += [
             Heading(3, "Reading the OBJ files"),
             Para(
-                "`parse_obj_file` alone (chapter 15's parser, the reference's shapes), one "
-                "fresh process per mesh. RSS growth: the resident set's high-water mark during "
-                "the first parse less the resident set before it (VmHWM reset before it). "
-                "tracemalloc: the bytes of Python objects the parse left (the parser and its "
-                "triangles) and its peak, measured in a second parse, up to "
-                f"{TRACEMALLOC_MAX:,} triangles (it slows the parse about 6x)."
+                "Each OBJ file alone, one fresh process per mesh: `read_mesh`, which the scene "
+                "loader uses (the model as arrays, read by compiled code), and chapter 15's "
+                "`parse_obj_file` (the book's parser: an object per triangle). RSS growth: the "
+                "resident set's high-water mark during the first read less the resident set "
+                "before it (VmHWM reset before it). tracemalloc: the bytes of Python objects "
+                "the book's parse left (the parser and its triangles) and its peak, measured "
+                f"in a second parse, up to {TRACEMALLOC_MAX:,} triangles (it slows the parse "
+                "about 6x)."
             ),
             parse_table(parse),
         ]
@@ -246,6 +341,19 @@ def blocks(run: Run, plot: Any, context: str) -> list[Block]:
 def console_lines(run: Run) -> list[str]:
     """A few lines for the terminal after ``rtc bench``."""
     lines: list[str] = []
+    command = command_entry(run)
+    for p in (command or {}).get("points", []):
+        ours, theirs = p.get("ours") or {}, p.get("povray") or {}
+        lines.append(
+            f"rtc render {p['mesh']:<14} {_seconds(ours.get('wall')):>9} "
+            f"peak {figures.bytes_text(ours.get('peak'))}"
+            + (
+                f"; POV-Ray {_seconds(theirs.get('wall'))} peak "
+                f"{figures.bytes_text(theirs.get('peak'))}"
+                if theirs.get("wall")
+                else ""
+            )
+        )
     parse = parse_entry(run)
     if parse is not None:
         for p in parse.get("points", []):

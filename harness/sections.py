@@ -26,9 +26,8 @@ where ``plot_file`` is set, ``plot(run, path)`` draws it (None: nothing to draw)
 from __future__ import annotations
 
 import importlib
-from collections.abc import Callable, Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
@@ -78,7 +77,7 @@ SECTIONS = (
         "the C++ report's workload (cpp-spheres) in MRay/s", default=True,
     ),
     Section(
-        "scene-size", "harness.sections:measure_scene_size", "harness.sections:SceneSizeReport",
+        "scene-size", "harness.scene_size", "harness.scene_size_report",
         "render, load and pack time against a mesh's triangle count (minutes)",
         plot_file="time-vs-triangles.png",
     ),
@@ -162,50 +161,3 @@ def help_text() -> str:
     """The sections for ``rtc bench --help``."""
     parts = [f"{s.name}{' (default)' if s.default else ''}: {s.about}" for s in SECTIONS]
     return "; ".join(parts)
-
-
-# ------------------------------------------------------------- the scene-size section
-# harness.scene_size and its report are being reworked elsewhere (POV-Ray beside the
-# meshes); until they follow the protocol themselves, these two adapt them.
-
-
-def measure_scene_size(bench: Bench) -> None:
-    """Cost against scene size (``harness.scene_size``): load, prepare and render time of a
-    mesh of 1k to 1M triangles per variant, and the OBJ parser's time and memory."""
-    from harness import scene_size
-
-    s = bench.settings
-    plan = scene_size.Plan(
-        variants=s.mesh_variants, meshes=s.meshes, size=s.size, samples=s.samples,
-        depth=s.depth, seed=s.seed, threads=s.threads, repeat=s.repeat, budget=s.budget,
-    )  # fmt: skip
-    jobs = bench.jobs_folder(scene_size.SECTION)
-    bench.series.extend(scene_size.run(plan, jobs, bench.log, bench.save_image))
-
-
-class SceneSizeReport:
-    """``harness.scene_size_report`` under the reporting protocol."""
-
-    @staticmethod
-    def newest(runs: Sequence[Run]) -> Run | None:
-        from harness import scene_size_report
-
-        return scene_size_report.newest(list(runs))
-
-    @staticmethod
-    def plot(run: Run, path: Path) -> Path | None:
-        from harness import plots
-
-        return plots.scene_size_plot(run, path)
-
-    @staticmethod
-    def blocks(run: Run, plot: str | None, context: str, runs: Sequence[Run] = ()) -> list[Any]:
-        from harness import scene_size_report
-
-        return list(scene_size_report.blocks(run, plot, context))
-
-    @staticmethod
-    def console_lines(run: Run) -> list[str]:
-        from harness import scene_size_report
-
-        return list(scene_size_report.console_lines(run))

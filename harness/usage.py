@@ -18,6 +18,7 @@ from __future__ import annotations
 import os
 import resource
 import statistics
+import subprocess
 import sys
 import time
 from collections.abc import Callable
@@ -196,3 +197,38 @@ def pin_to_cores(count: int) -> list[int]:
     chosen = cpus[: max(1, count)]
     os.sched_setaffinity(0, chosen)
     return chosen
+
+
+class ProcessTimeout(RuntimeError):
+    """A child ran over its time and was stopped."""
+
+
+def wait_with_usage(
+    process: subprocess.Popen[bytes], timeout: float | None, started: float
+) -> tuple[int, float, int]:
+    """Wait for ``process``: its exit status, CPU seconds (user + system, the kernel's
+    accounting of that one child: ``os.wait4``) and its peak resident set in bytes; a
+    ``ProcessTimeout`` (the child killed) after ``timeout`` seconds from ``started``.
+
+    The peak is the highest ``VmHWM`` read from /proc while it runs (every few
+    milliseconds): a child's ``ru_maxrss`` also counts the image it was forked from before
+    it ran its program (the whole parent), so it cannot tell a small command's memory.
+    Without /proc, ``ru_maxrss`` it is."""
+    peak = 0
+    polled = False
+    while True:
+        pid, status, usage = os.wait4(process.pid, os.WNOHANG)
+        if pid == process.pid:
+            process.returncode = os.waitstatus_to_exitcode(status)
+            scale = 1 if sys.platform == "darwin" else 1024  # ru_maxrss: KiB but on macOS
+            cpu = usage.ru_utime + usage.ru_stime
+            return process.returncode, cpu, peak if polled else int(usage.ru_maxrss) * scale
+        hwm = _status_kib(process.pid, "VmHWM")
+        if hwm is not None:
+            polled = True
+            peak = max(peak, hwm * 1024)
+        if timeout is not None and time.perf_counter() - started > timeout:
+            process.kill()
+            process.wait()
+            raise ProcessTimeout(f"ran over {timeout:g} s and was stopped")
+        time.sleep(0.003)

@@ -118,7 +118,7 @@ def test_the_pov_version_of_the_reference_scene_draws_the_projects_picture():
     assert REAL is not None
     size = Size(64, 48)
     variant = load_variant("prealloc")
-    camera, world = build_scene(resolve_scene("reference"), variant.api, variant.name, size)
+    camera, world = build_scene(resolve_scene("reference"), variant, size)
     ours = canvas_array(variant.api["render"](camera, world), variant.api.get("pixel_at"))
     theirs = povray.render(REAL, SCENES / "reference.pov", size).image
     error = image_error(theirs, ours)

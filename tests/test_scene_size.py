@@ -13,6 +13,7 @@ from harness import plots, scene_size_report
 from harness.document import Picture, Table, to_markdown
 from harness.plan import DEFAULT_SECTIONS, SECTIONS
 from harness.scene_size import (
+    COMMAND_SECTION,
     PARSE_SECTION,
     SECTION,
     Plan,
@@ -122,12 +123,23 @@ def test_a_tiny_run_measures_each_phase_and_records_what_could_not_run(tmp_path:
         saved[name] = image
         return f"run/{name}"
 
-    parse, cached, unavailable = run(plan, tmp_path / "jobs", logged.append, save)
+    parse, cached, unavailable, commands = run(plan, tmp_path / "jobs", logged.append, save)
     assert (tmp_path / "meshes" / "ring-1k.obj").is_file()
     assert parse["section"] == PARSE_SECTION
     (parsed,) = parse["points"]
     assert parsed["parsed_triangles"] == 1000 and parsed["degenerate"] == 0
     assert len(parsed["parse"]) == 2 and parsed["tracemalloc"]["current"] > 1000 * 100
+    assert parsed["arrays_triangles"] == 1000 and len(parsed["arrays"]) == 2  # read_mesh
+    # whole commands: ours, and POV-Ray's when it is installed (else the entry says why)
+    assert commands["section"] == COMMAND_SECTION and commands["status"] == "ok"
+    (command,) = commands["points"]
+    assert command["ours"]["wall"] > 0 and command["ours"]["peak"] > 1 << 20
+    assert len(command["ours"]["walls"]) == 2
+    if commands["povray"] is None:
+        assert "povray" not in command and "POV-Ray" in commands["povray_missing"]
+    else:
+        assert command["povray"]["wall"] > 0 and command["povray"]["peak"] > 1 << 20
+    assert (tmp_path / "jobs" / "commands" / "ring-1k.yml").is_file()
     assert cached["section"] == SECTION and cached["status"] == "ok"
     (point,) = cached["points"]
     assert point["primitives"] == 1001  # the floor and the ring's triangles
@@ -209,6 +221,21 @@ def synthetic_run() -> dict[str, Any]:
                 "error": "no option",
                 "points": [],
             },
+            {
+                "section": COMMAND_SECTION,
+                "name": "numba",
+                "status": "ok",
+                "threads": 2,
+                "povray": "POV-Ray 3.7.0",
+                "points": [
+                    {
+                        "mesh": "ring-1k.obj", "triangles": 1000,
+                        "ours": {"wall": 0.5, "cpu": 0.6, "peak": 50 << 20, "walls": [0.5]},
+                        "povray": {"wall": 1.0, "cpu": 1.1, "peak": 25 << 20, "parse": 0.1,
+                                   "trace": 0.2, "walls": [1.0]},
+                    },
+                ],
+            },
         ],
     }
 
@@ -226,7 +253,11 @@ def test_the_report_section_has_the_table_the_slopes_and_the_parse_figures() -> 
     assert "## Cost against scene size" in text and "Measured on a VM." in text
     assert any(isinstance(b, Picture) and b.path == "report/t.png" for b in blocks)
     tables = [b for b in blocks if isinstance(b, Table)]
-    slopes = {row[0]: row[2] for row in tables[1].rows}
+    assert "### Whole commands beside POV-Ray" in text
+    (command,) = tables[0].rows
+    assert command[-2:] == ["0.50x", "2.00x"]  # time and memory, ours over POV-Ray's
+    assert "POV-Ray 3.7.0 on the same scene" in text
+    slopes = {row[0]: row[2] for row in tables[2].rows}
     assert slopes == {"`numba`": "0.10", "`numba[bvh=off]`": "1.00"}
     assert "skipped: over the budget" in text and "identical to `numba`" in text
     assert "not run: no option" in text
@@ -272,8 +303,9 @@ def test_rtc_bench_records_the_section_and_rtc_report_draws_it(
     names = pyperf.BenchmarkSuite.load(str(path)).get_benchmark_names()
     assert names == ["scene-size cached ring-1k.obj"]
     series = document["rtc"]["series"]
-    assert [e["section"] for e in series] == [PARSE_SECTION, SECTION]
+    assert [e["section"] for e in series] == [PARSE_SECTION, SECTION, COMMAND_SECTION]
     assert main(["report", "--results-dir", str(results)]) == 0
     readme = (results / "README.md").read_text()
     assert "## Cost against scene size" in readme and "| `cached` | ring-1k.obj |" in readme
+    assert "### Whole commands beside POV-Ray" in readme
     assert (results / "report" / "time-vs-triangles.png").is_file()
