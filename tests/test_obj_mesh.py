@@ -136,3 +136,24 @@ def test_the_project_models_read_as_the_book_parser_reads_them() -> None:
     for model in sorted(folder.glob("*.obj")):
         data = model.read_bytes()
         _same(read_mesh(data, str(model)), book_mesh(data, str(model)))
+
+
+def test_a_large_model_with_one_bad_face_at_its_end_is_one_error_naming_that_line() -> None:
+    """200,000 ordinary triangles (read by the compiled scanner), then one face naming a
+    vertex that does not exist: the error names the file and that last line."""
+    side = 318  # a grid of side^2 vertices, 2 (side - 1)^2 triangles
+    x, z = np.meshgrid(np.arange(side, dtype=float), np.arange(side, dtype=float))
+    vertices = "".join(f"v {a:g} 0 {b:g}\n" for a, b in zip(x.ravel(), z.ravel(), strict=True))
+    k = (np.arange(side - 1)[:, None] * side + np.arange(side - 1)[None, :]).ravel() + 1
+    quads = np.stack([k, k + 1, k + side, k + 1, k + side + 1, k + side], axis=1)
+    faces = "".join(f"f {a} {b} {c}\nf {d} {e} {f}\n" for a, b, c, d, e, f in quads.tolist())
+    bad = f"f 1 2 {side * side + 7}\n"
+    data = (vertices + faces + bad).encode()
+    lines = data.count(b"\n")
+    assert 2 * (side - 1) ** 2 > 200_000
+    with pytest.raises(ObjFileError) as raised:
+        read_mesh(data, "large.obj")
+    message = str(raised.value)
+    assert message.startswith(f"large.obj, line {lines}: 'f 1 2 {side * side + 7}': ")
+    assert f"but {side * side:,} vertices are defined so far".replace(",", "") in message
+    assert len(read_mesh(data[: -len(bad)], "large.obj").triangles) == 2 * (side - 1) ** 2
