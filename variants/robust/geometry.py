@@ -19,9 +19,9 @@ Each shape is a twin of ``cached``'s (inverse transforms computed once, when set
   tolerance loses or invents roots near double ones and means something else at every
   scale): the ray's origin is moved to its closest approach to the torus's centre (the
   coefficients stay of the size of the torus however far the ray comes from) and the
-  quartic's roots are isolated between its turning points and bisected to the last bit
-  (``variants.robust.roots``); a turning point where the quartic is zero to within its
-  rounding is a double root (a ray grazing the tube).
+  quartic's roots are isolated between its turning points and refined by Newton steps kept
+  inside each stretch (``variants.robust.roots``); a turning point where the quartic is
+  zero to within its rounding is a double root (a ray grazing the tube).
 
 The one exception is the cone's ray parallel to one half (its quadratic term exactly 0): the
 book's scenario expects ``t = -c / 2b`` (with the book's ``b``, twice the one here), half the
@@ -270,8 +270,8 @@ def torus_roots(
     ox: float, oy: float, oz: float, dx: float, dy: float, dz: float, big: float, small: float
 ) -> list[float]:
     """Chapter 20's intersections (see the module): the real roots t of the torus's quartic
-    along the ray (``roots.real_roots``), increasing, each to the last bit; a double root
-    listed twice."""
+    along the ray (``roots.real_roots``), increasing, each to a unit or two in the last
+    place; a double root listed twice."""
     dd = dx * dx + dy * dy + dz * dz
     if dd == 0.0 or not math.isfinite(dd):
         return []
@@ -284,7 +284,7 @@ def torus_roots(
 
 
 class TorusSolver(RobustShape):
-    """Chapter 20's torus: its quartic's roots bracketed and bisected (``torus_roots``)."""
+    """Chapter 20's torus: its quartic's roots isolated and refined (``torus_roots``)."""
 
     __slots__ = ()
 
