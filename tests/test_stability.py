@@ -166,11 +166,8 @@ FLOAT32 = {
     "graze/cube-diagonal": PASS,
     "refract/critical-1e-9": wrong(0.1),  # 2/3 ± 1e-9 is one float32: TIR on both sides
     "degen/fov-1e-10": wrong(1, "pixel"),
-    "torus/inside-tube": wrong(1e-3),
-    "torus/scale-100": wrong(1e-6),
-    "torus/scale-10000": NONFINITE,
-    "torus/thin-hole-across": wrong_with("lost hit"),
-    "torus/oblique-unit": wrong(1e-5),
+    # the torus's quartic is solved in float64 (in float32 the closed form lost whole
+    # stretches of tube): its rows are the book's
 }
 ROBUST = {
     **{case.id: PASS for case in CASES},

@@ -94,7 +94,9 @@ ONE = F(1.0)
 TWO = F(2.0)
 THIRD = F(1.0 / 3.0)
 PI = F(math.pi)
-EQN_EPS = F(1e-9)  # ``raytracer.quartic.EQN_EPS``
+# the torus's quartic is solved in float64 whatever F is (``torus_intersect``)
+EQN_EPS = 1e-9  # ``raytracer.quartic.EQN_EPS``
+D_INF, D_ZERO, D_ONE, D_TWO, D_THIRD, D_PI = np.inf, 0.0, 1.0, 2.0, 1.0 / 3.0, math.pi
 
 
 @njit(**INLINE)
@@ -511,20 +513,20 @@ def is_zero(x):
 @njit(**INLINE)
 def cube_root(x):
     """The real cube root, sign kept (``raytracer.quartic.cube_root``)."""
-    return math.copysign(abs(x) ** THIRD, x)
+    return math.copysign(abs(x) ** D_THIRD, x)
 
 
 @njit(**INLINE)
 def sort4(n, a, b, c, d):
-    """The first n of (a, b, c, d) in increasing order (the rest INF)."""
+    """The first n of (a, b, c, d) in increasing order (the rest infinite)."""
     if n < 4:
-        d = INF
+        d = D_INF
     if n < 3:
-        c = INF
+        c = D_INF
     if n < 2:
-        b = INF
+        b = D_INF
     if n < 1:
-        a = INF
+        a = D_INF
     if a > b:
         a, b = b, a
     if c > d:
@@ -541,12 +543,12 @@ def sort4(n, a, b, c, d):
 @njit(**INLINE)
 def quadratic_roots(b, c):
     """``raytracer.quartic.solve_quadratic(1, b, c)``: (count, r0, r1)."""
-    p = b / TWO
+    p = b / D_TWO
     discriminant = p * p - c
     if is_zero(discriminant):
-        return 1, -p, INF
-    if discriminant < ZERO:
-        return 0, INF, INF
+        return 1, -p, D_INF
+    if discriminant < D_ZERO:
+        return 0, D_INF, D_INF
     root = math.sqrt(discriminant)
     return 2, -root - p, root - p
 
@@ -556,27 +558,27 @@ def cubic_roots(big_a, big_b, big_c):
     """``raytracer.quartic.solve_cubic(1, A, B, C)`` step by step: (count, r0, r1, r2),
     increasing."""
     square_a = big_a * big_a
-    p = THIRD * (-THIRD * square_a + big_b)
-    q = F(0.5) * (F(2.0 / 27.0) * big_a * square_a - THIRD * big_a * big_b + big_c)
+    p = D_THIRD * (-D_THIRD * square_a + big_b)
+    q = 0.5 * (2.0 / 27.0 * big_a * square_a - D_THIRD * big_a * big_b + big_c)
     cube_p = p * p * p
     discriminant = q * q + cube_p
-    shift = THIRD * big_a
+    shift = D_THIRD * big_a
     if is_zero(discriminant):
         if is_zero(q):
-            return 1, ZERO - shift, INF, INF
+            return 1, D_ZERO - shift, D_INF, D_INF
         u = cube_root(-q)
-        r0, r1, _, _ = sort4(2, TWO * u - shift, -u - shift, INF, INF)
-        return 2, r0, r1, INF
-    if discriminant < ZERO:
-        phi = THIRD * math.acos(max(-ONE, min(ONE, -q / math.sqrt(-cube_p))))
-        t = TWO * math.sqrt(-p)
+        r0, r1, _, _ = sort4(2, D_TWO * u - shift, -u - shift, D_INF, D_INF)
+        return 2, r0, r1, D_INF
+    if discriminant < D_ZERO:
+        phi = D_THIRD * math.acos(max(-D_ONE, min(D_ONE, -q / math.sqrt(-cube_p))))
+        t = D_TWO * math.sqrt(-p)
         r0, r1, r2, _ = sort4(
-            3, t * math.cos(phi) - shift, -t * math.cos(phi + PI / F(3.0)) - shift,
-            -t * math.cos(phi - PI / F(3.0)) - shift, INF,
+            3, t * math.cos(phi) - shift, -t * math.cos(phi + D_PI / 3.0) - shift,
+            -t * math.cos(phi - D_PI / 3.0) - shift, D_INF,
         )  # fmt: skip
         return 3, r0, r1, r2
     root = math.sqrt(discriminant)
-    return 1, cube_root(root - q) - cube_root(root + q) - shift, INF, INF
+    return 1, cube_root(root - q) - cube_root(root + q) - shift, D_INF, D_INF
 
 
 @njit(**INLINE)
@@ -588,28 +590,28 @@ def quartic_roots(a, b, c, d, e):
     big_c = d / a
     big_d = e / a
     square_a = big_a * big_a
-    p = F(-3.0 / 8.0) * square_a + big_b
-    q = F(1.0 / 8.0) * square_a * big_a - F(0.5) * big_a * big_b + big_c
+    p = -3.0 / 8.0 * square_a + big_b
+    q = 1.0 / 8.0 * square_a * big_a - 0.5 * big_a * big_b + big_c
     r = (
-        F(-3.0 / 256.0) * square_a * square_a + F(1.0 / 16.0) * square_a * big_b
-        - F(0.25) * big_a * big_c + big_d
+        -3.0 / 256.0 * square_a * square_a + 1.0 / 16.0 * square_a * big_b
+        - 0.25 * big_a * big_c + big_d
     )  # fmt: skip
-    shift = F(0.25) * big_a
+    shift = 0.25 * big_a
     if is_zero(r):
-        n, c0, c1, c2 = cubic_roots(ZERO, p, q)
-        r0, r1, r2, r3 = sort4(4, ZERO - shift, c0 - shift, c1 - shift, c2 - shift)
+        n, c0, c1, c2 = cubic_roots(D_ZERO, p, q)
+        r0, r1, r2, r3 = sort4(4, D_ZERO - shift, c0 - shift, c1 - shift, c2 - shift)
         return n + 1, r0, r1, r2, r3
-    n, z0, z1, z2 = cubic_roots(F(-0.5) * p, -r, F(0.5) * r * p - F(1.0 / 8.0) * q * q)
+    n, z0, z1, z2 = cubic_roots(-0.5 * p, -r, 0.5 * r * p - 1.0 / 8.0 * q * q)
     z = z0 if n == 1 else (z1 if n == 2 else z2)  # the largest
     u = z * z - r
-    v = TWO * z - p
-    if (u < ZERO and not is_zero(u)) or (v < ZERO and not is_zero(v)):
-        return 0, INF, INF, INF, INF
-    u = ZERO if is_zero(u) else math.sqrt(u)
-    v = ZERO if is_zero(v) else math.sqrt(v)
-    n1, a0, a1 = quadratic_roots(-v if q < ZERO else v, z - u)
-    n2, b0, b1 = quadratic_roots(v if q < ZERO else -v, z + u)
-    # a missing root is INF (INF - shift too): sorted, they come last
+    v = D_TWO * z - p
+    if (u < D_ZERO and not is_zero(u)) or (v < D_ZERO and not is_zero(v)):
+        return 0, D_INF, D_INF, D_INF, D_INF
+    u = D_ZERO if is_zero(u) else math.sqrt(u)
+    v = D_ZERO if is_zero(v) else math.sqrt(v)
+    n1, a0, a1 = quadratic_roots(-v if q < D_ZERO else v, z - u)
+    n2, b0, b1 = quadratic_roots(v if q < D_ZERO else -v, z + u)
+    # a missing root is D_INF (D_INF - shift too): sorted, they come last
     r0, r1, r2, r3 = sort4(4, a0 - shift, a1 - shift, b0 - shift, b1 - shift)
     return n1 + n2, r0, r1, r2, r3
 
@@ -617,22 +619,26 @@ def quartic_roots(a, b, c, d, e):
 @njit(**INLINE)
 def torus_intersect(pf, p, ox, oy, oz, dx, dy, dz):
     """Chapter 20: the quartic's real roots (``raytracer.shapes.torus``): (count, t0, t1,
-    t2, t3), increasing."""
-    big = pf[p * NF + TORUS_MAJOR]
-    small = pf[p * NF + TORUS_MINOR]
+    t2, t3), increasing. Solved in float64 under the float32 option too: in float32 the
+    closed form loses whole stretches of tube (``rtc stability``'s torus rows)."""
+    big = np.float64(pf[p * NF + TORUS_MAJOR])
+    small = np.float64(pf[p * NF + TORUS_MINOR])
+    ox, oy, oz = np.float64(ox), np.float64(oy), np.float64(oz)
+    dx, dy, dz = np.float64(dx), np.float64(dy), np.float64(dz)
     dd = dx * dx + dy * dy + dz * dz
     od = ox * dx + oy * dy + oz * dz
     oo = ox * ox + oy * oy + oz * oz
     k = oo + big * big - small * small
-    four_r2 = F(4.0) * big * big
+    four_r2 = 4.0 * big * big
     a = dd * dd
-    if a == ZERO:
+    if a == 0.0:
         return 0, INF, INF, INF, INF
-    b = F(4.0) * dd * od
-    c = TWO * dd * k + F(4.0) * od * od - four_r2 * (dx * dx + dz * dz)
-    d = F(4.0) * od * k - TWO * four_r2 * (ox * dx + oz * dz)
+    b = 4.0 * dd * od
+    c = 2.0 * dd * k + 4.0 * od * od - four_r2 * (dx * dx + dz * dz)
+    d = 4.0 * od * k - 2.0 * four_r2 * (ox * dx + oz * dz)
     e = k * k - four_r2 * (ox * ox + oz * oz)
-    return quartic_roots(a, b, c, d, e)
+    n, t0, t1, t2, t3 = quartic_roots(a, b, c, d, e)
+    return n, F(t0), F(t1), F(t2), F(t3)
 
 
 @njit(**INLINE)

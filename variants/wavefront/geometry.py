@@ -266,19 +266,25 @@ def quartic(a: Any, b: Any, c: Any, d: Any, e: Any) -> list[Any]:
 
 def torus(ox: Any, oy: Any, oz: Any, dx: Any, dy: Any, dz: Any, big: Any, small: Any) -> list[Any]:
     """Chapter 20 (beyond the book): the torus of radii ``big`` and ``small``: the real
-    roots of its quartic (``raytracer.shapes.torus.torus_coefficients``)."""
+    roots of its quartic (``raytracer.shapes.torus.torus_coefficients``), solved in float64
+    under the float32 option too (in float32 the closed form loses whole stretches of tube:
+    ``rtc stability``'s torus rows), returned in the rays' own type."""
+    dtype = np.result_type(ox, dx)
+    ox, oy, oz, dx, dy, dz = (np.asarray(v, dtype=np.float64) for v in (ox, oy, oz, dx, dy, dz))
+    big, small = np.float64(big), np.float64(small)
     dd = dx * dx + dy * dy + dz * dz
     od = ox * dx + oy * dy + oz * dz
     oo = ox * ox + oy * oy + oz * oz
     k = oo + big * big - small * small
     four_r2 = 4 * big * big
-    return quartic(
+    roots = quartic(
         dd * dd,
         4 * dd * od,
         2 * dd * k + 4 * od * od - four_r2 * (dx * dx + dz * dz),
         4 * od * k - 2 * four_r2 * (ox * dx + oz * dz),
         k * k - four_r2 * (ox * ox + oz * oz),
     )
+    return [root.astype(dtype, copy=False) for root in roots]
 
 
 def triangle(
