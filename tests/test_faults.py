@@ -30,8 +30,8 @@ from variants.pooled import HEARTBEAT_SECONDS, RenderWorkerError, _Link, _Pool, 
 
 ROOT = Path(__file__).resolve().parent.parent
 REFERENCE = ROOT / "harness" / "scenes" / "reference.yml"
-# a bench of the held variant (``tests/holding.py``): its measuring process waits in its first
-# render until the test lets it go
+# a bench of the held variant (``tests/holding.py``; naive, the baseline, is measured first):
+# its measuring process waits in its first render until the test lets it go
 HELD_BENCH = ["bench", "--scene", "default-world", "--variants", "held", "--sections", "table",
               "--budget", "0"]  # fmt: skip
 
@@ -145,7 +145,8 @@ def test_ctrl_c_during_rtc_bench_is_one_line_and_leaves_no_run(
 ) -> None:
     hold = Hold(tmp_path / "held")
     results = tmp_path / "results"
-    bench = start(*HELD_BENCH, "--size", "40x30", "--results-dir", str(results), hold=hold)
+    bench = start(*HELD_BENCH, "--size", "8x6", "--repeat", "1", "--results-dir", str(results),
+                  hold=hold)  # fmt: skip
     stop_leftovers.append(bench)
     measuring = hold.reached()  # the measuring process is in its first render, held there
     cmdlines = {c: Path(f"/proc/{c}/cmdline").read_bytes() for c in children(bench.pid)}

@@ -120,14 +120,14 @@ def test_user_mistakes_are_one_line_errors(tmp_path, capsys):
 
 @pytest.mark.parametrize("how", [signal.SIGKILL, signal.SIGTERM])
 def test_a_killed_run_leaves_no_result_file(tmp_path, how):
-    """The bench measures the held variant (``tests/holding.py``): its measuring process
-    waits in its first render and is never let go, so the run is certainly still measuring
-    when it is killed, and a measuring process that ends has noticed its parent's death."""
+    """The bench measures the held variant (``tests/holding.py``; after naive, the baseline,
+    whose row comes first): its measuring process waits in its first render and is never
+    let go, so the run is certainly still measuring when it is killed, and a measuring
+    process that ends has noticed its parent's death."""
     hold = Hold(tmp_path / "held")
     results = tmp_path / "results"
-    command = [sys.executable, "-m", "rtc.cli", "bench", "--scene", "default-world",
-               "--size", "40x30", "--variants", "held", "--sections", "table",
-               "--repeat", "50", "--budget", "0", "--results-dir", str(results)]  # fmt: skip
+    command = [sys.executable, "-m", "rtc.cli", "bench", *TINY, "--variants", "held",
+               "--sections", "table", "--budget", "0", "--results-dir", str(results)]  # fmt: skip
     process = subprocess.Popen(command, stderr=subprocess.PIPE, text=True, env=hold.env)
     try:
         measuring = hold.reached()  # it is measuring
