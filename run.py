@@ -66,21 +66,33 @@ def bench(extra: list[str]) -> int:
 NO_TESTS_SELECTED = 5  # pytest's exit status when no test matched
 
 
+def _marks_serial_tests() -> bool:
+    """Whether a test module marks a test ``serial`` (a text search, which saves collecting
+    the suite twice when none does: a mark it missed would only run in parallel, never be
+    left out)."""
+    return any(
+        "mark.serial" in path.read_text(encoding="utf-8") for path in (ROOT / "tests").rglob("*.py")
+    )
+
+
 def test(extra: list[str]) -> int:
     """The suite on every core (pytest-xdist), then ruff and mypy. The tests marked
-    ``serial`` (they cannot share the machine) run first, alone, in one process; then the
-    others on a worker process per core, ``worksteal`` handing a worker that is done tests
-    from another's queue. ``extra`` goes to both passes."""
+    ``serial`` (they cannot share the machine; none is, today) run first, alone, in one
+    process; then the others on a worker process per core, ``worksteal`` handing a worker
+    that is done tests from another's queue. ``extra`` goes to both passes."""
     pytest = [str(BIN / "python"), "-m", "pytest", "--variant", "all"]
-    serial = _run(*pytest, "-m", "serial", "-p", "no:xdist", *extra)
-    if serial == NO_TESTS_SELECTED:  # none marked, or none among those ``extra`` picks
-        serial = 0
+    parallel = [*pytest, "--numprocesses", "auto", "--dist", "worksteal"]
+    worst = 0
+    if _marks_serial_tests():
+        worst = _run(*pytest, "-m", "serial", "-p", "no:xdist", *extra)
+        if worst == NO_TESTS_SELECTED:  # none among those ``extra`` picks
+            worst = 0
+        parallel += ["-m", "not serial"]
     steps = [
-        [*pytest, "-m", "not serial", "--numprocesses", "auto", "--dist", "worksteal", *extra],
+        [*parallel, *extra],
         [str(BIN / "ruff"), "check", "."],
         [str(BIN / "mypy")],
     ]
-    worst = serial
     for argv in steps:
         worst = max(worst, _run(*argv))
     return worst
