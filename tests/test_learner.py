@@ -36,7 +36,9 @@ from raytracer.api import BOOK_API
 from rtc.cli import main
 from steps.kata import PROJECT_FEATURES
 
-NAME = "my_tracer"
+# not the name `rtc new`'s help suggests (my_tracer), nor the README's (mine): a learner who
+# has installed a tracer of that name where the suite runs would make `rtc new NAME` refuse
+NAME = "suite_learner_tracer"
 CHAPTER_1 = [name for name, chapter in BOOK_API.items() if chapter == 1]
 
 # What a learner writes for chapter 1 (appended to tracer.py: it rebinds the stubs' names).
@@ -268,7 +270,7 @@ def test_rtc_new_refuses_a_folder_that_is_another_project(
 ) -> None:
     (tmp_path / "pyproject.toml").write_text('[project]\nname = "other"\n', encoding="utf-8")
     assert main(["new", NAME, "--dir", str(tmp_path)]) == 2
-    assert "does not register the variant 'my_tracer'" in capsys.readouterr().err
+    assert f"does not register the variant '{NAME}'" in capsys.readouterr().err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["pyproject.toml"]
 
 
