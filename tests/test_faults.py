@@ -316,8 +316,7 @@ def test_the_pool_notices_a_silence_at_its_first_check_past_the_timeout(
     pool.timeout = 1.0
     ours, theirs = Pipe()
     try:
-        worker = _worker(ours, heard_ago=0.0, held=0)
-        worker.heard = clock.now
+        worker = _worker(ours, heard_ago=0.0, now=clock.now, held=0)
         worker.process = SimpleNamespace(pid=os.getpid(), sentinel=theirs)
         pool.workers = [worker]
         started = clock.now
@@ -382,30 +381,34 @@ def test_a_ctrl_c_while_a_worker_starts_is_held_back_not_lost() -> None:
     assert reached in ([], [True])
 
 
-def _worker(conn: Any, *, heard_ago: float, held: int = 1) -> _Worker:
+def _worker(conn: Any, *, heard_ago: float, now: float, held: int = 1) -> _Worker:
     process = SimpleNamespace(pid=os.getpid())  # a running process: ours
-    worker = _Worker(0, process, conn, deque(range(held)), time.monotonic() - heard_ago)
+    worker = _Worker(0, process, conn, deque(range(held)), now - heard_ago)
     worker.talked = True
     return worker
 
 
-def test_the_heartbeat_check_blames_silence_not_unread_messages() -> None:
+def test_the_heartbeat_check_blames_silence_not_unread_messages(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    clock = _Clock()  # the pool's clock is the test's: the silences are exact
+    monkeypatch.setattr("variants.pooled.time", clock)
     pool = _Pool.__new__(_Pool)  # no processes: only the check
     pool.timeout = 1.0
     jobs = [(0, 0, 4, 1)]
     ours, theirs = Pipe()
     try:
-        pool._check_heard(_worker(ours, heard_ago=0.5), jobs, 1)  # within the limit
+        pool._check_heard(_worker(ours, heard_ago=1.0, now=clock.now), jobs, 1)  # at the limit
         theirs.send(("beat", -1, None))  # said something we have not read yet (we were busy)
-        pool._check_heard(_worker(ours, heard_ago=30.0), jobs, 1)
+        pool._check_heard(_worker(ours, heard_ago=30.0, now=clock.now), jobs, 1)
         ours.recv()
         with pytest.raises(RenderWorkerError) as error:
-            pool._check_heard(_worker(ours, heard_ago=30.0), jobs, 1)
+            pool._check_heard(_worker(ours, heard_ago=30.0, now=clock.now), jobs, 1)
         message = str(error.value)
-        assert f"worker 0 (pid {os.getpid()}) sent no heartbeat for 30" in message
+        assert f"worker 0 (pid {os.getpid()}) sent no heartbeat for 30.0 s" in message
         assert "while holding job 0 (line 0)" in message
         assert "it is frozen or starved of CPU; 0 of 1 jobs were done" in message
-        quiet = _worker(ours, heard_ago=30.0)
+        quiet = _worker(ours, heard_ago=30.0, now=clock.now)
         quiet.talked = False  # before its first word: the startup allowance
         pool._check_heard(quiet, jobs, 1)
     finally:
@@ -489,9 +492,16 @@ def test_a_stale_lock_is_removed_and_no_lock_is_waited_on(tmp_path: Path) -> Non
     stale.write_text("{}")
     alive = runs / f".bench-{os.getppid()}.lock"  # a live process: another bench, for us
     alive.write_text(json.dumps({"started": "then", "results": "elsewhere"}))
-    started = time.monotonic()
-    watch = sharing.Watch(tmp_path, cores=1, lock_dir=tmp_path / "machine")
-    assert time.monotonic() - started < 1  # never blocks
+    # never blocks: the live lock's process (our parent) outlives this test, so a Watch that
+    # waited for it would never be made (a hang guard, not a speed limit)
+    made: list[sharing.Watch] = []
+    maker = threading.Thread(
+        target=lambda: made.append(sharing.Watch(tmp_path, cores=1, lock_dir=tmp_path / "machine"))
+    )
+    maker.start()
+    maker.join(timeout=HANG_SECONDS)
+    assert made, "hang guard: the Watch is still waiting"
+    (watch,) = made
     assert (runs / f".bench-{os.getpid()}.lock").exists()
     assert (tmp_path / "machine" / f".bench-{os.getpid()}.lock").exists()
     seen = watch.finish()
