@@ -34,6 +34,8 @@ PATTERNS = {
     "rings": "ring_pattern",
     "checkers": "checkers_pattern",
 }
+MAP = "map"  # a texture map (the bonus chapter): ``scene.textures``
+PATTERN_TYPES = (*PATTERNS, MAP)
 PATTERN_KEYS = ("type", "colors", "transform")
 # the range each number property may take: (low, high, what the error says it must be);
 # the book's functions take any number, but outside these a material is not a surface
@@ -70,7 +72,7 @@ def read_pattern(ctx: Context, node: Node) -> Any:
     entries = reader.mapping(node, "a pattern")
     type_node = reader.require(entries, "type", node, "the pattern")
     kind = reader.string(type_node, "the pattern's type")
-    if kind == "map":
+    if kind == MAP:
         from scene.textures import MAP_KEYS, read_map_pattern  # it reads colors
 
         reader.check_keys(entries, MAP_KEYS, "a map pattern")
@@ -79,7 +81,7 @@ def read_pattern(ctx: Context, node: Node) -> Any:
         reader.check_keys(entries, PATTERN_KEYS, "a pattern")
         if kind not in PATTERNS:
             reader.fail(
-                type_node, f"unknown pattern type {kind!r}; known: {', '.join(PATTERNS)}, map"
+                type_node, f"unknown pattern type {kind!r}; known: {', '.join(PATTERN_TYPES)}"
             )
         pattern = _two_color_pattern(ctx, node, entries, kind, type_node)
     if "transform" in entries:

@@ -32,6 +32,8 @@ from scene.obj_mesh import Mesh, read_mesh
 from scene.reader import Entry, line_of
 from scene.transforms import read_transform, transform_problem
 
+SCENE_ITEMS = ("camera", "light", "area_light")
+"""What a scene file adds besides shapes (``scene.loader`` reads each)."""
 COMMON_KEYS = ("add", "transform", "material", "shadow")
 STRUCTURES: dict[str, tuple[str, ...]] = {
     "group": ("children",),
@@ -111,14 +113,13 @@ def _start(ctx: Context, node: Node, add_node: Node) -> ShapeSpec:
         return dataclasses.replace(base, line=line, label=label)
     if name in ctx.scope:
         ctx.lookup(add_node, "shape", "add")  # names the definition and what it really is
-    if name in ("camera", "light"):
+    if name in SCENE_ITEMS:
         reader.fail(add_node, f"a {name} cannot be part of a shape; add it at the top level")
     defined = sorted(n for n, d in ctx.scope.items() if d.kind == "shape")
     also = f", or a defined shape: {', '.join(defined)}" if defined else ""
     reader.fail(
         add_node,
-        f"unknown thing to add: {name!r}; known: camera, light, area_light, "
-        f"{', '.join(SHAPES)}{also}",
+        f"unknown thing to add: {name!r}; known: {', '.join((*SCENE_ITEMS, *SHAPES))}{also}",
     )
 
 

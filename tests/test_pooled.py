@@ -138,9 +138,9 @@ def test_rtc_render_writes_no_file_when_a_worker_dies(
 
 
 def test_pooling_works_after_numba_threads_ran_in_the_same_process() -> None:
-    """DESIGN.md: a fork-based pool can hang once numba's OpenMP threads have run in the
-    parent; the pool spawns its workers. (This guards the ordinary case; a worker that itself
-    runs numba code is covered by the numba variant's own tests.)"""
+    """A fork-based pool hangs once numba's OpenMP threads have run in the parent (GNU
+    OpenMP cannot be forked); the pool spawns its workers. (This guards the ordinary case; a
+    worker that itself runs numba code is covered by the numba variant's own tests.)"""
     numba = pytest.importorskip("numba")
     import numpy as np
 
