@@ -25,10 +25,11 @@ from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
 
 from raytracer.sampling import MAX_LIGHT_STEPS
 from scene.build import Builder, divide_groups
+from scene.colors import read_color
 from scene.context import Context, Definition, Kind, updated
 from scene.errors import SceneError
 from scene.limits import Limits, limits_from_environment
-from scene.materials import read_color, read_material_properties
+from scene.materials import read_material_properties
 from scene.progress import LoadProgress
 from scene.reader import Entry, Reader, compose, describe, line_of
 from scene.shapes import SCENE_ITEMS, SHAPES, ShapeSpec, read_shape, with_meshes

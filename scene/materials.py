@@ -13,8 +13,10 @@ from typing import Any
 
 from yaml.nodes import Node, ScalarNode
 
+from scene.colors import read_color
 from scene.context import Context, updated
 from scene.reader import Entry, line_of
+from scene.textures import MAP_KEYS, read_map_pattern
 from scene.transforms import read_transform, transform_problem
 
 # the format's key -> the book's material property
@@ -49,22 +51,6 @@ RANGES = {
 }
 
 
-def read_color(ctx: Context, node: Node, what: str) -> Any:
-    """``[r, g, b]`` (each 0 or more; above 1 is brighter than white) as the variant's
-    color."""
-    r, g, b = ctx.reader.numbers(node, what, 3)
-    for item, value, name in zip(
-        ctx.reader.sequence(node, what), (r, g, b), ("red", "green", "blue"), strict=True
-    ):
-        if value < 0:
-            ctx.reader.fail(
-                item,
-                f"{what}: {name} is {value}; a color's components are 0 or more (a negative "
-                "amount of light does not exist)",
-            )
-    return ctx.need("color", node, what)(r, g, b)
-
-
 def read_pattern(ctx: Context, node: Node) -> Any:
     """``{type: checkers, colors: [[1, 1, 1], [0, 0, 0]], transform: [...]}`` as a pattern;
     ``type: map`` is a texture map (``scene.textures``)."""
@@ -73,8 +59,6 @@ def read_pattern(ctx: Context, node: Node) -> Any:
     type_node = reader.require(entries, "type", node, "the pattern")
     kind = reader.string(type_node, "the pattern's type")
     if kind == MAP:
-        from scene.textures import MAP_KEYS, read_map_pattern  # it reads colors
-
         reader.check_keys(entries, MAP_KEYS, "a map pattern")
         pattern = read_map_pattern(ctx, node, entries)
     else:
