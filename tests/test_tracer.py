@@ -163,14 +163,15 @@ def test_variants_declare_the_steps_they_override(name: str, steps: tuple[str, .
     assert v.api["color_at"].__self__ is v.tracer
 
 
-def test_the_readmes_own_variant_example_works() -> None:
-    """README.md's "One tracer" example: a subclass overriding one step, as a variant."""
+def test_the_architecture_pages_own_variant_example_works() -> None:
+    """docs/architecture.md's "Your own variant" example: a subclass overriding one step."""
     from pathlib import Path
 
-    text = (Path(__file__).resolve().parent.parent / "README.md").read_text(encoding="utf-8")
+    page = Path(__file__).resolve().parent.parent / "docs" / "architecture.md"
+    text = page.read_text(encoding="utf-8")
     code = text.split("```python\n# noshadows.py\n", 1)[1].split("```", 1)[0]
     namespace: dict[str, Any] = {}
-    exec(compile(code, "README.md (noshadows.py)", "exec"), namespace)
+    exec(compile(code, "docs/architecture.md (noshadows.py)", "exec"), namespace)
     v = namespace["variant"]()
     assert v.name == "noshadows" and v.steps == ("is_shadowed",)
     c, w = _shadow_scene()
