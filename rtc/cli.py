@@ -100,6 +100,12 @@ def check_output(text: str) -> Path:
     exists = _exists(output, what)
     if exists and output.is_dir():
         raise UserError(f"{what}: it is a folder")
+    if exists:  # a named pipe would block the writer until something reads it
+        from scene.files import describe
+
+        odd = describe(output)
+        if odd is not None:
+            raise UserError(f"{what}: {odd}")
     folder = output.parent
     if _exists(folder, what) and not folder.is_dir():
         raise UserError(f"{what}: {str(folder)!r} is a file, not a folder")
