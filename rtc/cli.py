@@ -15,6 +15,8 @@ import tempfile
 from pathlib import Path
 from types import ModuleType
 
+from compiled import KernelFolderError
+
 COMMANDS = [
     "rtc.cmd_variants",
     "rtc.cmd_new",
@@ -152,7 +154,7 @@ def main(argv: list[str] | None = None) -> int:
         if isinstance(getattr(args, "results_dir", None), Path):
             check_results_dir(args.results_dir)
         return int(args.run(args))
-    except UserError as error:
+    except (UserError, KernelFolderError) as error:
         print(f"rtc {args.command}: {error}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
