@@ -122,6 +122,18 @@ def check_output(text: str) -> Path:
     return output
 
 
+def check_memory(variant: str, width: int, height: int) -> None:
+    """A ``UserError`` naming the size, the memory it needs and the memory left, when a
+    ``width`` x ``height`` render with ``variant`` would not fit (before it starts)."""
+    from harness.sizes import render_bytes
+    from scene.memory import NotEnoughMemory, check
+
+    try:
+        check(render_bytes(variant, width, height), f"a {width}x{height} picture with {variant}")
+    except NotEnoughMemory as error:
+        raise UserError(f"{error}; choose a smaller --size") from None
+
+
 def _commands(argv: list[str] | None = None) -> list[ModuleType]:
     """The command modules the parser needs: only the chosen one when ``argv`` starts with a
     command's name (``rtc/cmd_NAME.py``), so that start-up imports only what runs."""
@@ -160,6 +172,10 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print(f"rtc {args.command}: interrupted", file=sys.stderr)
         return 130
+    except MemoryError as error:  # what the checks before the work did not foresee
+        print(f"rtc {args.command}: out of memory{f': {error}' if str(error) else ''}; "
+              "try a smaller size or scene", file=sys.stderr)  # fmt: skip
+        return 1
     except BrokenPipeError:  # `rtc kata | head`: the reader went away; not an error of ours
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())  # so the interpreter's final flush is quiet

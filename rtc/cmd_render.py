@@ -13,7 +13,7 @@ from typing import Any
 from harness.images import write_image
 from harness.make_meshes import provide
 from raytracer.camera import RenderSettings
-from rtc.cli import UserError, check_output
+from rtc.cli import UserError, check_memory, check_output
 from rtc.cmd_demo import parse_size
 from scene import SceneError, load_scene
 
@@ -122,9 +122,10 @@ def run(args: argparse.Namespace) -> int:
         world = variant.world_for(scene)
     except SceneError as error:
         raise UserError(str(error)) from None
+    camera = scene.camera
+    check_memory(variant.name, camera.hsize, camera.vsize)
     for warning in scene.warnings:
         print(f"rtc render: warning: {warning}", file=sys.stderr, flush=True)
-    camera = scene.camera
     print(
         f"rendering {args.scene} at {camera.hsize}x{camera.vsize} with {variant.name} "
         f"(depth {settings.depth}, epsilon {settings.epsilon:g}, "
