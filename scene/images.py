@@ -12,8 +12,10 @@ from __future__ import annotations
 import io
 import struct
 import warnings
+from array import array
+from collections.abc import Iterator, Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, overload
 
 from yaml.nodes import Node
 
@@ -30,9 +32,9 @@ MAX_IMAGE_BYTES = 64 * 1024 * 1024  # a larger texture file is almost certainly 
 # is about a gigabyte; more is almost certainly a mistake
 MAX_IMAGE_PIXELS = 4096 * 4096
 # what a texture's pixel costs while it is read, at the peak (measured): a plain PPM's text
-# split into numbers, then colors; an image Pillow decodes, as colors
+# split into numbers, then colors; an image Pillow decodes, its channel values (``Texels``)
 PPM_BYTES_PER_PIXEL = 300
-IMAGE_BYTES_PER_PIXEL = 150
+IMAGE_BYTES_PER_PIXEL = 24
 
 
 def image_path(ctx: Context, node: Node) -> Path:
@@ -104,27 +106,113 @@ def _too_large(
         ctx.reader.fail(node, str(error))
 
 
-def _levels(ctx: Context, node: Node, path: Path, image: Any) -> list[float]:
-    """The decoded ``image``'s channel levels from 0 to 1, three a pixel, row by row: 8-bit
-    values divided by 255, a 16-bit grey image's by 65535 (Pillow's conversion to RGB would
-    clip them at 255: 25% grey would turn white). Equal values share one float."""
+class Texels(Sequence[Color]):
+    """An image texture's pixels as ``Color`` values, made when they are read from the
+    channel values Pillow decoded (``channels``: bytes of ``bits`` 8, three a pixel, or of
+    16, one grey value a pixel): 8-bit values divided by 255, 16-bit grey ones by 65535
+    (Pillow's conversion to RGB would clip those at 255: 25% grey would turn white). A
+    4096x4096 texture is 50 MB of bytes here, not millions of objects to build, keep and
+    pickle (a pooled render sends it to every worker)."""
+
+    __slots__ = ("_count", "_table", "bits", "channels")
+
+    def __init__(self, channels: bytes, bits: int) -> None:
+        self.channels = channels
+        self.bits = bits
+        self._count = len(channels) // 3 if bits == 8 else len(channels) // 2
+        self._table = LEVELS_16 if bits == 16 else LEVELS_8
+        if bits == 16:
+            grey = array("H")
+            grey.frombytes(channels)
+            self.channels = grey  # type: ignore[assignment]
+
+    def __len__(self) -> int:
+        return self._count
+
+    @overload
+    def __getitem__(self, index: int) -> Color: ...
+
+    @overload
+    def __getitem__(self, index: slice) -> list[Color]: ...
+
+    def __getitem__(self, index: int | slice) -> Color | list[Color]:
+        if isinstance(index, slice):
+            return [self[i] for i in range(*index.indices(self._count))]
+        if index < 0:
+            index += self._count
+        if not 0 <= index < self._count:
+            raise IndexError("texture pixel index out of range")
+        table, values = self._table, self.channels
+        if self.bits == 16:
+            level = table[values[index]]
+            return Color(level, level, level)
+        i = 3 * index
+        return Color(table[values[i]], table[values[i + 1]], table[values[i + 2]])
+
+    def __iter__(self) -> Iterator[Color]:
+        return (self[i] for i in range(self._count))
+
+    def __eq__(self, other: object) -> bool:
+        if isinstance(other, Texels):
+            return self.bits == other.bits and bytes(self.channels) == bytes(other.channels)
+        return list(self) == other if isinstance(other, list) else NotImplemented
+
+    __hash__ = None  # type: ignore[assignment]
+
+    def levels(self) -> Any:
+        """Every channel level as a numpy array (height x width x 3 once reshaped)."""
+        import numpy as np
+
+        if self.bits == 16:
+            grey = np.asarray(self.channels, dtype=np.float64) / 65535.0
+            return np.repeat(grey[:, None], 3, axis=1)
+        return np.frombuffer(bytes(self.channels), dtype=np.uint8).reshape(-1, 3) / 255.0
+
+
+LEVELS_8 = [i / 255 for i in range(256)]
+LEVELS_16 = [i / 65535 for i in range(65536)]
+
+
+class TextureCanvas(Canvas):
+    """An image texture: a ``Canvas`` whose pixels are ``Texels``; pickled as its channel
+    values; ``array`` (height x width x 3 levels) for a tracer that packs it (numba)."""
+
+    __slots__ = ()
+
+    def __reduce__(self) -> tuple[Any, tuple[int, int, bytes, int]]:
+        texels = self.pixels
+        assert isinstance(texels, Texels)
+        return texture_canvas, (self.width, self.height, bytes(texels.channels), texels.bits)
+
+    @property
+    def array(self) -> Any:
+        texels = self.pixels
+        assert isinstance(texels, Texels)
+        return texels.levels().reshape(self.height, self.width, 3)
+
+
+def texture_canvas(width: int, height: int, channels: bytes, bits: int) -> TextureCanvas:
+    """The texture of ``channels`` (see ``Texels``)."""
+    return TextureCanvas(width, height, Texels(channels, bits))  # type: ignore[arg-type]
+
+
+def _channels(ctx: Context, node: Node, path: Path, image: Any) -> tuple[bytes, int]:
+    """The decoded ``image``'s channel values and their bits (``TextureCanvas``)."""
     mode = image.mode
     if mode.startswith("I;16") or mode == "I":
         grey = list(image.getdata())
-        if mode == "I" and (min(grey, default=0) < 0 or max(grey, default=0) > 65535):
+        if min(grey, default=0) < 0 or max(grey, default=0) > 65535:
             ctx.reader.fail(
                 node, f"the image file {path} has 32-bit pixels; textures are 8 or 16 bits "
                 "a channel: save it as an 8- or 16-bit PNG",
             )  # fmt: skip
-        table = [i / 65535 for i in range(65536)]
-        return [table[v] for v in grey for _ in range(3)]
+        return array("H", grey).tobytes(), 16
     if mode == "F":
         ctx.reader.fail(
             node, f"the image file {path} has floating-point pixels (mode F); textures are 8 "
             "or 16 bits a channel: save it as an 8- or 16-bit PNG",
         )  # fmt: skip
-    table = [i / 255 for i in range(256)]
-    return [table[v] for v in image.convert("RGB").tobytes()]
+    return image.convert("RGB").tobytes(), 8
 
 
 def _decode_with_pillow(ctx: Context, node: Node, path: Path, data: bytes) -> Canvas:
@@ -136,7 +224,7 @@ def _decode_with_pillow(ctx: Context, node: Node, path: Path, data: bytes) -> Ca
             with Image.open(io.BytesIO(data)) as image:
                 _too_large(ctx, node, path, *image.size, IMAGE_BYTES_PER_PIXEL)  # before
                 image.load()  # its pixels are decoded
-                levels = _levels(ctx, node, path, image)
+                channels, bits = _channels(ctx, node, path, image)
     except SceneError:  # a ValueError, from _too_large
         raise
     except UnidentifiedImageError:
@@ -146,8 +234,7 @@ def _decode_with_pillow(ctx: Context, node: Node, path: Path, data: bytes) -> Ca
     except (OSError, SyntaxError, ValueError, EOFError, struct.error) as error:
         ctx.reader.fail(node, f"the image file {path} is broken: {error}")
     width, height = image.size
-    pixels = [Color(levels[i], levels[i + 1], levels[i + 2]) for i in range(0, len(levels), 3)]
     try:
-        return Canvas(width, height, pixels)
+        return texture_canvas(width, height, channels, bits)
     except ValueError as error:
         ctx.reader.fail(node, f"the image file {path} cannot be a texture: {error}")
