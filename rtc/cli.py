@@ -84,6 +84,16 @@ def check_writable(path: Path, what: str) -> None:
         ) from None
 
 
+def cannot_write(error: OSError, results: Path) -> str:
+    """One line for a write the disk refused while a run was being kept under ``results``
+    (full, read-only, over quota): what, where, and that nothing was kept."""
+    where = f" {error.filename}" if error.filename else ""
+    return (
+        f"cannot write{where} under {str(results)!r}: {error.strerror or error}; nothing "
+        "was kept (free some space and run again)"
+    )
+
+
 def check_output(text: str) -> Path:
     """``-o``'s path, checked before anything is rendered: a known image extension, not a
     folder (nor spelled as one, ``out.png/``), in a folder that exists and takes new files,

@@ -10,7 +10,7 @@ import time
 from typing import TYPE_CHECKING, Any
 
 from harness import numba_targets
-from rtc.cli import UserError, add_results_dir, check_memory, check_writable
+from rtc.cli import UserError, add_results_dir, cannot_write, check_memory, check_writable
 
 if TYPE_CHECKING:
     from harness.plan import BenchSettings
@@ -288,6 +288,8 @@ def run(args: argparse.Namespace) -> int:
         path = run_bench(settings, log)
     except SceneError as error:  # checked before anything is measured or written
         raise UserError(str(error)) from None
+    except OSError as error:  # a full disk: no run file, no lock, no staging folder
+        raise UserError(cannot_write(error, settings.results)) from None
     print(console_table(load_run(path)["rtc"]))
     print(f"rtc bench: wrote {path}")
     if baseline is None:
