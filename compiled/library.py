@@ -198,19 +198,25 @@ def _remove(path: Path) -> None:
             path.unlink(missing_ok=True)
 
 
+NUMBA_CACHE_SET = "_RTC_NUMBA_CACHE_DIR"
+"""Where ``private_numba_cache`` pointed ``NUMBA_CACHE_DIR`` (inherited by child processes):
+a value equal to it is ours to move along with the kernel folder, any other the user's."""
+
+
 def private_numba_cache() -> None:
     """Keep numba's disk cache in the kernel folder (``numba-cache``), before numba compiles
     or loads anything of ours: never a folder another user can write in (its files are
-    pickles: loading one runs what it says). ``NUMBA_CACHE_DIR``, when set, is kept (the
-    user's choice, or our parent process's). A damaged file in numba's cache is a miss,
-    compiled again with one line (``_damaged_cache_is_a_miss``)."""
-    if not os.environ.get("NUMBA_CACHE_DIR"):
+    pickles: loading one runs what it says). A ``NUMBA_CACHE_DIR`` the user set is kept. A
+    damaged file in numba's cache is a miss, compiled again with one line
+    (``_damaged_cache_is_a_miss``)."""
+    given = os.environ.get("NUMBA_CACHE_DIR")
+    if not given or given == os.environ.get(NUMBA_CACHE_SET):
         folder = kernel_folder() / "numba-cache"
         with contextlib.suppress(FileExistsError):
             folder.mkdir(mode=0o700)
-        os.environ["NUMBA_CACHE_DIR"] = str(folder)  # numba reads it when it is imported
-        config = sys.modules.get("numba.core.config")
-        if config is not None:  # already imported: what decorates from now on uses it
+        os.environ["NUMBA_CACHE_DIR"] = os.environ[NUMBA_CACHE_SET] = str(folder)  # numba
+        config = sys.modules.get("numba.core.config")  # reads it when it is imported; if
+        if config is not None:  # it is already, what it decorates from now on uses this
             config.CACHE_DIR = str(folder)  # type: ignore[attr-defined]
     _damaged_cache_is_a_miss()
 

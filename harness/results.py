@@ -155,7 +155,11 @@ class RunWriter:
         if self.json_path.exists() or self.images_path.exists():
             raise FileExistsError(f"{self.json_path} already exists; results are never replaced")
         os.rename(self.staging, self.images_path)
-        write_new_file(self.json_path, json.dumps(document, indent=1, sort_keys=False) + "\n")
+        try:
+            write_new_file(self.json_path, json.dumps(document, indent=1, sort_keys=False) + "\n")
+        except BaseException:  # a full disk: no run's images without their run file
+            shutil.rmtree(self.images_path, ignore_errors=True)
+            raise
         return self.json_path
 
     def abandon(self) -> None:

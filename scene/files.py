@@ -58,13 +58,18 @@ def read_bytes(path: str | os.PathLike[str], limit: int) -> bytes:
     """The whole of the regular file ``path``, at most ``limit`` bytes; an ``OSError`` (see
     the module) for anything else, never a wait."""
     fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
-    with open(fd, "rb", buffering=0, closefd=True) as file:  # a read allocates what it returns
+    try:
         info = os.fstat(fd)
-        problem = not_regular(info.st_mode)
-        if problem is not None:
-            raise problem
-        if info.st_size > limit:
-            raise _too_big(info.st_size, limit)
+        problem = not_regular(info.st_mode) or (
+            _too_big(info.st_size, limit) if info.st_size > limit else None
+        )
+    except BaseException:
+        os.close(fd)
+        raise
+    if problem is not None:
+        os.close(fd)
+        raise problem
+    with open(fd, "rb", buffering=0, closefd=True) as file:  # a read allocates what it returns
         parts: list[bytes] = []
         total = 0
         step = info.st_size + 1  # the whole file at once, and a byte more to see its end

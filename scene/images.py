@@ -200,13 +200,15 @@ def _channels(ctx: Context, node: Node, path: Path, image: Any) -> tuple[bytes, 
     """The decoded ``image``'s channel values and their bits (``TextureCanvas``)."""
     mode = image.mode
     if mode.startswith("I;16") or mode == "I":
-        grey = list(image.getdata())
-        if min(grey, default=0) < 0 or max(grey, default=0) > 65535:
+        import numpy as np
+
+        grey = np.asarray(image, dtype=np.int64).reshape(-1)
+        if grey.size and (grey.min() < 0 or grey.max() > 65535):
             ctx.reader.fail(
                 node, f"the image file {path} has 32-bit pixels; textures are 8 or 16 bits "
                 "a channel: save it as an 8- or 16-bit PNG",
             )  # fmt: skip
-        return array("H", grey).tobytes(), 16
+        return grey.astype(np.uint16).tobytes(), 16
     if mode == "F":
         ctx.reader.fail(
             node, f"the image file {path} has floating-point pixels (mode F); textures are 8 "
