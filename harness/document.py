@@ -143,6 +143,23 @@ def _plain(text: str, markdown: bool) -> str:
     return html.escape(_one_line(text), quote=False).translate(_MD_PUNCTUATION)
 
 
+_BLOCK_START = re.compile(r"(#{1,6}|[-+*]|\d{1,9}(?=[.)]))(?=[.)]?(\s|$))")
+
+
+def _md_block(rendered: str) -> str:
+    """A paragraph's, a heading's or a list item's Markdown, which must not start another
+    block: a leading ``#`` (a heading), ``-``, ``+``, ``*`` or ``1.`` (a list) from a name is
+    escaped, and leading blanks (code) dropped."""
+    rendered = rendered.lstrip()
+    match = _BLOCK_START.match(rendered)
+    if match is None:
+        return rendered
+    end = match.end(1)
+    if rendered[:end].isdigit():  # 1. or 1): the dot or parenthesis makes the list
+        return f"{rendered[:end]}\\{rendered[end:]}"
+    return "\\" + rendered
+
+
 def _md_cell(text: str, folder: Path | None) -> str:
     return _inline(text, folder, markdown=True).replace("|", "\\|")
 
@@ -161,7 +178,7 @@ def to_markdown(blocks: list[Block], folder: Path | None = None) -> str:
     results folder the Markdown is written to; None: relative paths without ``..``)."""
 
     def text(value: str) -> str:
-        return _inline(value, folder, markdown=True)
+        return _md_block(_inline(value, folder, markdown=True))
 
     out: list[str] = []
     for block in blocks:
