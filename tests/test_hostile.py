@@ -228,6 +228,11 @@ def test_a_named_pipe_as_a_feature_file_or_a_run_file_is_one_line(tmp_path: Path
     ]
 
 
+def test_dev_zero_as_a_run_file_is_one_line(capsys: pytest.CaptureFixture[str]) -> None:
+    line = one_line(capsys, "compare", "/dev/zero", "/dev/zero")
+    assert line == "rtc compare: /dev/zero: it is a character device, not a regular file"
+
+
 def test_a_binary_feature_file_is_one_line_naming_it(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
@@ -479,6 +484,23 @@ def test_a_damaged_library_is_built_again_with_one_line(
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and words in err and "building it again" in err, err
     assert library.verify(TINY.path())[0] is not None  # sound again
+
+
+def test_an_unreadable_library_is_built_again_or_read_as_it_is(
+    kernels: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Mode 000: a user cannot read it (built again, one line); root can (its digest is
+    right, so it is loaded as it is, in silence)."""
+    _record, file = the_library(kernels)
+    file.chmod(0)
+    library._said.clear()
+    compiled = library.load(TINY)
+    assert scaled(compiled) == RIGHT
+    err = capsys.readouterr().err
+    if os.geteuid() == 0:
+        assert err == ""
+    else:
+        assert err.count("\n") == 1 and "cannot be read (Permission denied)" in err, err
 
 
 RECORD_DAMAGE: list[tuple[str, Callable[[Path], object], str]] = [
