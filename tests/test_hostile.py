@@ -415,6 +415,14 @@ def scaled(compiled: library.Compiled) -> list[float]:
 RIGHT = [0.25, 2.25, 4.25, 6.25]
 
 
+def said_lines(err: str) -> list[str]:
+    """The lines the kernel cache said (``rtc: ...``); any other is a command's notice of a
+    compile (``rtc render: compiling ...``) that a render earlier in this process asked for."""
+    other = [line for line in err.splitlines() if not line.startswith("rtc: ")]
+    assert all(line.startswith("rtc render: compil") for line in other), err
+    return [line for line in err.splitlines() if line.startswith("rtc: ")]
+
+
 def the_library(folder: Path) -> tuple[Path, Path]:
     """The test kernel's (record, library file) in ``folder``."""
     (record,) = folder.glob("rtc_tiny_scale_*.json")
@@ -482,7 +490,8 @@ def test_a_damaged_library_is_built_again_with_one_line(
     assert compiled.origin.startswith("shared library")
     assert scaled(compiled) == RIGHT
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and words in err and "building it again" in err, err
+    (said,) = said_lines(err)
+    assert words in said and "building it again" in said, err
     assert library.verify(TINY.path())[0] is not None  # sound again
 
 
@@ -500,7 +509,8 @@ def test_an_unreadable_library_is_built_again_or_read_as_it_is(
     if os.geteuid() == 0:
         assert err == ""
     else:
-        assert err.count("\n") == 1 and "cannot be read (Permission denied)" in err, err
+        (said,) = said_lines(err)
+        assert "cannot be read (Permission denied)" in said, err
 
 
 RECORD_DAMAGE: list[tuple[str, Callable[[Path], object], str]] = [
@@ -528,7 +538,8 @@ def test_a_damaged_record_is_built_again_with_one_line(
     compiled = library.load(TINY)
     assert scaled(compiled) == RIGHT and compiled.origin.startswith("shared library")
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and words in err and "building it again" in err, err
+    (said,) = said_lines(err)
+    assert words in said and "building it again" in said, err
 
 
 def test_a_half_cut_render_library_is_rebuilt_and_the_render_is_right(tmp_path: Path) -> None:
