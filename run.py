@@ -2,7 +2,8 @@
 """Set up the project in ./.venv if needed, then run one of its jobs.
 
     python3 run.py bench   # quick benchmark of the reference scene, writes results/README.md
-    python3 run.py test    # every feature for every variant, the unit tests, ruff and mypy
+    python3 run.py test    # every feature for every variant, the unit tests (on every core),
+                           # ruff and mypy
     python3 run.py rtc ARGS...   # any rtc command inside the environment
 
 Needs only Python 3.11 or newer. The environment is (re)built when pyproject.toml or the
@@ -62,13 +63,36 @@ def bench(extra: list[str]) -> int:
     return code
 
 
+NO_TESTS_SELECTED = 5  # pytest's exit status when no test matched
+
+
+def _marks_serial_tests() -> bool:
+    """Whether a test module marks a test ``serial`` (a text search, which saves collecting
+    the suite twice when none does: a mark it missed would only run in parallel, never be
+    left out)."""
+    return any(
+        "mark.serial" in path.read_text(encoding="utf-8") for path in (ROOT / "tests").rglob("*.py")
+    )
+
+
 def test(extra: list[str]) -> int:
+    """The suite on every core (pytest-xdist), then ruff and mypy. The tests marked
+    ``serial`` (they cannot share the machine; none is, today) run first, alone, in one
+    process; then the others on a worker process per core, ``worksteal`` handing a worker
+    that is done tests from another's queue. ``extra`` goes to both passes."""
+    pytest = [str(BIN / "python"), "-m", "pytest", "--variant", "all"]
+    parallel = [*pytest, "--numprocesses", "auto", "--dist", "worksteal"]
+    worst = 0
+    if _marks_serial_tests():
+        worst = _run(*pytest, "-m", "serial", "-p", "no:xdist", *extra)
+        if worst == NO_TESTS_SELECTED:  # none among those ``extra`` picks
+            worst = 0
+        parallel += ["-m", "not serial"]
     steps = [
-        [str(BIN / "python"), "-m", "pytest", "--variant", "all", *extra],
+        [*parallel, *extra],
         [str(BIN / "ruff"), "check", "."],
         [str(BIN / "mypy")],
     ]
-    worst = 0
     for argv in steps:
         worst = max(worst, _run(*argv))
     return worst

@@ -40,6 +40,7 @@ import contextlib
 import ctypes
 import functools
 import hashlib
+import importlib.metadata
 import importlib.util
 import json
 import os
@@ -258,7 +259,22 @@ def _damaged_cache_is_a_miss() -> None:
 
 
 def _stat_key(package: str) -> str:
-    """An installed package's identity without importing it: its path, size and mtime."""
+    """An installed package's identity without importing it: the hashes its installer
+    recorded for the package's files, so that the same wheel installed in another
+    environment (a fresh clone's ``.venv``) is the same package and the libraries built for
+    it are reused; without such a record, its path, size and mtime."""
+    try:
+        record = importlib.metadata.distribution(package).read_text("RECORD") or ""
+    except importlib.metadata.PackageNotFoundError:
+        record = ""
+    files = sorted(
+        line
+        for line in record.splitlines()
+        if line.startswith(f"{package}/") and "/__pycache__/" not in line
+    )
+    if files:
+        digest = hashlib.sha256("\n".join(files).encode("utf-8")).hexdigest()
+        return f"{package}: {digest}"
     spec = importlib.util.find_spec(package)
     if spec is None or spec.origin is None:
         return f"{package}: missing"

@@ -332,9 +332,7 @@ def _command(args: list[str], cwd: Path) -> dict[str, Any]:
 COMMAND_TIMEOUT = 600.0  # seconds one whole command may take
 
 
-def commands(
-    plan: Plan, paths: dict[str, Path], jobs: Path, log: Log
-) -> dict[str, Any]:
+def commands(plan: Plan, paths: dict[str, Path], jobs: Path, log: Log) -> dict[str, Any]:
     """The ``scene-size-command`` entry: per mesh, ``rtc render`` with ``numba`` against
     POV-Ray on the same scene, whole processes, ``repeat`` times each in turns (see the
     module)."""

@@ -108,6 +108,7 @@ from raytracer.shapes.shape import (
 from raytracer.shapes.smooth_triangle import SmoothTriangle, smooth_triangle
 from raytracer.shapes.sphere import Sphere, glass_sphere, sphere
 from raytracer.shapes.test_shape import TestShape, test_shape
+from raytracer.shapes.torus import Torus, torus
 from raytracer.shapes.triangle import Triangle, triangle
 from raytracer.textures import (
     CubeMap,
@@ -212,6 +213,7 @@ __all__ = [
     "TestPattern",
     "TestShape",
     "TextureMap",
+    "Torus",
     "Tracer",
     "Triangle",
     "Tuple",
@@ -332,6 +334,7 @@ __all__ = [
     "test_pattern",
     "test_shape",
     "texture_map",
+    "torus",
     "transform",
     "translation",
     "transpose",

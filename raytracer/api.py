@@ -30,6 +30,7 @@ CHAPTER_TITLES: dict[int, str] = {
     17: "Bounding Boxes and Hierarchies (bonus chapter)",
     18: "Rendering Soft Shadows (bonus chapter)",
     19: "Texture Mapping (bonus chapter)",
+    20: "Tori (beyond the book)",
 }
 
 # name -> chapter that introduces it. Constants are listed too (EPSILON, identity_matrix).
@@ -81,6 +82,8 @@ BOOK_API: dict[str, int] = {
     "split_bounds": 17, "partition_children": 17, "make_subgroup": 17, "divide": 17,
     # chapter 18: the bonus chapter "Rendering soft shadows" (lighting: 6, is_shadowed: 8)
     "area_light": 18, "point_on_light": 18, "intensity_at": 18, "sequence": 18, "next": 18,
+    # chapter 20: beyond the book, the torus (a quartic)
+    "torus": 20,
     # chapter 19: the bonus chapter "Texture mapping"
     "uv_checkers": 19, "uv_pattern_at": 19, "spherical_map": 19, "planar_map": 19,
     "cylindrical_map": 19, "texture_map": 19, "uv_align_check": 19, "face_from_point": 19,

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
 
 from rtc.cli import UserError, add_results_dir, cannot_write, check_writable
 
@@ -31,4 +32,21 @@ def run(args: argparse.Namespace) -> int:
     except OSError as error:  # a full disk: each file is written whole or not at all
         raise UserError(cannot_write(error, args.results_dir)) from None
     print(f"rtc report: wrote {readme} and {page}")
+    project_readme = Path(args.results_dir).resolve().parent / "README.md"
+    if update_readme(project_readme, args.results_dir):
+        print(f"rtc report: updated the figures in {project_readme}")
     return 0
+
+
+def update_readme(readme: Path, results: Path) -> bool:
+    """Rewrite the figures ``readme`` quotes (between ``harness.readme_figures``' markers)
+    from ``results``' runs; False when it has no such markers or nothing changed."""
+    from harness import readme_figures
+    from harness.report import load_history
+
+    runs, _ = load_history(results)
+    try:
+        return readme_figures.rewrite(readme, runs)
+    except OSError as error:
+        print(f"rtc report: warning: cannot update {readme}: {error}", file=sys.stderr)
+        return False

@@ -14,10 +14,12 @@ from rtc.cli import UserError, add_results_dir, cannot_write, check_writable
 
 NAME = "stability"
 HELP = (
-    "run stiff and extreme cases (scale, cancellation, grazing rays, stiff transforms, "
-    "refraction, degenerate input) on every variant against exact oracles"
+    "run stiff and extreme cases (scale, cancellation, grazing rays, the torus's quartic, "
+    "stiff transforms, refraction, degenerate input) on every variant against exact oracles"
 )
 DEFAULT_SIZE = "32x24"
+GROUPS = ("scale", "cancel", "graze", "torus", "stiff", "singular", "refract", "degen")
+"""The case groups, in the suite's order (a test checks them against its cases)."""
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -39,8 +41,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--cases",
         default=None,
         metavar="PREFIX,...",
-        help="only the cases whose id starts with one of these (groups: scale, cancel, "
-        "graze, stiff, singular, refract, degen; or an id such as scale/1e-6)",
+        help=f"only the cases whose id starts with one of these (groups: {', '.join(GROUPS)}; "
+        "or an id such as scale/1e-6)",
     )
     parser.add_argument("--json", action="store_true", help="print the run as JSON")
     parser.add_argument(

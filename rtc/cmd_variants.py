@@ -21,6 +21,28 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "Name variants as NAME, NAME[opt=value,flag] or NAME[...]:INNER, e.g. "
         "pooled[workers=2]:cached, with --variant (rtc kata, rtc render, pytest)."
     )
+    parser.add_argument(
+        "--markdown",
+        action="store_true",
+        help="print the project's own variants as a Markdown table (name, what it changes, the "
+        "Tracer steps it overrides), as the README shows it",
+    )
+
+
+def markdown_table() -> str:
+    """The project's own available variants, one row each: the name to use, what it changes,
+    the ``Tracer`` steps it overrides (the README's table, checked against this by a test)."""
+    lines = [
+        "| variant | what it changes | the `Tracer` steps it overrides |",
+        "| --- | --- | --- |",
+    ]
+    for entry in registry():
+        v = entry.variant
+        if v is None:
+            continue
+        steps = ", ".join(f"`{step}`" for step in v.steps) if v.tracer is not None else ""
+        lines.append(f"| `{v.name}` | {v.summary} | {steps or 'none'} |")
+    return "\n".join(lines)
 
 
 def overrides_by_chapter(names: frozenset[str]) -> str:
@@ -95,7 +117,9 @@ def describe(entry_name: str, v: Variant) -> list[str]:
 
 
 def run(args: argparse.Namespace) -> int:
-    del args
+    if args.markdown:
+        print(markdown_table())
+        return 0
     for entry in registry(everything=True):
         if entry.variant is None:
             print(f"{entry.name:<12} unavailable {entry.reason}")

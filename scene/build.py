@@ -22,7 +22,7 @@ from scene.context import updated
 from scene.errors import SceneError
 from scene.obj_mesh import Mesh
 from scene.progress import LoadProgress
-from scene.shapes import ShapeSpec
+from scene.shapes import GROUPS, ShapeSpec
 
 
 @dataclass(frozen=True)
@@ -73,7 +73,7 @@ class Builder:
         material = spec.material if spec.material is not None else inherited.material
         shadow = spec.shadow if spec.shadow is not None else inherited.shadow
         passed = Inherited(material, shadow)
-        if spec.kind == "group":
+        if spec.kind in GROUPS:
             shape = api["group"]()
             for child in spec.children:
                 api["add_child"](shape, self.shape(child, passed))

@@ -29,6 +29,7 @@ from raytracer.shapes.shape import Shape
 from raytracer.shapes.smooth_triangle import SmoothTriangle
 from raytracer.shapes.sphere import Sphere
 from raytracer.shapes.test_shape import TestShape
+from raytracer.shapes.torus import Torus
 from raytracer.shapes.triangle import Triangle
 
 Box = tuple[tuple[float, float, float], tuple[float, float, float]]
@@ -45,13 +46,17 @@ class Parameter:
 
     key: the scene format's key (``min``); attribute: the reference shape's (``minimum``);
     default: the value a new shape has (its type says whether the parameter is a number or
-    a boolean); infinite: a number that may be infinite (a cylinder's unbounded ends).
+    a boolean); infinite: a number that may be infinite (a cylinder's unbounded ends);
+    above: the number it must be greater than (None: any), for the error, ``meaning``: what
+    the parameter is.
     """
 
     key: str
     attribute: str
     default: float | bool
     infinite: bool = False
+    above: float | None = None
+    meaning: str = ""
 
     @property
     def boolean(self) -> bool:
@@ -120,12 +125,19 @@ CAPPED = (
     Parameter("closed", "closed", False),
 )
 
+RADII = (
+    Parameter("major-radius", "major_radius", 1.0, above=0.0,
+              meaning="the distance from the centre to the middle of the tube"),
+    Parameter("minor-radius", "minor_radius", 0.25, above=0.0, meaning="the tube's radius"),
+)  # fmt: skip
+
 KINDS: tuple[Kind, ...] = (
     Kind("sphere", Sphere, max_hits=2),
     Kind("plane", Plane, max_hits=1),
     Kind("cube", Cube, max_hits=2),
     Kind("cylinder", Cylinder, max_hits=4, parameters=CAPPED),
     Kind("cone", Cone, max_hits=4, parameters=CAPPED),
+    Kind("torus", Torus, max_hits=4, parameters=RADII),
     Kind("triangle", Triangle, max_hits=1, addable=False, corners=3),
     Kind("smooth_triangle", SmoothTriangle, max_hits=1, addable=False, corners=3, smooth=True),
     Kind("test_shape", TestShape, max_hits=0, addable=False, renders=False),

@@ -25,14 +25,15 @@ from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
 
 from raytracer.sampling import MAX_LIGHT_STEPS
 from scene.build import Builder, divide_groups
+from scene.colors import read_color
 from scene.context import Context, Definition, Kind, updated
 from scene.errors import SceneError
 from scene.files import read_text
 from scene.limits import Limits, limits_from_environment
-from scene.materials import read_color, read_material_properties
+from scene.materials import read_material_properties
 from scene.progress import LoadProgress
 from scene.reader import Entry, Reader, compose, describe, line_of
-from scene.shapes import SHAPES, ShapeSpec, read_shape, with_meshes
+from scene.shapes import SCENE_ITEMS, SHAPES, ShapeSpec, read_shape, with_meshes
 from scene.transforms import read_transform, transform_problem
 
 CAMERA_KEYS = ("add", "width", "height", "field-of-view", "from", "to", "up")
@@ -236,12 +237,9 @@ def _item(state: _Loading, node: Node) -> None:
             f"this one has {', '.join(entries) or 'no keys'}",
         )
     kind = entries["add"].value
-    if isinstance(kind, ScalarNode) and kind.value == "camera":
-        _camera(state, node, entries)
-    elif isinstance(kind, ScalarNode) and kind.value == "light":
-        _light(state, node, entries)
-    elif isinstance(kind, ScalarNode) and kind.value == "area_light":
-        _area_light(state, node, entries)
+    reading = ITEM_READERS.get(kind.value) if isinstance(kind, ScalarNode) else None
+    if reading is not None:
+        reading(state, node, entries)
     else:
         spec = read_shape(state.ctx, node)
         state.ctx.count_shapes(spec.count, node, spec.label)
@@ -249,6 +247,10 @@ def _item(state: _Loading, node: Node) -> None:
             if obj_file not in state.obj_files:
                 state.obj_files.append(obj_file)
         state.objects.append(with_meshes(state.ctx, spec))
+
+
+ITEM_READERS: dict[str, Callable[[_Loading, Node, dict[str, Entry]], None]] = {}
+"""How each of ``scene.shapes.SCENE_ITEMS`` is read (filled below, once its readers exist)."""
 
 
 def _obj_files(spec: ShapeSpec) -> list[Path]:
@@ -459,3 +461,6 @@ def _kind_of(ctx: Context, value: Node, name: str) -> Kind:
         f"define {name!r}: the value must be a material (a mapping), a transform list, "
         f"or a shape (a mapping with 'add'), got {describe(value)}",
     )
+
+
+ITEM_READERS.update(zip(SCENE_ITEMS, (_camera, _light, _area_light), strict=True))

@@ -13,8 +13,10 @@ from typing import Any
 
 from yaml.nodes import Node, ScalarNode
 
+from scene.colors import read_color
 from scene.context import Context, updated
 from scene.reader import Entry, line_of
+from scene.textures import MAP_KEYS, read_map_pattern
 from scene.transforms import read_transform, transform_problem
 
 # the format's key -> the book's material property
@@ -34,6 +36,8 @@ PATTERNS = {
     "rings": "ring_pattern",
     "checkers": "checkers_pattern",
 }
+MAP = "map"  # a texture map (the bonus chapter): ``scene.textures``
+PATTERN_TYPES = (*PATTERNS, MAP)
 PATTERN_KEYS = ("type", "colors", "transform")
 # the range each number property may take: (low, high, what the error says it must be);
 # the book's functions take any number, but outside these a material is not a surface
@@ -47,22 +51,6 @@ RANGES = {
 }
 
 
-def read_color(ctx: Context, node: Node, what: str) -> Any:
-    """``[r, g, b]`` (each 0 or more; above 1 is brighter than white) as the variant's
-    color."""
-    r, g, b = ctx.reader.numbers(node, what, 3)
-    for item, value, name in zip(
-        ctx.reader.sequence(node, what), (r, g, b), ("red", "green", "blue"), strict=True
-    ):
-        if value < 0:
-            ctx.reader.fail(
-                item,
-                f"{what}: {name} is {value}; a color's components are 0 or more (a negative "
-                "amount of light does not exist)",
-            )
-    return ctx.need("color", node, what)(r, g, b)
-
-
 def read_pattern(ctx: Context, node: Node) -> Any:
     """``{type: checkers, colors: [[1, 1, 1], [0, 0, 0]], transform: [...]}`` as a pattern;
     ``type: map`` is a texture map (``scene.textures``)."""
@@ -70,16 +58,14 @@ def read_pattern(ctx: Context, node: Node) -> Any:
     entries = reader.mapping(node, "a pattern")
     type_node = reader.require(entries, "type", node, "the pattern")
     kind = reader.string(type_node, "the pattern's type")
-    if kind == "map":
-        from scene.textures import MAP_KEYS, read_map_pattern  # it reads colors
-
+    if kind == MAP:
         reader.check_keys(entries, MAP_KEYS, "a map pattern")
         pattern = read_map_pattern(ctx, node, entries)
     else:
         reader.check_keys(entries, PATTERN_KEYS, "a pattern")
         if kind not in PATTERNS:
             reader.fail(
-                type_node, f"unknown pattern type {kind!r}; known: {', '.join(PATTERNS)}, map"
+                type_node, f"unknown pattern type {kind!r}; known: {', '.join(PATTERN_TYPES)}"
             )
         pattern = _two_color_pattern(ctx, node, entries, kind, type_node)
     if "transform" in entries:

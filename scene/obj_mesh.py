@@ -50,10 +50,20 @@ SCANNER = Recipe(
     module="scene.obj_scan",
     function="run_arrays",
     parameters=(
-        ("int64_t", "mode"), ("uint8_t *", "buf"), ("int64_t", "base"), ("int64_t", "n"),
-        ("int64_t *", "counts"), ("double *", "vs"), ("double *", "ns"), ("int32_t *", "tri"),
-        ("int32_t *", "tri_n"), ("int32_t *", "tri_line"), ("int32_t *", "tri_group"),
-        ("int64_t *", "slow"), ("int64_t", "capacity"), ("int8_t *", "flags"),
+        ("int64_t", "mode"),
+        ("uint8_t *", "buf"),
+        ("int64_t", "base"),
+        ("int64_t", "n"),
+        ("int64_t *", "counts"),
+        ("double *", "vs"),
+        ("double *", "ns"),
+        ("int32_t *", "tri"),
+        ("int32_t *", "tri_n"),
+        ("int32_t *", "tri_line"),
+        ("int32_t *", "tri_group"),
+        ("int64_t *", "slow"),
+        ("int64_t", "capacity"),
+        ("int8_t *", "flags"),
         ("double", "limit"),
     ),
     what="the OBJ scanner",
@@ -286,9 +296,7 @@ class _Scan:
                 out = arrays["vs"] if kind == S.K_V else arrays["ns"]
                 out[3 * slot : 3 * slot + 3] = (x, y, z)
             else:
-                known = SimpleNamespace(
-                    vertices=range(vertices + 1), normals=range(normals + 1)
-                )
+                known = SimpleNamespace(vertices=range(vertices + 1), normals=range(normals + 1))
                 corners = _corners(source, number, line, words, known)  # type: ignore[arg-type]
                 if len(corners) - 2 != triangles:
                     return None
@@ -351,4 +359,3 @@ class _Scan:
             degenerate,
             first,
         )
-

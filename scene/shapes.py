@@ -26,19 +26,26 @@ from yaml.nodes import MappingNode, Node
 
 from scene.context import Context
 from scene.files import describe, read_bytes
+from scene.fir_branch import BARK, LENGTH, NEEDLE, NEEDLES, RADIUS, needle_mesh
 from scene.kinds import ADDABLE, BY_NAME
 from scene.materials import read_material
 from scene.obj_mesh import Mesh, read_mesh
 from scene.reader import Entry, line_of
 from scene.transforms import read_transform, transform_problem
 
+SCENE_ITEMS = ("camera", "light", "area_light")
+"""What a scene file adds besides shapes (``scene.loader`` reads each)."""
 COMMON_KEYS = ("add", "transform", "material", "shadow")
 STRUCTURES: dict[str, tuple[str, ...]] = {
     "group": ("children",),
     "obj": ("file",),
     "csg": ("operation", "left", "right"),
+    "fir_branch": ("seed",),
 }
-"""The shapes that hold others (chapters 14, 15, 16) and their own keys."""
+"""The shapes that hold others (chapters 14, 15, 16; the christmas scene's fir branch,
+``scene.fir_branch``) and their own keys."""
+GROUPS = ("group", "fir_branch")
+"""The structures a tracer builds as a group of their ``children``."""
 KEYS: dict[str, tuple[str, ...]] = {
     **{k.name: (*COMMON_KEYS, *k.keys) for k in ADDABLE},
     **{name: (*COMMON_KEYS, *own) for name, own in STRUCTURES.items()},
@@ -50,6 +57,7 @@ FACTORIES: dict[str, tuple[str, ...]] = {
     "group": ("group", "add_child"),
     "obj": ("group", "add_child", "triangle"),
     "csg": ("csg",),
+    "fir_branch": ("group", "add_child", "cylinder", "triangle"),
 }
 OPERATIONS = ("union", "intersection", "difference")
 # the most of an OBJ file read: a model within the default limit of shapes (5,000,000
@@ -61,9 +69,11 @@ MAX_OBJ_BYTES = 1 << 30
 class ShapeSpec:
     """A resolved ``add:``. ``None`` means "not given" (the factory's default, or inherited).
 
-    kind: one of ``SHAPES``; line: where it was added; label: how errors name it;
+    kind: one of ``SHAPES`` (a fir branch is a group of the children it is given: its stem
+    and its needles); line: where it was added; label: how errors name it;
     transform: a matrix; material: book material properties; shadow: casts a shadow;
-    params: a leaf kind's parameters given (by the shape's attribute, ``scene.kinds``);
+    params: a leaf kind's parameters given (by the shape's attribute, ``scene.kinds``), a
+    fir branch's seed;
     children: a group's; obj_file: the OBJ model's resolved path; mesh: its triangles
     (``scene.obj_mesh``), read when the shape is added to the world; operation, left, right:
     a CSG's; height: levels of shapes, itself included (a sphere 1, a group of spheres 2);
@@ -107,14 +117,13 @@ def _start(ctx: Context, node: Node, add_node: Node) -> ShapeSpec:
         return dataclasses.replace(base, line=line, label=label)
     if name in ctx.scope:
         ctx.lookup(add_node, "shape", "add")  # names the definition and what it really is
-    if name in ("camera", "light"):
+    if name in SCENE_ITEMS:
         reader.fail(add_node, f"a {name} cannot be part of a shape; add it at the top level")
     defined = sorted(n for n, d in ctx.scope.items() if d.kind == "shape")
     also = f", or a defined shape: {', '.join(defined)}" if defined else ""
     reader.fail(
         add_node,
-        f"unknown thing to add: {name!r}; known: camera, light, area_light, "
-        f"{', '.join(SHAPES)}{also}",
+        f"unknown thing to add: {name!r}; known: {', '.join((*SCENE_ITEMS, *SHAPES))}{also}",
     )
 
 
@@ -174,6 +183,8 @@ def read_shape(ctx: Context, node: Node) -> ShapeSpec:
             changes["children"] = tuple(_child(ctx, item, f"{what} item") for item in items)
         elif key == "file":
             changes["obj_file"] = _obj_path(ctx, entry)
+        elif key == "seed":
+            changes["params"] = {"seed": reader.whole(value, what, 0, 2**63 - 1)}
         elif key == "operation":
             operation = reader.string(value, what)
             if operation not in OPERATIONS:
@@ -183,6 +194,8 @@ def read_shape(ctx: Context, node: Node) -> ShapeSpec:
         elif key in ("left", "right"):
             changes[key] = _child(ctx, value, what)
     spec = dataclasses.replace(spec, **changes)
+    if spec.kind == "fir_branch":  # drawn again for every add: its seed or line may change
+        spec = dataclasses.replace(spec, children=_fir_branch(ctx, spec, node))
     _check_bounds(ctx, spec, node, entries)
     _check_complete(ctx, spec, node, entries)
     return _measured(ctx, spec, node)
@@ -194,7 +207,38 @@ def _parameter(ctx: Context, kind: str, key: str, value: Node, what: str) -> dic
     if parameter.boolean:
         return {parameter.attribute: ctx.reader.boolean(value, what)}
     number = ctx.reader.number(value, what, allow_infinity=parameter.infinite)
+    if parameter.above is not None and not number > parameter.above:
+        ctx.reader.fail(
+            value,
+            f"{what} must be greater than {parameter.above:g} ({parameter.meaning}), "
+            f"got {number:g}",
+        )
     return {parameter.attribute: number}
+
+
+def _fir_branch(ctx: Context, spec: ShapeSpec, node: Node) -> tuple[ShapeSpec, ...]:
+    """A fir branch's stem and needles (``scene.fir_branch``), drawn with its ``seed``
+    (default: the line it is added at, so each branch of a file differs and the same file
+    draws the same branches); a material given to the branch is its needles'."""
+    color = ctx.need("color", node, spec.label)
+
+    def material(properties: dict[str, Any]) -> dict[str, Any]:
+        return {**properties, "color": color(*properties["color"])}
+
+    seed = spec.params.get("seed", spec.line)
+    stem = ShapeSpec(
+        "cylinder", spec.line, f"the stem of {spec.label}",
+        transform=ctx.need("scaling", node, spec.label)(RADIUS, 1, RADIUS),
+        material=material(BARK),
+        params={"minimum": 0.0, "maximum": LENGTH, "closed": True},
+    )  # fmt: skip
+    needles = ShapeSpec(
+        "obj", spec.line, f"the needles of {spec.label}",
+        material=spec.material if spec.material is not None else material(NEEDLE),
+        mesh=needle_mesh(seed, f"the needles of {spec.label} (seed {seed})"),
+        count=1 + NEEDLES,
+    )  # fmt: skip
+    return stem, needles
 
 
 def _measured(ctx: Context, spec: ShapeSpec, node: Node) -> ShapeSpec:
@@ -258,7 +302,7 @@ def with_meshes(ctx: Context, spec: ShapeSpec) -> ShapeSpec:
     """``spec`` (a shape being added to the world) with every OBJ model inside it read
     (``scene.obj_mesh``, each file once) and its triangles counted against the limits: each
     copy counts."""
-    if spec.kind == "obj":
+    if spec.kind == "obj" and spec.mesh is None:
         return dataclasses.replace(spec, mesh=_mesh(ctx, spec))
     parts = spec.parts()
     if not parts:

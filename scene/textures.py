@@ -24,9 +24,9 @@ from typing import Any
 
 from yaml.nodes import Node
 
+from scene.colors import read_color
 from scene.context import Context
 from scene.images import load_image
-from scene.materials import read_color
 from scene.reader import Entry
 
 # the format's mapping -> the book's function (the cube has its own pattern, cube_map)

@@ -17,7 +17,7 @@ CHAPTER_BY_FILE_NAME: dict[str, int] = {
     "tuples": 1, "canvas": 2, "matrices": 3, "transformations": 4, "rays": 5, "spheres": 5,
     "intersections": 5, "lights": 6, "materials": 6, "world": 7, "camera": 7, "shapes": 9,
     "planes": 9, "patterns": 10, "cubes": 12, "cylinders": 13, "cones": 13, "groups": 14,
-    "triangles": 15, "obj_file": 15, "smooth-triangles": 15, "csg": 16,
+    "triangles": 15, "obj_file": 15, "smooth-triangles": 15, "csg": 16, "torus": 20,
     "bounding-boxes": 17,  # the bonus chapter "Bounding boxes and hierarchies"
     "soft-shadows": 18,  # the bonus chapter "Rendering soft shadows"
     "texture-mapping": 19,  # the bonus chapter "Texture mapping"

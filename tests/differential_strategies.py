@@ -56,9 +56,10 @@ class MaterialSpec:
 
 @dataclass(frozen=True)
 class ShapeSpec:
-    """One shape: ``params`` are a cylinder's or cone's (minimum, maximum, closed), a
-    triangle's three corners (a smooth triangle's, then its three normals), a CSG shape's
-    operation; ``children`` a group's or a CSG shape's (left, right)."""
+    """One shape: ``params`` are a leaf kind's parameters in the kind table's order (a
+    cylinder's or cone's minimum, maximum, closed; a torus's radii), a triangle's three
+    corners (a smooth triangle's, then its three normals), a CSG shape's operation;
+    ``children`` a group's or a CSG shape's (left, right)."""
 
     kind: str
     ops: tuple[Op, ...] = ()
@@ -249,8 +250,16 @@ def bounds(draw: st.DrawFn) -> tuple[float, float, bool]:
     return (low, low + draw(floats(0.1, 3)), draw(st.booleans()))
 
 
+@st.composite
+def radii(draw: st.DrawFn) -> tuple[float, float]:
+    """A torus's (major_radius, minor_radius): a tube thinner than its ring (a hole)."""
+    major = draw(floats(0.3, 2))
+    return (major, major * draw(floats(0.05, 0.9)))
+
+
 PARAMETERS: dict[tuple[str, ...], st.SearchStrategy[tuple[Any, ...]]] = {
     ("min", "max", "closed"): bounds(),
+    ("major-radius", "minor-radius"): radii(),
 }
 """How to draw each set of parameters a leaf kind of the kind table has (by its keys)."""
 

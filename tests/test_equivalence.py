@@ -24,6 +24,8 @@ REFERENCE_SCENE = SCENES_FOLDER / "reference.yml"
 COVER_SCENE = SCENES_FOLDER / "cover.yml"
 MESH_SCENE = SCENES_FOLDER / "mesh.yml"
 TEXTURES_SCENE = SCENES_FOLDER / "textures.yml"
+TORUS_SCENE = SCENES_FOLDER / "torus.yml"
+CHRISTMAS_SCENE = SCENES_FOLDER / "christmas.yml"
 # Compositions beyond the defaults that ``all`` gives: the pool over another variant, and
 # each job granularity.
 COMPOSED = (
@@ -139,6 +141,19 @@ def reference_scene(api: Any) -> tuple[Any, Any]:
     return scene.camera, scene.world
 
 
+def torus_scene(api: Any) -> tuple[Any, Any]:
+    """Tori (chapter 20, beyond the book): ``harness/scenes/torus.yml`` (linked rings, a glass
+    ring, a ring whose tube nearly closes its hole) at 20x12."""
+    scene = load_scene(TORUS_SCENE, api).resized(20, 12)
+    return scene.camera, scene.world
+
+
+def christmas_scene(api: Any) -> tuple[Any, Any]:
+    """``harness/scenes/christmas.yml`` (eleven fir branches, 5,291 shapes) at 16x12."""
+    scene = load_scene(CHRISTMAS_SCENE, api).resized(16, 12)
+    return scene.camera, scene.world
+
+
 SCENES = [
     Scene("default-world", default_world),
     Scene("default-world-12x12-3spp", small_default_world, RenderSettings(samples=3, seed=11)),
@@ -147,6 +162,8 @@ SCENES = [
     Scene("three-lights", three_lights),
     Scene("cover-16x16", cover_scene),
     Scene("mesh-16x10", mesh_scene),
+    Scene("torus-20x12", torus_scene),
+    Scene("christmas-16x12", christmas_scene),
     # wavefront refuses area lights and texture maps (it says so, naming the light or the
     # pattern): it is left out of these two scenes, not skipped
     Scene(

@@ -1,7 +1,7 @@
 """Fuzzing the parsers (issue 19, item 2): scene YAML, OBJ text, PPM text, variant names and
 result files, with hypothesis. For any input the only outcomes allowed are a parsed value or
 the parser's own clear error (one line, naming the file or the text), never another exception
-and never a hang (the profile's per-example deadline: ``tests/conftest.py``).
+and never a hang (the suite's hang guards: ``tests/conftest.py``).
 
 The scene inputs are random structures in the scene format's vocabulary (YAML aliases
 included: a value repeated in the structure is written once with an anchor), random text,

@@ -12,6 +12,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from holding import HANG_SECONDS, Hold
 
 from harness.report import build_report
 from harness.results import STAGING_PREFIX, list_runs, load_run
@@ -24,12 +25,17 @@ def _bench(results: Path, *extra: str) -> int:
     return main(["bench", *TINY, "--results-dir", str(results), *extra])
 
 
+# a budget no render fits, on any machine: a microsecond (three for naive's row) for renders of
+# 48 pixels of pure Python, each far above that; so the rule certainly shrinks the row
+STARVED = "1e-6"
+
+
 @pytest.fixture(scope="module")
 def two_runs(tmp_path_factory) -> Path:
     """Two bench runs into one results folder: naive and cached, then a starved budget."""
     results = tmp_path_factory.mktemp("results")
     assert _bench(results, "--variants", "naive,cached", "--sections", "table") == 0
-    assert _bench(results, "--variants", "naive", "--sections", "table", "--budget", "0.01") == 0
+    assert _bench(results, "--variants", "naive", "--sections", "table", "--budget", STARVED) == 0
     return results
 
 
@@ -115,37 +121,42 @@ def test_user_mistakes_are_one_line_errors(tmp_path, capsys):
 
 @pytest.mark.parametrize("how", [signal.SIGKILL, signal.SIGTERM])
 def test_a_killed_run_leaves_no_result_file(tmp_path, how):
-    command = [sys.executable, "-m", "rtc.cli", "bench", "--scene", "default-world",
-               "--size", "40x30", "--variants", "naive", "--sections", "table",
-               "--repeat", "50", "--budget", "0", "--results-dir", str(tmp_path)]  # fmt: skip
-    process = subprocess.Popen(command, stderr=subprocess.PIPE, text=True)
-    staging: list[Path] = []
-    deadline = time.monotonic() + 60
-    while not staging and time.monotonic() < deadline:  # wait until it is measuring
-        time.sleep(0.1)
-        staging = list((tmp_path / "runs").glob(f"{STAGING_PREFIX}*/jobs/*/job.json"))
-    assert staging, "the bench never started measuring"
-    time.sleep(1.0)
-    measuring = _children_of(process.pid)
-    assert measuring, "no measuring process found"
-    process.send_signal(how)
-    process.wait(timeout=30)
+    """The bench measures the held variant (``tests/holding.py``; after naive, the baseline,
+    whose row comes first): its measuring process waits in its first render and is never
+    let go, so the run is certainly still measuring when it is killed, and a measuring
+    process that ends has noticed its parent's death."""
+    hold = Hold(tmp_path / "held")
+    results = tmp_path / "results"
+    command = [sys.executable, "-m", "rtc.cli", "bench", *TINY, "--variants", "held",
+               "--sections", "table", "--budget", "0", "--results-dir", str(results)]  # fmt: skip
+    process = subprocess.Popen(command, stderr=subprocess.PIPE, text=True, env=hold.env)
+    try:
+        measuring = hold.reached()  # it is measuring
+        assert _children_of(process.pid) == measuring
+        assert list((results / "runs").glob(f"{STAGING_PREFIX}*/jobs/*/job.json"))
+        process.send_signal(how)
+        process.wait(timeout=HANG_SECONDS)
+    finally:
+        if process.poll() is None:
+            process.kill()
+            process.wait()
     process.stderr.close()  # type: ignore[union-attr]
-    assert list_runs(tmp_path) == []
-    visible = [p for p in (tmp_path / "runs").iterdir() if not p.name.startswith(".")]
+    assert list_runs(results) == []
+    visible = [p for p in (results / "runs").iterdir() if not p.name.startswith(".")]
     assert visible == []
     if how == signal.SIGTERM:  # cleaned up at once
         assert process.returncode == 130
-        assert list((tmp_path / "runs").iterdir()) == []
-    # the measuring process does not outlive its parent for long
-    deadline = time.monotonic() + 10
+        assert list((results / "runs").iterdir()) == []
+    # the measuring process, held for ever, ends because its parent did
+    deadline = time.monotonic() + HANG_SECONDS
     while any(_running(pid) for pid in measuring) and time.monotonic() < deadline:
         time.sleep(0.2)
-    assert not any(_running(pid) for pid in measuring)
+    assert not any(_running(pid) for pid in measuring), "hang guard: it outlived its parent"
+    assert not (hold.folder / "release").exists()  # it was never let go
     # and the next run removes what a SIGKILL left behind
     assert main(["bench", *TINY, "--variants", "naive", "--sections", "table",
-                 "--results-dir", str(tmp_path)]) == 0  # fmt: skip
-    assert [p.name.startswith(STAGING_PREFIX) for p in (tmp_path / "runs").iterdir()] == [
+                 "--results-dir", str(results)]) == 0  # fmt: skip
+    assert [p.name.startswith(STAGING_PREFIX) for p in (results / "runs").iterdir()] == [
         False,
         False,
     ]

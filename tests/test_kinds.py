@@ -34,7 +34,8 @@ def test_the_kinds_are_numbered_by_their_place_and_named_by_the_books_factories(
 
 @pytest.mark.parametrize("kind", [k for k in KINDS if not k.corners], ids=lambda k: k.name)
 def test_a_kinds_box_is_the_reference_shapes(kind: Kind) -> None:
-    values = {"minimum": -0.5, "maximum": 2.0, "closed": True}
+    values = {"minimum": -0.5, "maximum": 2.0, "closed": True, "major_radius": 2.0,
+              "minor_radius": 0.5}  # fmt: skip
     shape = kind.reference()
     given = {p.attribute: values[p.attribute] for p in kind.parameters}
     for attribute, value in given.items():
@@ -45,7 +46,7 @@ def test_a_kinds_box_is_the_reference_shapes(kind: Kind) -> None:
         assert kind.local_box(given) == expected
     else:
         assert kind.local_box(given) is None
-    if kind.parameters:  # at the defaults (unbounded ends) there is no box
+    if any(p.infinite for p in kind.parameters):  # at the defaults (unbounded ends): no box
         assert kind.local_box() is None
 
 
@@ -55,8 +56,8 @@ def test_every_list_of_kinds_is_the_tables() -> None:
         assert scene_shapes.KEYS[kind.name] == (*scene_shapes.COMMON_KEYS, *kind.keys)
     assert [s for s in scene_shapes.SHAPES if s in BY_NAME] == [k.name for k in ADDABLE]
     # numba: the numbers its kernels compare with, its switches and the names --explain uses
-    numbers = [L.K_SPHERE, L.K_PLANE, L.K_CUBE, L.K_CYLINDER, L.K_CONE, L.K_TRIANGLE,
-               L.K_SMOOTH_TRIANGLE, L.K_TEST]  # fmt: skip
+    numbers = [L.K_SPHERE, L.K_PLANE, L.K_CUBE, L.K_CYLINDER, L.K_CONE, L.K_TORUS,
+               L.K_TRIANGLE, L.K_SMOOTH_TRIANGLE, L.K_TEST]  # fmt: skip
     assert numbers == [k.number for k in KINDS]
     assert set(features.KIND_FLAGS.values()) <= set(vars(kernel_flags))
     assert {k.number: k.name for k in KINDS} == KIND_NAMES

@@ -9,7 +9,6 @@ import math
 import multiprocessing
 import os
 import signal
-import time
 from pathlib import Path
 from typing import Any
 
@@ -60,24 +59,26 @@ def test_progress_counts_every_row_once_and_no_worker_is_left(name: str) -> None
 
 
 def test_killing_a_worker_mid_render_fails_within_seconds_and_returns_nothing() -> None:
+    """Within seconds: the death is seen as it happens (the worker's process sentinel), not
+    when the worker has been silent for the pool's ``timeout`` (10 s), the only other way
+    the render could end with a job lost; which of the two ended it, the message says."""
     variant = load_variant("pooled[workers=2]:cached")
     c, w = _scene(variant, 40, 30)
-    killed: list[tuple[int, float]] = []
+    killed: list[int] = []
 
     def kill_a_worker(rows: int) -> None:
-        if not killed:
+        if not killed:  # after the first row of 30: both workers hold jobs (IN_FLIGHT)
             worker = multiprocessing.active_children()[0]
             os.kill(worker.pid, signal.SIGKILL)  # type: ignore[arg-type]
-            killed.append((worker.pid or 0, time.monotonic()))
+            killed.append(worker.pid or 0)
 
     result: list[Any] = []
     with pytest.raises(RenderWorkerError) as error:
         result.append(variant.api["render"](c, w, None, kill_a_worker))
-    elapsed = time.monotonic() - killed[0][1]
     message = str(error.value)
     assert not result
-    assert elapsed < 10, f"the error took {elapsed:.1f} s"
-    assert f"(pid {killed[0][0]}) died with exit code -9 (killed by SIGKILL)" in message
+    assert "sent no heartbeat" not in message  # not the timeout's: the death itself
+    assert f"(pid {killed[0]}) died with exit code -9 (killed by SIGKILL)" in message
     assert "no image is returned" in message and "jobs were done" in message
     assert "while holding job" in message or "while waiting for work" in message
     assert multiprocessing.active_children() == []
@@ -137,9 +138,9 @@ def test_rtc_render_writes_no_file_when_a_worker_dies(
 
 
 def test_pooling_works_after_numba_threads_ran_in_the_same_process() -> None:
-    """DESIGN.md: a fork-based pool can hang once numba's OpenMP threads have run in the
-    parent; the pool spawns its workers. (This guards the ordinary case; a worker that itself
-    runs numba code is covered by the numba variant's own tests.)"""
+    """A fork-based pool hangs once numba's OpenMP threads have run in the parent (GNU
+    OpenMP cannot be forked); the pool spawns its workers. (This guards the ordinary case; a
+    worker that itself runs numba code is covered by the numba variant's own tests.)"""
     numba = pytest.importorskip("numba")
     import numpy as np
 

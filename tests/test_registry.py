@@ -170,7 +170,9 @@ class _FakeEntryPoint:
 
 
 def _fake_entry_points(monkeypatch: pytest.MonkeyPatch, extra: dict[str, Any]) -> None:
-    real = registry._entry_points()
+    """The project's own entry points and ``extra``: a learner's package or another plugin
+    installed where the suite runs is left out, so that the fakes are the only others."""
+    real = {name: ep for name, ep in registry._entry_points().items() if registry.is_own(ep)}
 
     def fake() -> dict[str, Any]:
         return {**real, **{name: _FakeEntryPoint(name, load) for name, load in extra.items()}}

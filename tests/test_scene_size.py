@@ -229,10 +229,17 @@ def synthetic_run() -> dict[str, Any]:
                 "povray": "POV-Ray 3.7.0",
                 "points": [
                     {
-                        "mesh": "ring-1k.obj", "triangles": 1000,
+                        "mesh": "ring-1k.obj",
+                        "triangles": 1000,
                         "ours": {"wall": 0.5, "cpu": 0.6, "peak": 50 << 20, "walls": [0.5]},
-                        "povray": {"wall": 1.0, "cpu": 1.1, "peak": 25 << 20, "parse": 0.1,
-                                   "trace": 0.2, "walls": [1.0]},
+                        "povray": {
+                            "wall": 1.0,
+                            "cpu": 1.1,
+                            "peak": 25 << 20,
+                            "parse": 0.1,
+                            "trace": 0.2,
+                            "walls": [1.0],
+                        },
                     },
                 ],
             },

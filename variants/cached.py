@@ -42,6 +42,7 @@ import dataclasses
 import importlib
 import inspect
 import pkgutil
+import sys
 import typing
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
@@ -185,6 +186,16 @@ def _import_reference_modules() -> None:
         importlib.import_module(info.name)
 
 
+def is_defined(cls: type) -> bool:
+    """Whether ``cls`` is the class its module defines under its name. A class that
+    ``@dataclass(slots=True)`` replaced is not (it makes a new class), yet some Python
+    releases (3.11.2) keep the old one alive among its base's subclasses."""
+    found: Any = sys.modules.get(cls.__module__)
+    for part in cls.__qualname__.split("."):
+        found = getattr(found, part, None)
+    return found is cls
+
+
 def reference_classes(base: type) -> list[type]:
     """Every concrete subclass of ``base`` defined in the reference (``raytracer.*``), in a
     stable order; subclasses defined elsewhere (twins, tests) are left out."""
@@ -194,7 +205,7 @@ def reference_classes(base: type) -> list[type]:
     while stack:
         subclasses: list[type] = stack.pop().__subclasses__()
         for sub in subclasses:
-            if sub.__module__.startswith("raytracer."):
+            if sub.__module__.startswith("raytracer.") and is_defined(sub):
                 stack.append(sub)
                 if not inspect.isabstract(sub):
                     found[f"{sub.__module__}.{sub.__qualname__}"] = sub

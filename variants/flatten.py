@@ -37,7 +37,7 @@ from raytracer.world import World
 from scene.build import make_material
 from scene.kinds import BY_NAME, SHAPE_METHODS, Kind, reference_kind, unchanged
 from scene.obj_mesh import Mesh
-from scene.shapes import ShapeSpec
+from scene.shapes import GROUPS, ShapeSpec
 
 BOX_PAD = 1e-9  # a world box grows by this much (relative, plus absolute): no hit is lost
 
@@ -369,9 +369,7 @@ def _children(children: list[Shape], inv: Matrix, fwd: Matrix, where: str) -> li
     """A group's children: runs of plain triangles of one class with no transform of their
     own (a mesh) as one ``Triangles`` each, read at once; any other child on its own."""
     nodes: list[Node] = []
-    kinds = [
-        _triangle_kind(child) if is_identity(child.transform) else None for child in children
-    ]
+    kinds = [_triangle_kind(child) if is_identity(child.transform) else None for child in children]
     start = 0
     for k in range(len(children) + 1):
         if k < len(children) and kinds[k] is not None and kinds[k] == kinds[start]:
@@ -440,7 +438,7 @@ def _from_spec(
         fwd = compose(parent_fwd, spec.transform)
     material = spec.material if spec.material is not None else material
     shadow = spec.shadow if spec.shadow is not None else shadow
-    if spec.kind == "group":
+    if spec.kind in GROUPS:
         return Group(
             [_from_spec(state, c, inv, fwd, material, shadow) for c in spec.children], where
         )
@@ -486,4 +484,3 @@ def _model(
         parts.append(Group(runs, where))
         start = stop
     return Group(parts, spec.label)
-

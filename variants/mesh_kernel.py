@@ -93,8 +93,6 @@ def make_entry(cache: bool) -> Any:
     f(int64 n, double *positions, int32 *tri, double *fwd, double *tg, double *bounds,
     double pad)``; ``cache``: numba's disk cache."""
     fp = types.CPointer(types.float64)
-    signature = types.int64(
-        types.int64, fp, types.CPointer(types.int32), fp, fp, fp, types.float64
-    )
+    signature = types.int64(types.int64, fp, types.CPointer(types.int32), fp, fp, fp, types.float64)
     flags: dict[str, Any] = {"_nrt": False, "error_model": "numpy"}
     return cfunc(signature, cache=cache, **flags)(pack_mesh.py_func)

@@ -19,8 +19,9 @@ Name and options (the grammar of ``variants.registry``)::
 only; every other step (and book name) is the inner variant's. ``render(c, w, settings,
 progress)``:
 
-- starts the workers with the ``spawn`` start method (a fork after numba's OpenMP threads
-  hangs, see DESIGN.md); each worker loads the inner variant from the registry by its
+- starts the workers with the ``spawn`` start method (a ``fork`` after numba's OpenMP
+  threads have run in the parent prints "fork() called from a process already using GNU
+  OpenMP" and hangs); each worker loads the inner variant from the registry by its
   canonical name and receives the camera, the world and the settings once, when it starts
   (they must pickle: the twins of ``variants.cached`` do); never per job;
 - sends each worker at most ``IN_FLIGHT`` jobs at a time over its own pipe, so the parent

@@ -162,6 +162,72 @@ def cone_ts(
     return sorted(side + caps)
 
 
+def _trim(p: list[Fraction]) -> list[Fraction]:
+    """``p`` (highest power first) without leading zeros."""
+    while p and p[0] == 0:
+        p = p[1:]
+    return p
+
+
+def _divide(p: list[Fraction], q: list[Fraction]) -> tuple[list[Fraction], list[Fraction]]:
+    """Quotient and remainder of ``p / q`` (exact)."""
+    p = list(p)
+    quotient: list[Fraction] = []
+    while len(p) >= len(q):
+        factor = p[0] / q[0]
+        quotient.append(factor)
+        p = [a - factor * b for a, b in zip(p, [*q, *[Fraction(0)] * (len(p) - len(q))],
+                                            strict=True)][1:]  # fmt: skip
+    return quotient, _trim(p)
+
+
+def _gcd(p: list[Fraction], q: list[Fraction]) -> list[Fraction]:
+    while q:
+        p, q = q, _divide(p, q)[1]
+    return [a / p[0] for a in p]
+
+
+def polynomial_real_roots(p: Sequence[Fraction]) -> list[mpmath.mpf]:
+    """The real roots of an exact polynomial (highest power first), increasing, each as
+    often as its multiplicity. ``p`` is the product of its square-free part ``p / g`` (each
+    root once) and ``g = gcd(p, p')`` (each root one time fewer), both exact; the square-free
+    part's simple roots are found to 60 digits (``mpmath.polyroots``) and those with an
+    imaginary part below 1e-40 of their size are real."""
+    p = _trim(list(p))
+    if len(p) <= 1:
+        return []
+    n = len(p) - 1
+    g = _gcd(p, [a * (n - i) for i, a in enumerate(p[:-1])])
+    square_free = _divide(p, g)[0]
+    with mpmath.workdps(DIGITS):
+        found = mpmath.polyroots(
+            [_mp(a) for a in reversed(square_free)], maxsteps=400, extraprec=400, asc=True
+        )
+        simple = [
+            mpmath.re(z) for z in (found if isinstance(found, list) else [found])
+            if abs(mpmath.im(z)) <= mpmath.mpf(10) ** -40 * (1 + abs(z))
+        ]  # fmt: skip
+    return sorted(simple + (polynomial_real_roots(g) if len(g) > 1 else []))
+
+
+def torus_ts(origin: Vec, direction: Vec, major: float, minor: float) -> list[mpmath.mpf]:
+    """Chapter 20 here: where the line meets (x² + y² + z² + R² - r²)² = 4 R² (x² + z²), a
+    quartic in t with exact coefficients; a tangent ray's double root twice."""
+    (ox, oy, oz), (dx, dy, dz) = _q(origin), _q(direction)
+    big, small = exact(major), exact(minor)
+    dd = dx * dx + dy * dy + dz * dz
+    od = ox * dx + oy * dy + oz * dz
+    k = ox * ox + oy * oy + oz * oz + big * big - small * small
+    four_r2 = 4 * big * big
+    return polynomial_real_roots([
+        dd * dd,
+        4 * dd * od,
+        2 * dd * k + 4 * od * od - four_r2 * (dx * dx + dz * dz),
+        4 * od * k - 2 * four_r2 * (ox * dx + oz * dz),
+        k * k - four_r2 * (ox * ox + oz * oz),
+    ])  # fmt: skip
+
+
 def triangle_t(origin: Vec, direction: Vec, corners: Sequence[Vec]) -> list[Fraction]:
     """Chapter 15: where the ray meets the triangle (its closed interior); nothing for a
     triangle of zero area or a ray in its plane."""

@@ -19,6 +19,7 @@ from harness.stability import (
     cases_rays,
     cases_refraction,
     cases_scale,
+    cases_torus,
     cases_transforms,
 )
 from harness.stability.model import Case, Outcome, Probe, crashed
@@ -27,6 +28,7 @@ from variants.registry import Variant, VariantError, load_variant, parse_variant
 CASES: list[Case] = [
     *cases_scale.CASES,
     *cases_rays.CASES,
+    *cases_torus.CASES,
     *cases_transforms.CASES,
     *cases_refraction.CASES,
     *cases_degenerate.CASES,

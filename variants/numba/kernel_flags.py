@@ -18,6 +18,7 @@ HAS_PLANE = True
 HAS_CUBE = True
 HAS_CYLINDER = True
 HAS_CONE = True
+HAS_TORUS = True
 HAS_TRIANGLE = True
 HAS_SMOOTH_TRIANGLE = True
 HAS_TEST_SHAPE = True  # the chapter 9 test shape (the book API only, never a render)

@@ -200,7 +200,6 @@ def _stretch(m: Matrix) -> float:
     return math.sqrt(max(sum(abs(v) for v in row) for row in gram))
 
 
-
 @dataclass
 class Packed:
     """A packed world or shape: the arrays (see ``layout``) and what they came from.
@@ -435,10 +434,11 @@ class _Packer:
         i[L.CASTS_SHADOW] = 1 if shadow else 0
         i[L.TRI_FIRST] = -1  # a primitive of its own, not a run of compact triangles
         i[L.TN_FIRST] = -1
-        if params and "minimum" in params:  # cylinders and cones
-            f[L.MINIMUM] = float(params["minimum"])
-            f[L.MAXIMUM] = float(params["maximum"])
-            i[L.CLOSED] = 1 if params["closed"] else 0
+        numbers = [v for v in (params or {}).values() if not isinstance(v, bool)]
+        flags = [v for v in (params or {}).values() if isinstance(v, bool)]
+        f[L.PARAMS : L.PARAMS + len(numbers)] = [float(v) for v in numbers]  # table order
+        if flags:
+            i[L.CLOSED] = 1 if flags[0] else 0
         f[L.BOUND : L.BOUND + 4] = _bounding_sphere(local, kind, fwd)
         ball = _world_sphere(inv) if kind == L.K_SPHERE else None
         if ball is not None:
@@ -714,7 +714,6 @@ def _hierarchy(
     out[: len(outside)] = items[outside]
     count, boxes, hierarchy = build_into(items, units, order, out, len(outside))
     return out[:count], boxes, replace(hierarchy, outside=len(outside))
-
 
 
 def _triangle_spheres(points: np.ndarray, fwd: Matrix) -> np.ndarray:

@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 
 from raytracer.bounds import BoundingBox
+from raytracer.quartic import solve_quartic
 from raytracer.rays import Ray
 from raytracer.shapes.cone import Cone
 from raytracer.shapes.csg import CSG, intersection_allowed
@@ -26,6 +27,7 @@ from raytracer.shapes.shape import Shape
 from raytracer.shapes.smooth_triangle import SmoothTriangle
 from raytracer.shapes.sphere import Sphere
 from raytracer.shapes.test_shape import TestShape
+from raytracer.shapes.torus import Torus, torus_coefficients
 from raytracer.shapes.triangle import Triangle
 from raytracer.tuples import Tuple
 from variants.prealloc.buffers import (
@@ -304,6 +306,39 @@ class CylinderRecord(ShapeRecord):
             out[0], out[1], out[2] = 0.0, -1.0, 0.0
         else:
             out[0], out[1], out[2] = x, 0.0, z
+
+
+class TorusRecord(ShapeRecord):
+    """Chapter 20 (beyond the book): the torus of radii ``major`` and ``minor``."""
+
+    __slots__ = ("major", "minor")
+
+    def __init__(self, shape: Shape, material: MaterialRecord, eps: float) -> None:
+        super().__init__(shape, material, eps)
+        assert isinstance(shape, Torus)
+        self.major = shape.major_radius
+        self.minor = shape.minor_radius
+
+    def local_intersect_into(self, ray: Vec, xs: IntersectionBuffer) -> None:
+        """Chapter 20: the quartic's real roots (the reference's coefficients and closed
+        form: its few roots come back as a small list); twin: ``Torus.local_intersect``."""
+        ox, oy, oz, _, dx, dy, dz, _ = ray
+        a, b, c, d, e = torus_coefficients(ox, oy, oz, dx, dy, dz, self.major, self.minor)
+        if a == 0:
+            return
+        for t in solve_quartic(a, b, c, d, e):
+            add_intersection(xs, t, self)
+
+    def local_normal_at_into(self, point: Vec, u: float | None, v: float | None, out: Vec) -> None:
+        """Chapter 20: from the tube's centre circle; twin: ``Torus.local_normal_at``."""
+        x, y, z = point[0], point[1], point[2]
+        across = math.sqrt(x * x + z * z)
+        out[3] = 0.0
+        if across == 0:
+            out[0], out[1], out[2] = 0.0, 1.0 if y >= 0 else -1.0, 0.0
+            return
+        scale = self.major / across
+        out[0], out[1], out[2] = x - x * scale, y, z - z * scale
 
 
 class ConeRecord(CylinderRecord):
@@ -615,6 +650,7 @@ SHAPE_RECORDS: dict[type[Shape], tuple[type[ShapeRecord], tuple[str, ...]]] = {
     Cube: (CubeRecord, ("local_intersect", "local_normal_at")),
     Cylinder: (CylinderRecord, ("local_intersect", "_intersect_caps", "local_normal_at")),
     Cone: (ConeRecord, ("local_intersect", "_intersect_caps", "local_normal_at")),
+    Torus: (TorusRecord, ("local_intersect", "local_normal_at")),
     SmoothTriangle: (
         SmoothTriangleRecord,
         ("local_intersect", "intersection_at", "local_normal_at"),

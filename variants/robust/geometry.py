@@ -14,7 +14,14 @@ Each shape is a twin of ``cached``'s (inverse transforms computed once, when set
   object scaled by 1e4 or more;
 - a triangle is missed when the ray lies in its plane, or its corners lie on one line, to
   within 2**-40 of the sizes involved (a relative test, the same at every scale);
-- an intersection at an infinite or NaN distance is no intersection.
+- an intersection at an infinite or NaN distance is no intersection;
+- a torus's quartic is not solved in closed form (the reference's Ferrari, whose fixed
+  tolerance loses or invents roots near double ones and means something else at every
+  scale): the ray's origin is moved to its closest approach to the torus's centre (the
+  coefficients stay of the size of the torus however far the ray comes from) and the
+  quartic's roots are isolated between its turning points and refined by Newton steps kept
+  inside each stretch (``variants.robust.roots``); a turning point where the quartic is
+  zero to within its rounding is a double root (a ray grazing the tube).
 
 The one exception is the cone's ray parallel to one half (its quadratic term exactly 0): the
 book's scenario expects ``t = -c / 2b`` (with the book's ``b``, twice the one here), half the
@@ -39,8 +46,10 @@ from raytracer.shapes.cylinder import Cylinder, within_radius
 from raytracer.shapes.plane import Plane
 from raytracer.shapes.shape import Shape
 from raytracer.shapes.sphere import Sphere
+from raytracer.shapes.torus import Torus, torus_coefficients
 from raytracer.shapes.triangle import Triangle
 from variants.cached import CACHED_CLASSES, derive_class
+from variants.robust.roots import real_roots
 
 # a triangle is missed when det² <= FLAT² |e1|² |e2|² |d|² (the sine of the angle between the
 # ray and the plane, or between the triangle's sides, below 2**-40, about 1e-12)
@@ -257,8 +266,38 @@ class TriangleSolver(RobustShape):
         return [shape.intersection_at(t, u, v)]
 
 
+def torus_roots(
+    ox: float, oy: float, oz: float, dx: float, dy: float, dz: float, big: float, small: float
+) -> list[float]:
+    """Chapter 20's intersections (see the module): the real roots t of the torus's quartic
+    along the ray (``roots.real_roots``), increasing, each to a unit or two in the last
+    place; a double root listed twice."""
+    dd = dx * dx + dy * dy + dz * dz
+    if dd == 0.0 or not math.isfinite(dd):
+        return []
+    shift = -(ox * dx + oy * dy + oz * dz) / dd  # the closest approach to the centre
+    px, py, pz = ox + shift * dx, oy + shift * dy, oz + shift * dz
+    c = torus_coefficients(px, py, pz, dx, dy, dz, big, small)
+    if not all(math.isfinite(v) for v in c):
+        return []
+    return [r + shift for r in real_roots(c) if math.isfinite(r + shift)]
+
+
+class TorusSolver(RobustShape):
+    """Chapter 20's torus: its quartic's roots isolated and refined (``torus_roots``)."""
+
+    __slots__ = ()
+
+    def local_intersect(self, local_ray: Ray) -> list[Intersection]:
+        o, d = local_ray.origin, local_ray.direction
+        shape: Any = self
+        ts = torus_roots(o.x, o.y, o.z, d.x, d.y, d.z, shape.major_radius, shape.minor_radius)
+        return [Intersection(t, shape) for t in ts]
+
+
 # reference class -> the mixin that replaces its intersection (every other shape: RobustShape)
 _MIXINS: dict[type, type] = {
+    Torus: TorusSolver,
     Sphere: SphereSolver,
     Plane: PlaneSolver,
     Cube: CubeSolver,

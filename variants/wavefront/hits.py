@@ -32,6 +32,7 @@ from variants.wavefront.scene import (
     CONE,
     CYLINDER,
     SMOOTH,
+    TORUS,
     TRIANGLE,
     Bunch,
     Combine,
@@ -102,7 +103,7 @@ def params(scene: Scene, kind: int, prims: Any, normals: bool = False) -> Any:
     e2) or, with ``normals``, its normal (triangles: the face normal; smooth triangles:
     n1, n2, n3)."""
     row = scene.row[prims]
-    if kind in (CYLINDER, CONE):
+    if kind in (CYLINDER, CONE, TORUS):
         return scene.caps[:, row]
     if kind in (TRIANGLE, SMOOTH) and not normals:
         return scene.tri[0:9, row]

@@ -254,11 +254,10 @@ class _Packer:
         if not leaf.kind.renders:
             raise _unknown(leaf.where, leaf.source if leaf.source is not None else leaf.kind)
         row = 0
-        if "minimum" in leaf.params:  # cylinders and cones
-            p = leaf.params
+        if leaf.params:  # its parameters, in the kind table's order, as floats
             row = self.caps.count
-            closed = 1.0 if p["closed"] else 0.0
-            self.caps.append([float(p["minimum"]), float(p["maximum"]), closed])
+            values = [float(v) for v in leaf.params.values()]
+            self.caps.append((values + [0.0] * 3)[:3])
         self.kind.append(kind)
         self.kinds.append(kind)
         self.row.append(row)

@@ -41,10 +41,12 @@ from variants.registry import RenderError
 # primitive kinds: their numbers in the kind table (``scene.kinds``); every kind but the
 # test shape renders
 KIND_NAMES = tuple(kind.name for kind in KINDS if kind.renders)
-SPHERE, PLANE, CUBE, CYLINDER, CONE, TRIANGLE, SMOOTH = (
+SPHERE, PLANE, CUBE, CYLINDER, CONE, TORUS, TRIANGLE, SMOOTH = (
     BY_NAME[name].number
-    for name in ("sphere", "plane", "cube", "cylinder", "cone", "triangle", "smooth_triangle")
-)
+    for name in (
+        "sphere", "plane", "cube", "cylinder", "cone", "torus", "triangle", "smooth_triangle"
+    )
+)  # fmt: skip
 
 # pattern kinds
 NO_PATTERN, STRIPES, GRADIENT, RINGS, CHECKERS, TEST_PATTERN = range(6)
@@ -149,7 +151,8 @@ class Scene:
     pat_inv: np.ndarray
     pat_a: np.ndarray
     pat_b: np.ndarray
-    caps: np.ndarray  # cylinders and cones: minimum, maximum, closed (1.0 or 0.0)
+    caps: np.ndarray  # a kind's parameters: cylinders, cones: minimum, maximum, closed (1.0 or
+    # 0.0); tori: major radius, minor radius
     tri: np.ndarray  # triangles: p1, e1, e2, normal (12 values)
     smooth: np.ndarray  # smooth triangles, same rows as ``tri``: n1, n2, n3 (9 values)
     unit_prim: np.ndarray  # per unit: its primitive, or -1 for a CSG tree
