@@ -15,22 +15,42 @@ numba's generated wrapper keeps an error path that calls numba's runtime helpers
 raise (no ``raise``, ``error_model="numpy"``, no bounds checks), so the path is dead, and the
 library defines those names as stubs that abort with a message, should it ever run.
 
-The kernel folder is ``$RTC_NUMBA_KERNELS`` if set, else ``$XDG_CACHE_HOME/rtc-workbook/
-numba-kernels`` (``~/.cache/...``), else a folder in the temporary directory.
+The kernel folder is private, since what is in it runs: ``$RTC_NUMBA_KERNELS`` if set (a
+folder of this user's that no other user can write in), else ``$XDG_CACHE_HOME/rtc-workbook/
+numba-kernels`` (``~/.cache/...``), made with mode 0700 (an older one is made private; one
+others could write in is emptied first). Where the home folder cannot be written, the same
+under ``$XDG_RUNTIME_DIR`` or the temporary directory (``rtc-numba-kernels-UID``), used only
+if it is a real folder of this user's, private; if another user made it first, a new private
+temporary folder for this process alone (one line says so). numba's own disk cache (the
+fallback, and the generated kernel modules' entry points) is kept in it too (``numba-cache``).
+
+Every library is checked before it is loaded. Building one writes the library under a name
+holding its digest (``<prefix><key>-<sha256>.so``, written to a temporary file and renamed)
+and then a record, ``<prefix><key>.json``, naming it with its SHA-256 and the build key's
+(replaced atomically: a concurrent build or reader sees one record or the other, whole). A
+library is loaded only if its record names this build key and its bytes have the digest
+recorded; a library cut short, changed, another kernel's under this name, a record or a
+library that is garbage, a folder or unreadable is built again, with one line saying so.
 """
 
 from __future__ import annotations
 
+import atexit
+import contextlib
 import ctypes
 import functools
 import hashlib
 import importlib.metadata
 import importlib.util
+import json
 import os
 import platform
+import re
 import shlex
 import shutil
+import stat
 import subprocess
+import sys
 import tempfile
 import threading
 import time
@@ -38,6 +58,8 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
+
+from compiled import KernelFolderError
 
 _lock = threading.RLock()
 
@@ -61,26 +83,179 @@ def announce(what: str, seconds: float | None = None) -> None:
         listener(what, seconds)
 
 
+def say(line: str) -> None:
+    """One line on stderr about the compiled code (a library built again, a folder made
+    private), once per process for each line."""
+    with _lock:
+        if line in _said:
+            return
+        _said.add(line)
+    print(f"rtc: {line}", file=sys.stderr, flush=True)
+
+
+_said: set[str] = set()
+_folders: dict[tuple[str, ...], Path] = {}
+OURS = ("rtc_*", ".rtc_*", "rtc-numba-link-*", "numba-cache", "__pycache__", ".writable")
+"""What the kernel folder holds, by name: what is removed from one others could write in."""
+
+
 def kernel_folder() -> Path:
-    """Where compiled libraries (and numba's cache of generated modules) are kept; created
-    if needed."""
+    """Where compiled libraries (and numba's cache of generated modules) are kept: a private
+    folder of this user's (see the module), created if needed; a ``KernelFolderError`` when
+    ``$RTC_NUMBA_KERNELS`` names one that cannot be."""
+    names = ("RTC_NUMBA_KERNELS", "XDG_CACHE_HOME", "HOME", "XDG_RUNTIME_DIR", "TMPDIR")
+    memo = tuple(os.environ.get(name, "") for name in names)
+    with _lock:
+        known = _folders.get(memo)
+        if known is not None and known.is_dir():
+            return known
+        folder = _choose_folder()
+        _folders[memo] = folder
+        return folder
+
+
+def _choose_folder() -> Path:
     chosen = os.environ.get("RTC_NUMBA_KERNELS")
     if chosen:
-        folder = Path(chosen)
-    else:
-        cache_home = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-        folder = Path(cache_home) / "rtc-workbook" / "numba-kernels"
+        why = _private(Path(chosen), tighten=False)
+        if why:
+            raise KernelFolderError(
+                f"RTC_NUMBA_KERNELS={chosen!r}: {why}; name a folder of your own that no "
+                "other user can write in (it is made if missing)"
+            )
+        return Path(chosen)
+    cache_home = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    candidates = [Path(cache_home) / "rtc-workbook" / "numba-kernels"]
+    runtime = os.environ.get("XDG_RUNTIME_DIR")
+    if runtime:
+        candidates.append(Path(runtime) / "rtc-numba-kernels")
+    candidates.append(Path(tempfile.gettempdir()) / f"rtc-numba-kernels-{os.geteuid()}")
+    reasons = []
+    for folder in candidates:
+        why = _private(folder, tighten=True)
+        if not why:
+            return folder
+        reasons.append(f"{folder}: {why}")
+    fresh = Path(tempfile.mkdtemp(prefix="rtc-numba-kernels-"))  # 0700, a new random name
+    atexit.register(shutil.rmtree, fresh, ignore_errors=True)
+    os.environ["RTC_NUMBA_KERNELS"] = str(fresh)  # this process's workers share it
+    say(
+        f"no private folder for compiled code ({'; '.join(reasons)}): using {fresh} for this "
+        "process alone, so its code is compiled again next time"
+    )
+    return fresh
+
+
+def _private(folder: Path, *, tighten: bool) -> str:
+    """Why ``folder`` cannot hold compiled code, or "": made if missing (mode 0700); it must
+    be a folder (not a link to one) of this user's that no other user can write in. With
+    ``tighten``, one of ours that others can read is made private, and one others could
+    write in is emptied of what we keep there first (it could hold anything)."""
     try:
-        folder.mkdir(parents=True, exist_ok=True)
-        probe = folder / ".writable"
-        probe.touch()
-        return folder
-    except OSError:
-        if chosen:
-            raise RuntimeError(f"RTC_NUMBA_KERNELS={chosen!r} is not a writable folder") from None
-        fallback = Path(tempfile.gettempdir()) / f"rtc-numba-kernels-{os.getuid()}"
-        fallback.mkdir(parents=True, exist_ok=True)
-        return fallback
+        folder.parent.mkdir(parents=True, exist_ok=True)
+        with contextlib.suppress(FileExistsError):
+            folder.mkdir(mode=0o700)
+        info = folder.lstat()
+    except OSError as error:
+        return f"cannot make it ({error.strerror or error})"
+    if stat.S_ISLNK(info.st_mode):
+        return "it is a symbolic link, not a folder"
+    if not stat.S_ISDIR(info.st_mode):
+        return "it is not a folder"
+    if info.st_uid != os.geteuid():
+        return f"it belongs to another user (uid {info.st_uid})"
+    mode = stat.S_IMODE(info.st_mode)
+    if mode & 0o022:
+        if not tighten:
+            return f"other users can write in it (mode {mode:o})"
+        _empty(folder)
+        say(f"the kernel folder {folder} was writable by other users (mode {mode:o}): emptied")
+    if mode & 0o077 and tighten:
+        try:
+            os.chmod(folder, 0o700)
+        except OSError as error:
+            return f"cannot make it private ({error.strerror or error})"
+    try:
+        with tempfile.TemporaryFile(dir=folder, prefix=".rtc-write-check-"):
+            pass
+    except OSError as error:
+        return f"cannot write in it ({error.strerror or error})"
+    return ""
+
+
+def _empty(folder: Path) -> None:
+    """Remove what this project keeps in ``folder`` (``OURS``), whatever it has become."""
+    for pattern in OURS:
+        for path in folder.glob(pattern):
+            _remove(path)
+
+
+def _remove(path: Path) -> None:
+    """Remove ``path``, a file, a link or a folder (what was found where a file belongs)."""
+    with contextlib.suppress(OSError):
+        if path.is_dir() and not path.is_symlink():
+            shutil.rmtree(path, ignore_errors=True)
+        else:
+            path.unlink(missing_ok=True)
+
+
+NUMBA_CACHE_SET = "_RTC_NUMBA_CACHE_DIR"
+"""Where ``private_numba_cache`` pointed ``NUMBA_CACHE_DIR`` (inherited by child processes):
+a value equal to it is ours to move along with the kernel folder, any other the user's."""
+
+
+def private_numba_cache() -> None:
+    """Keep numba's disk cache in the kernel folder (``numba-cache``), before numba compiles
+    or loads anything of ours: never a folder another user can write in (its files are
+    pickles: loading one runs what it says). A ``NUMBA_CACHE_DIR`` the user set is kept. A
+    damaged file in numba's cache is a miss, compiled again with one line
+    (``_damaged_cache_is_a_miss``)."""
+    given = os.environ.get("NUMBA_CACHE_DIR")
+    if not given or given == os.environ.get(NUMBA_CACHE_SET):
+        folder = kernel_folder() / "numba-cache"
+        with contextlib.suppress(FileExistsError):
+            folder.mkdir(mode=0o700)
+        os.environ["NUMBA_CACHE_DIR"] = os.environ[NUMBA_CACHE_SET] = str(folder)  # numba
+        config = sys.modules.get("numba.core.config")  # reads it when it is imported; if
+        if config is not None:  # it is already, what it decorates from now on uses this
+            config.CACHE_DIR = str(folder)  # type: ignore[attr-defined]
+    _damaged_cache_is_a_miss()
+
+
+def _damaged_cache_is_a_miss() -> None:
+    """numba reads its cache's index and data files with ``pickle`` and lets whatever a
+    damaged file raises through (a traceback on every run until the file is deleted). Here
+    such a file is a miss instead: the function is compiled again and the file rewritten,
+    with one line saying so. (numba's ``IndexDataCacheFile``; left alone if it changes.)"""
+    from numba.core import caching
+
+    files: Any = getattr(caching, "IndexDataCacheFile", None)
+    if files is None or getattr(files, "_rtc_checked", False):
+        return
+    load_index, load_data = getattr(files, "_load_index", None), getattr(files, "_load_data", None)
+    if load_index is None or load_data is None:
+        return
+
+    def checked_index(self: Any) -> Any:
+        try:
+            return load_index(self)
+        except Exception as error:  # an unpickling error of any kind
+            where = self._index_path
+            say(f"numba's cache file {where} is damaged ({error!r:.80}): compiling again")
+            return {}
+
+    def checked_data(self: Any, name: str) -> Any:
+        try:
+            return load_data(self, name)
+        except OSError:
+            raise
+        except Exception as error:  # numba takes an OSError for a missing file: a miss
+            say(f"numba's cache file {name} is damaged ({error!r:.80}): compiling again")
+            raise OSError(f"damaged: {name}") from None
+
+    files._load_index = checked_index
+    files._load_data = checked_data
+    files._rtc_checked = True
 
 
 def _stat_key(package: str) -> str:
@@ -111,8 +286,6 @@ def _stat_key(package: str) -> str:
 def platform_key() -> str:
     """What machine code depends on besides its source: the CPU (model and instruction-set
     flags), the OS and Python, numba and llvmlite."""
-    import sys
-
     cpu = platform.processor()
     try:
         with open("/proc/cpuinfo", encoding="utf-8") as info:
@@ -126,12 +299,99 @@ def platform_key() -> str:
     return "\n".join([cpu, platform.machine(), platform.system(), sys.version, *packages])
 
 
+MAX_LIBRARY_BYTES = 256 << 20  # a render kernel is a few MB
+_keys: dict[str, str] = {}  # a library's path -> its build key's SHA-256
+
+
 def library_path(prefix: str, *key_parts: str) -> Path:
     """Where the library whose build depends on ``key_parts`` (its source texts and C entry
-    point) is kept: ``<kernel folder>/<prefix><digest>.so``."""
+    point) is known: ``<kernel folder>/<prefix><digest>.so``, a name (the library itself is
+    kept under its own digest, named by the record ``<prefix><digest>.json``: ``built``)."""
     key = "\n".join([*key_parts, UNREACHABLE, platform_key()])
-    digest = hashlib.sha256(key.encode("utf-8")).hexdigest()[:16]
-    return kernel_folder() / f"{prefix}{digest}.so"
+    digest = hashlib.sha256(key.encode("utf-8")).hexdigest()
+    path = kernel_folder() / f"{prefix}{digest[:16]}.so"
+    _keys[str(path)] = digest
+    return path
+
+
+def record_path(path: Path) -> Path:
+    """The record of the library known as ``path``: its file, digest and build key."""
+    return path.with_suffix(".json")
+
+
+def built(path: Path) -> Path | None:
+    """The library file known as ``path`` if it is built and sound (``verify``), else None."""
+    found, _why = verify(path)
+    return found
+
+
+def verify(path: Path) -> tuple[Path | None, str]:
+    """The library file known as ``path`` once its record names this build key and its bytes
+    have the digest recorded, with ""; else None and why not ("" when it was never built)."""
+    from scene.files import read_bytes, read_text  # (scene's package imports this module)
+
+    folder = path.parent
+    record = record_path(path)
+    try:
+        entry = json.loads(read_text(record, 1 << 16))
+    except FileNotFoundError:
+        older = path.exists() or path.is_symlink()  # an older version's library, or not ours
+        return None, "it has no record of its digest (built by an older version?)" if older else ""
+    except OSError as error:
+        return None, f"its record {record.name} cannot be read ({error.strerror or error})"
+    except ValueError:  # not UTF-8, not JSON
+        return None, f"its record {record.name} is damaged"
+    if not isinstance(entry, dict) or not all(
+        isinstance(entry.get(k), str) for k in ("key", "library", "sha256")
+    ):
+        return None, f"its record {record.name} is damaged"
+    expected = _keys.get(str(path))
+    if expected is not None and entry["key"] != expected:
+        return None, "its record is of another build (another kernel's library under its name)"
+    name, digest = entry["library"], entry["sha256"]
+    if name != f"{path.stem}-{digest[:16]}.so" or not re.fullmatch(r"[0-9a-f]{64}", digest):
+        return None, f"its record {record.name} is damaged"
+    library = folder / name
+    try:
+        data = read_bytes(library, MAX_LIBRARY_BYTES)
+    except FileNotFoundError:
+        return None, f"its library {name} is missing"
+    except OSError as error:
+        return None, f"its library {name} cannot be read ({error.strerror or error})"
+    found = hashlib.sha256(data).hexdigest()
+    if found != digest:
+        return None, (
+            f"its library {name} is not the one built (SHA-256 {found[:12]}..., "
+            f"{len(data):,} bytes; recorded {digest[:12]}...)"
+        )
+    return library, ""
+
+
+def publish(built_file: Path, path: Path) -> Path:
+    """Move the freshly built library ``built_file`` into the kernel folder under its digest
+    and record it as the library known as ``path`` (see the module); returns its new path."""
+    data = built_file.read_bytes()
+    digest = hashlib.sha256(data).hexdigest()
+    library = path.parent / f"{path.stem}-{digest[:16]}.so"
+    _replace(built_file, library)
+    entry = {"key": _keys.get(str(path), ""), "library": library.name, "sha256": digest}
+    fd, temporary = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as out:
+            json.dump(entry, out)
+        _replace(Path(temporary), record_path(path))
+    finally:
+        Path(temporary).unlink(missing_ok=True)
+    return library
+
+
+def _replace(source: Path, target: Path) -> None:
+    """``os.replace``, after removing a folder (or anything else) found in ``target``'s place."""
+    try:
+        os.replace(source, target)
+    except OSError:
+        _remove(target)
+        os.replace(source, target)
 
 
 class BuildError(RuntimeError):
@@ -146,25 +406,38 @@ def load_once(
     fallback: Callable[[str], Any],
     what: str,
 ) -> Any:
-    """What ``path``'s shared library holds, once per process: built first if missing
-    (``build``), read by ``from_library``; without it (a ``BuildError``), ``fallback(why)``.
-    A build (and the fallback, which may compile) is announced to the ``on_compile``
-    listeners as ``what``."""
+    """What the shared library known as ``path`` holds, once per process: checked first
+    (``verify``), built if missing or unsound (``build``, one line saying why for a library
+    that was there), read by ``from_library``; without it (a ``BuildError``, or a library
+    the system cannot load), ``fallback(why)``. A build (and the fallback, which may
+    compile) is announced to the ``on_compile`` listeners as ``what``."""
     key = str(path)
     with _lock:
         found = cache.get(key)
         if found is not None:
             return found
         problem = ""
-        compiling = not path.is_file()
+        library, why = verify(path)
+        compiling = library is None
         started = time.perf_counter()
         if compiling:
+            if why:
+                say(f"{what} in {path.parent}: {why}: building it again")
             announce(what)
             try:
                 build()
             except BuildError as error:
                 problem = str(error)
-        found = from_library(ctypes.CDLL(str(path))) if path.is_file() else fallback(problem)
+            else:
+                library, why = verify(path)
+                problem = why or ("" if library is not None else "it was not written")
+        loaded = None
+        if library is not None:
+            try:
+                loaded = ctypes.CDLL(str(library))
+            except OSError as error:  # a folder mounted noexec ...
+                problem = f"the system cannot load {library}: {error}"
+        found = from_library(loaded) if loaded is not None else fallback(problem)
         if compiling:
             announce(what, time.perf_counter() - started)
         cache[key] = found
@@ -226,18 +499,20 @@ def link(entry: Any, stub: str, path: Path, what: str) -> None:
         (work / "kernel.o").write_bytes(obj)
         (work / "entry.c").write_text(source, encoding="utf-8")
         built = work / path.name
-        command = [
-            *command_start, "-shared", "-fPIC", "-O2", "-o", str(built), str(work / "entry.c"),
-            str(work / "kernel.o"), "-lm",
+        command = [  # names relative to the work folder: each build gives the same bytes
+            *command_start, "-shared", "-fPIC", "-O2", "-o", built.name, "entry.c", "kernel.o",
+            "-lm",
         ]  # fmt: skip
         try:
-            done = subprocess.run(command, capture_output=True, text=True, timeout=300)
+            done = subprocess.run(
+                command, capture_output=True, text=True, timeout=300, cwd=work
+            )
         except (OSError, subprocess.SubprocessError) as error:
             raise BuildError(f"{command_start[0]} failed to run: {error}") from None
         if done.returncode != 0 or not built.is_file():
             problem = done.stderr.strip()[:500] or f"exit status {done.returncode}"
             raise BuildError(f"{command_start[0]} could not link the {what}: {problem}")
-        os.replace(built, path)
+        publish(built, path)
 
 
 def _object_code(entry: Any) -> tuple[bytes, list[str]]:
@@ -323,6 +598,7 @@ def load(recipe: Recipe) -> Compiled:
 
     def build() -> None:
         compiler()
+        private_numba_cache()
         module = importlib.import_module(recipe.module)
         entry = getattr(module, recipe.make_entry)(False)
         link(entry, recipe.stub(), path, recipe.what)
@@ -341,6 +617,7 @@ def load(recipe: Recipe) -> Compiled:
         return Compiled(through_ctypes, f"shared library {path}", library)
 
     def fallback(problem: str) -> Compiled:
+        private_numba_cache()
         module = importlib.import_module(recipe.module)
         return Compiled(
             getattr(module, recipe.function),

@@ -35,7 +35,7 @@ from typing import Any
 
 import numpy as np
 
-from harness import alloccount, figures, raycount, usage
+from harness import alloccount, figures, jobs, raycount, usage
 from harness.imagediff import canvas_array
 from harness.presets import SceneRef, build_scene
 from harness.sizes import Estimate, Size, fit_to_budget, scaled
@@ -344,12 +344,12 @@ def main(argv: list[str]) -> int:
             "error": f"{type(error).__name__}: {error}",
             "traceback": traceback.format_exc(),
         }
-        log(f"failed: {outcome['error']}")
+        if jobs.disk_error(error):  # the disk is full, not the variant wrong: the bench stops
+            outcome["disk"] = f"{getattr(error, 'strerror', None) or error}"
+        else:
+            log(f"failed: {outcome['error']}")
         status = 1
-    tmp = folder / "result.json.tmp"
-    tmp.write_text(json.dumps(outcome))
-    os.replace(tmp, folder / "result.json")
-    return status
+    return jobs.write_result(folder, outcome) or status
 
 
 if __name__ == "__main__":

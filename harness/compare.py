@@ -140,6 +140,21 @@ class Measured:
         return f"{mean} ± {figures.seconds_text(statistics.stdev(self.walls))}"
 
 
+def _walls(values: Any, where: str) -> tuple[float, ...]:
+    """Timed renders' wall times, each a number of seconds above 0 (and below
+    ``LONGEST_SECONDS``); a ``ValueError`` naming ``where`` for anything else: a negative,
+    NaN or huge time would make a comparison that looks right and is not."""
+    from harness.results import LONGEST_SECONDS
+
+    walls = []
+    for i, value in enumerate(values):
+        wall = float(value) if isinstance(value, int | float) else math.nan
+        if not 0 < wall < LONGEST_SECONDS:
+            raise ValueError(f"{where}[{i}] is {value!r}, not a time in seconds")
+        walls.append(wall)
+    return tuple(walls)
+
+
 def measurements(run: Run) -> list[Measured]:
     """Every measurement of ``run`` with its timed renders: the rows (table, preset,
     threads) and the scene-size section's renders per mesh, in the run's order."""
@@ -151,7 +166,9 @@ def measurements(run: Run) -> list[Measured]:
             seen.add(item.key)
             found.append(item)
 
-    for row in run.get("rows") or []:
+    for index, row in enumerate(run.get("rows") or []):
+        if row.get("status") == "ok" and row.get("wall") == []:
+            raise ValueError(f"rows[{index}].wall is empty: a measured row without a time")
         if row.get("status") != "ok" or not row.get("wall") or row.get("reused"):
             continue  # a reused row is another section's measurement
         w, h = row["size"]
@@ -159,23 +176,23 @@ def measurements(run: Run) -> list[Measured]:
             str(row["section"]), str(row.get("scene", "")), str(row["name"]),
             (int(w), int(h)), int(row.get("samples") or 1),
         )  # fmt: skip
-        walls = tuple(float(v) for v in row["wall"])
+        walls = _walls(row["wall"], f"rows[{index}].wall")
         error = row.get("error_vs_naive")
         error = error if isinstance(error, Mapping) else None
         add(Measured(key, walls, error, figures.is_busy(row)))
     settings = run.get("settings") or {}
     size = settings.get("size") or [0, 0]
-    for entry in run.get("series") or []:
+    for number, entry in enumerate(run.get("series") or []):
         if entry.get("section") != "scene-size":
             continue
-        for point in entry.get("points") or []:
+        for at, point in enumerate(entry.get("points") or []):
             if not point.get("render"):
                 continue
             key = RowKey(
                 "scene-size", str(point.get("mesh", "")), str(entry["name"]),
                 (int(size[0]), int(size[1])), int(settings.get("samples") or 1),
             )  # fmt: skip
-            add(Measured(key, tuple(float(v) for v in point["render"])))
+            add(Measured(key, _walls(point["render"], f"series[{number}].points[{at}].render")))
     return found
 
 
@@ -439,6 +456,7 @@ def resolve_run(spec: str, results: Path) -> Path:
     """A run file from ``spec``: a path, a run's stem (``bench-2026...``, in
     ``results/runs/``), ``latest`` or ``previous`` (the newest and the one before it)."""
     from harness.results import list_runs, runs_dir
+    from scene.files import describe
 
     if spec in ALIASES:
         runs = list_runs(results)
@@ -452,6 +470,9 @@ def resolve_run(spec: str, results: Path) -> Path:
     path = Path(spec)
     if path.is_file():
         return path
+    odd = describe(path)  # a named pipe, a device: no run file, and never waited on
+    if odd is not None:
+        raise RunChoiceError(f"{spec}: {odd}")
     stem = spec.removesuffix(".json")
     candidate = runs_dir(results) / f"{stem}.json"
     if "/" not in spec and candidate.is_file():
@@ -464,7 +485,7 @@ def resolve_run(spec: str, results: Path) -> Path:
 
 def load(spec: str, results: Path) -> dict[str, Any]:
     """The ``rtc`` section of the run ``spec`` names; ``RunChoiceError`` if it cannot."""
-    from harness.results import ResultFileError, load_run
+    from harness.results import ResultFileError, load_run, number_problem
 
     path = resolve_run(spec, results)
     try:
@@ -474,6 +495,12 @@ def load(spec: str, results: Path) -> dict[str, Any]:
     if run.get("kind") or not isinstance(run.get("rows"), list):
         kind = f"a {run['kind']} run" if run.get("kind") else "no rows"
         raise RunChoiceError(f"{path}: not a bench run ({kind}); rtc compare reads rtc bench's")
+    try:
+        why = number_problem(run, "")  # NaN, infinity, 1e300: no measurement
+    except RecursionError:
+        why = "values nested too deep to check"
+    if why is not None:
+        raise RunChoiceError(f"{path}: {why}")
     try:
         measurements(run)
     except (KeyError, TypeError, ValueError, IndexError) as error:

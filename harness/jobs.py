@@ -12,6 +12,7 @@ started) with SIGTERM, and says once that it was interrupted; no child prints a 
 from __future__ import annotations
 
 import contextlib
+import errno
 import json
 import os
 import shutil
@@ -58,6 +59,35 @@ def child_environment(threads: int | None) -> dict[str, str]:
 
 
 STOP_SECONDS = 5.0  # how long a stopped child's group gets to exit before SIGKILL
+CANNOT_WRITE = 74  # a measuring process's exit status when it cannot write (sysexits EX_IOERR)
+DISK_ERRORS = (errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EFBIG, errno.EIO)
+"""What a write fails with when the disk, not the job, is at fault: the bench stops."""
+
+
+def disk_error(error: BaseException) -> bool:
+    """Whether ``error`` is a write the disk refused (full, read-only, over quota)."""
+    return isinstance(error, OSError) and error.errno in DISK_ERRORS
+
+
+def write_result(folder: Path, outcome: Mapping[str, Any], name: str = "result.json") -> int:
+    """A measuring process's last act: ``outcome`` written atomically as ``folder/name``;
+    0, or ``CANNOT_WRITE`` with one line on stderr when the disk refuses it (the parent
+    then stops the bench: ``run_in_child``)."""
+    temporary = folder / f".{name}.tmp"
+    try:
+        temporary.write_text(json.dumps(outcome))
+        os.replace(temporary, folder / name)
+    except OSError as error:
+        with contextlib.suppress(OSError):
+            temporary.unlink(missing_ok=True)
+        print(
+            f"  measuring process: cannot write its result in {folder}: "
+            f"{error.strerror or error}",
+            file=sys.stderr,
+            flush=True,
+        )
+        return CANNOT_WRITE
+    return 0
 
 
 def start_child(command: list[str], env: Mapping[str, str], **popen: Any) -> subprocess.Popen[Any]:
@@ -100,9 +130,13 @@ def run_in_child(
     job_path.write_text(json.dumps(job))
     process = start_child([sys.executable, "-m", module, str(job_path)], child_environment(threads))
     code = wait_child(process)
+    if code == CANNOT_WRITE:
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(folder))  # said there
     result_path = folder / "result.json"
     if result_path.exists():
         result: dict[str, Any] = json.loads(result_path.read_text())
+        if result.get("disk"):  # the job failed writing: the disk, not the variant
+            raise OSError(errno.ENOSPC, str(result["disk"]), str(folder))
         return result
     return code
 
@@ -131,7 +165,6 @@ def job_main(run: Callable[[dict[str, Any], Path], dict[str, Any]], argv: list[s
         import traceback
 
         result = {"error": f"{type(error).__name__}: {error}", "traceback": traceback.format_exc()}
-    temporary = job_path.parent / ".result.json.tmp"
-    temporary.write_text(json.dumps(result))
-    os.replace(temporary, job_path.parent / "result.json")
-    return 0
+        if disk_error(error):
+            result["disk"] = f"{getattr(error, 'strerror', None) or error}"
+    return write_result(job_path.parent, result)

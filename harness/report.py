@@ -312,7 +312,7 @@ def build_report(
     if problems:
         blocks += [Heading(2, "Unreadable result files"), Bullets(problems)]
     readme, page = results / "README.md", results / "report.html"
-    _write_text(readme, to_markdown(blocks))
+    _write_text(readme, to_markdown(blocks, results))
     _write_text(page, to_html(blocks, results, "Benchmark results"))
     return readme, page, problems
 

@@ -36,7 +36,13 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
+from scene.files import read_text
+
 SCHEMA_VERSION = 2
+MAX_RUN_FILE_BYTES = 64 << 20  # a run file is a few hundred kB; more is no run file of ours
+LONGEST_SECONDS = 1e9  # a timed render of more seconds (some 30 years) is no measurement
+LARGEST_NUMBER = 1e15  # nothing a run measures (bytes, rays, seconds) comes near it
+NOT_MEASURED = (".seed",)  # numbers that are names, not measurements: any size is right
 RUNS = "runs"
 STAGING_PREFIX = ".staging-"
 
@@ -149,7 +155,11 @@ class RunWriter:
         if self.json_path.exists() or self.images_path.exists():
             raise FileExistsError(f"{self.json_path} already exists; results are never replaced")
         os.rename(self.staging, self.images_path)
-        write_new_file(self.json_path, json.dumps(document, indent=1, sort_keys=False) + "\n")
+        try:
+            write_new_file(self.json_path, json.dumps(document, indent=1, sort_keys=False) + "\n")
+        except BaseException:  # a full disk: no run's images without their run file
+            shutil.rmtree(self.images_path, ignore_errors=True)
+            raise
         return self.json_path
 
     def abandon(self) -> None:
@@ -232,8 +242,12 @@ def upgrade(data: dict[str, Any], source: str) -> dict[str, Any]:
 def load_run(path: Path) -> dict[str, Any]:
     """One run file, upgraded to the current schema; ``ResultFileError`` if unreadable."""
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError, RecursionError) as error:  # ValueError: JSON's, UTF-8's, and
+        data = json.loads(read_text(path, MAX_RUN_FILE_BYTES))
+    except OSError as error:  # a named pipe, a device, a file too large ...
+        raise ResultFileError(
+            f"{path}: cannot read the result file: {error.strerror or error}"
+        ) from None
+    except (ValueError, RecursionError) as error:  # ValueError: JSON's, UTF-8's, and
         # an integer of thousands of digits; RecursionError: arrays nested thousands deep
         raise ResultFileError(f"{path}: cannot read the result file: {error}") from None
     if not isinstance(data, dict):
@@ -251,7 +265,7 @@ def load_run(path: Path) -> dict[str, Any]:
 Spec = Any
 NUMBER = "number"  # an int or float, not a bool
 SIZE = "size"  # [width, height], whole numbers of at least 1
-TIMES = "times"  # a non-empty list of numbers above 0 (seconds)
+TIMES = "times"  # a non-empty list of numbers above 0 (seconds), below LONGEST_SECONDS
 
 MACHINE: Spec = {
     "hostname": str, "cpu_model": str, "cpu_count": int, "cores_available": int,
@@ -302,7 +316,10 @@ def _kind(spec: Spec) -> str:
         return f"a list of {_kind(spec[0])}s" if not isinstance(spec[0], dict) else "a list"
     if isinstance(spec, dict):
         return "an object"
-    words = {NUMBER: "a number", SIZE: "[width, height]", TIMES: "a list of seconds above 0"}
+    words = {
+        NUMBER: "a number", SIZE: "[width, height]",
+        TIMES: f"a list of seconds above 0 and below {LONGEST_SECONDS:g}",
+    }  # fmt: skip
     if isinstance(spec, str):
         return words[spec]
     return {str: "text", int: "a whole number", bool: "true or false", dict: "an object",
@@ -352,7 +369,7 @@ def _fits(value: Any, spec: Spec, where: str) -> str | None:
         ok = ok and all(type(v) is int and v >= 1 for v in value)
     elif spec == TIMES:
         ok = isinstance(value, list) and bool(value)
-        ok = ok and all(_is_number(v) and v > 0 for v in value)
+        ok = ok and all(_is_number(v) and 0 < v < LONGEST_SECONDS for v in value)
     elif spec is int:
         ok = isinstance(value, int) and not isinstance(value, bool)
     else:
@@ -373,10 +390,15 @@ def _got(value: Any) -> str:
     return text if len(text) <= 40 else text[:37] + "..."
 
 
-def _not_finite(value: Any, where: str) -> str | None:
-    """The first NaN or infinite number in ``value`` (a JSON tree), named, or None."""
+def number_problem(value: Any, where: str) -> str | None:
+    """The first NaN, infinite or huge number in ``value`` (a JSON tree), named, or None:
+    arithmetic on 1e300 overflows where a measurement never would."""
     if isinstance(value, float) and not math.isfinite(value):
         return f"{where}: {value} is not a measurement"
+    if _is_number(value) and abs(value) > LARGEST_NUMBER and not where.endswith(NOT_MEASURED):
+        digits = len(str(abs(value)))
+        shown = f"{value:.3g}" if isinstance(value, float) else f"a number of {digits} digits"
+        return f"{where}: {shown} is not a measurement (above {LARGEST_NUMBER:g})"
     if isinstance(value, dict):
         items: Any = ((f"{where}.{k}" if where else str(k), v) for k, v in value.items())
     elif isinstance(value, list):
@@ -384,7 +406,7 @@ def _not_finite(value: Any, where: str) -> str | None:
     else:
         return None
     for inner, item in items:
-        why = _not_finite(item, inner)
+        why = number_problem(item, inner)
         if why:
             return why
     return None
@@ -395,7 +417,7 @@ def check_run(rtc: Any, source: str) -> None:
     (missing, of the wrong type, or a NaN or infinite number: ``rows[2].wall[0]``); None
     when the run's ``rtc`` section is fit for the report."""
     try:
-        why = _fits(rtc, RUN, "") or _not_finite(rtc, "")
+        why = _fits(rtc, RUN, "") or number_problem(rtc, "")
     except RecursionError:  # lists or objects nested hundreds deep: no run file has them
         why = "values nested too deep to check"
     if why is None:

@@ -126,7 +126,9 @@ class BenchLock:
             try:
                 folder.mkdir(parents=True, exist_ok=True)
                 path.write_text(json.dumps(info), encoding="utf-8")
-            except OSError:  # a lock we cannot write only makes us less observant
+            except OSError:  # a lock we cannot write only makes us less observant, and one
+                with contextlib.suppress(OSError):  # written in part (a full disk) goes
+                    path.unlink(missing_ok=True)
                 continue
             self.paths.append(path)
 

@@ -143,3 +143,19 @@ def fit_to_budget(
     if estimate.seconds(size) * renders > budget:
         note += f" (even {size}, the smallest size tried, is estimated over it)"
     return BudgetChoice(size, total, True, note)
+
+
+# What one pixel of a render costs at the peak (the canvas, and the image written from it),
+# measured: a canvas of ``Color`` values (the book's tracer and the variants built on it,
+# a learner's) about 140 bytes a pixel once every pixel holds its own color; numba's arrays
+# about 60; wavefront's passes about 175. Rounded up.
+BYTES_PER_PIXEL = {"numba": 80, "wavefront": 200}
+DEFAULT_BYTES_PER_PIXEL = 160
+
+
+def render_bytes(variant: str, width: int, height: int) -> int:
+    """About how much memory a ``width`` x ``height`` render with ``variant`` (a registry
+    name, wrappers included: the costliest part counts) needs."""
+    names = re.findall(r"[A-Za-z_][A-Za-z0-9_]*(?=\[|:|$)", variant) or [variant]
+    per_pixel = max(BYTES_PER_PIXEL.get(name, DEFAULT_BYTES_PER_PIXEL) for name in names)
+    return per_pixel * width * height

@@ -93,25 +93,36 @@ class ErrorFound:
         return str(self.error.get("size") or "")
 
 
-def error_found(row: Row, run: Run, runs: Sequence[Run]) -> ErrorFound | None:
-    """The row's image error at ``MEANINGFUL_PIXELS`` or more: its own if its run compared
-    at such a size, else that of the newest run of the same scene and settings that did (for
-    a row of the same name), else its own at the run's comparison size."""
-    own = row.get("error_vs_naive")
-    if own and own["pixels"] >= MEANINGFUL_PIXELS:
-        return ErrorFound(own, run)
+def _newest_errors(run: Run, runs: Sequence[Run]) -> dict[str, ErrorFound]:
+    """By variant name, the image error at ``MEANINGFUL_PIXELS`` or more of the newest other
+    run of ``run``'s scene and settings that has one: one pass over the runs."""
+    found: dict[str, ErrorFound] = {}
     for other in reversed(runs):
         if other is run or not _same_picture(run, other):
             continue
         for candidate in _table_rows(other):
-            found = candidate.get("error_vs_naive")
-            if (
-                candidate["name"] == row["name"]
-                and candidate["status"] == "ok"
-                and found
-                and found["pixels"] >= MEANINGFUL_PIXELS
-            ):
-                return ErrorFound(found, other)
+            error = candidate.get("error_vs_naive")
+            if candidate["status"] == "ok" and error and error["pixels"] >= MEANINGFUL_PIXELS:
+                found.setdefault(str(candidate["name"]), ErrorFound(error, other))
+    return found
+
+
+def error_found(
+    row: Row, run: Run, runs: Sequence[Run], newest: Mapping[str, ErrorFound] | None = None
+) -> ErrorFound | None:
+    """The row's image error at ``MEANINGFUL_PIXELS`` or more: its own if its run compared
+    at such a size, else that of the newest run of the same scene and settings that did (for
+    a row of the same name), else its own at the run's comparison size. ``newest``:
+    ``_newest_errors(run, runs)`` when the caller has it (one pass over the runs for every
+    row of a run: the report's cost grows with the number of runs, not its square)."""
+    own = row.get("error_vs_naive")
+    if own and own["pixels"] >= MEANINGFUL_PIXELS:
+        return ErrorFound(own, run)
+    if newest is None:
+        newest = _newest_errors(run, runs)
+    quoted = newest.get(str(row["name"]))
+    if quoted is not None:
+        return quoted
     return ErrorFound(own, run) if own else None
 
 
@@ -157,15 +168,13 @@ def allocations_text(row: Row) -> str:
 def other_runs(run: Run, runs: Sequence[Run]) -> dict[str, str]:
     """The earlier runs whose image errors the summary quotes, by stem, with their marks
     (``a``, ``b`` ...), oldest first."""
-    stems = []
-    for other in runs:
-        if other is run:
-            continue
-        for row in _table_rows(run):
-            found = error_found(row, run, runs) if row["status"] == "ok" else None
-            if found is not None and found.run is other:
-                stems.append(str(other["stem"]))
-                break
+    quoted = set()
+    newest = _newest_errors(run, runs)
+    for row in _table_rows(run):
+        found = error_found(row, run, runs, newest) if row["status"] == "ok" else None
+        if found is not None and found.run is not run:
+            quoted.add(id(found.run))
+    stems = [str(other["stem"]) for other in runs if other is not run and id(other) in quoted]
     return {stem: chr(ord("a") + i) for i, stem in enumerate(stems)}
 
 
@@ -185,6 +194,7 @@ def table(run: Run, runs: Sequence[Run]) -> Table:
     """The summary table of ``run``'s table rows, fastest first."""
     rows = _table_rows(run)
     marks = other_runs(run, runs)
+    newest = _newest_errors(run, runs)
     body = []
     for row in fastest_first(rows):
         name = f"`{row['name']}`"
@@ -192,7 +202,7 @@ def table(run: Run, runs: Sequence[Run]) -> Table:
             body.append([name, changes_text(row, rows), "failed", *["-"] * 6])
             continue
         speedup = row.get("speedup")
-        psnr, off = _error_cells(row, error_found(row, run, runs), run, marks)
+        psnr, off = _error_cells(row, error_found(row, run, runs, newest), run, marks)
         body.append(
             [
                 name,
@@ -236,7 +246,8 @@ def lead(run: Run, runs: Sequence[Run]) -> str:
         f"**Fastest: `{best['name']}`, {figures.speedup_text(best['speedup']['value'])} "
         f"naive's speed** ({figures.per_pixel_text(per_pixel(best))} per pixel{against})."
     )
-    found = error_found(best, run, runs)
+    newest = _newest_errors(run, runs)
+    found = error_found(best, run, runs, newest)
     if best["name"] != "naive" and found is not None:
         text += (
             f" Its picture against naive's: PSNR {psnr_text(found.error)}, "
@@ -255,7 +266,7 @@ def lead(run: Run, runs: Sequence[Run]) -> str:
             r
             for r in ranked
             if r["name"] != "naive"
-            and (e := error_found(r, run, runs)) is not None
+            and (e := error_found(r, run, runs, newest)) is not None
             and e.error["pixels_over_one_step"] == 0
         ),
         None,

@@ -15,6 +15,8 @@ import tempfile
 from pathlib import Path
 from types import ModuleType
 
+from compiled import KernelFolderError
+
 COMMANDS = [
     "rtc.cmd_variants",
     "rtc.cmd_new",
@@ -82,6 +84,16 @@ def check_writable(path: Path, what: str) -> None:
         ) from None
 
 
+def cannot_write(error: OSError, results: Path) -> str:
+    """One line for a write the disk refused while a run was being kept under ``results``
+    (full, read-only, over quota): what, where, and that nothing was kept."""
+    where = f" {error.filename}" if error.filename else ""
+    return (
+        f"cannot write{where} under {str(results)!r}: {error.strerror or error}; nothing "
+        "was kept (free some space and run again)"
+    )
+
+
 def check_output(text: str) -> Path:
     """``-o``'s path, checked before anything is rendered: a known image extension, not a
     folder (nor spelled as one, ``out.png/``), in a folder that exists and takes new files,
@@ -100,6 +112,12 @@ def check_output(text: str) -> Path:
     exists = _exists(output, what)
     if exists and output.is_dir():
         raise UserError(f"{what}: it is a folder")
+    if exists:  # a named pipe would block the writer until something reads it
+        from scene.files import describe
+
+        odd = describe(output)
+        if odd is not None:
+            raise UserError(f"{what}: {odd}")
     folder = output.parent
     if _exists(folder, what) and not folder.is_dir():
         raise UserError(f"{what}: {str(folder)!r} is a file, not a folder")
@@ -112,6 +130,18 @@ def check_output(text: str) -> Path:
         except OSError as error:
             raise UserError(f"cannot write {text!r}: {error.strerror or error}") from None
     return output
+
+
+def check_memory(variant: str, width: int, height: int) -> None:
+    """A ``UserError`` naming the size, the memory it needs and the memory left, when a
+    ``width`` x ``height`` render with ``variant`` would not fit (before it starts)."""
+    from harness.sizes import render_bytes
+    from scene.memory import NotEnoughMemory, check
+
+    try:
+        check(render_bytes(variant, width, height), f"a {width}x{height} picture with {variant}")
+    except NotEnoughMemory as error:
+        raise UserError(f"{error}; choose a smaller --size") from None
 
 
 def _commands(argv: list[str] | None = None) -> list[ModuleType]:
@@ -146,12 +176,16 @@ def main(argv: list[str] | None = None) -> int:
         if isinstance(getattr(args, "results_dir", None), Path):
             check_results_dir(args.results_dir)
         return int(args.run(args))
-    except UserError as error:
+    except (UserError, KernelFolderError) as error:
         print(f"rtc {args.command}: {error}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print(f"rtc {args.command}: interrupted", file=sys.stderr)
         return 130
+    except MemoryError as error:  # what the checks before the work did not foresee
+        print(f"rtc {args.command}: out of memory{f': {error}' if str(error) else ''}; "
+              "try a smaller size or scene", file=sys.stderr)  # fmt: skip
+        return 1
     except BrokenPipeError:  # `rtc kata | head`: the reader went away; not an error of ours
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())  # so the interpreter's final flush is quiet

@@ -10,7 +10,7 @@ import time
 from typing import TYPE_CHECKING, Any
 
 from harness import numba_targets
-from rtc.cli import UserError, add_results_dir, check_writable
+from rtc.cli import UserError, add_results_dir, cannot_write, check_memory, check_writable
 
 if TYPE_CHECKING:
     from harness.plan import BenchSettings
@@ -139,7 +139,7 @@ NUMBA_TARGET_OPTIONS = ("runs", "naive_size", "naive_pixels", "skip")
 
 def settings_from(args: argparse.Namespace) -> BenchSettings:
     """The run's settings from the command line; ``UserError`` for a bad value."""
-    from harness.plan import FULL, QUICK, SECTIONS, BenchSettings, expand_variants
+    from harness.plan import BASELINE, FULL, QUICK, SECTIONS, BenchSettings, expand_variants
     from harness.presets import resolve_scene
     from harness.sections import measuring_order
     from harness.sizes import parse_size
@@ -174,6 +174,9 @@ def settings_from(args: argparse.Namespace) -> BenchSettings:
     except LookupError as error:
         raise UserError(f"--variants: {error.args[0]}") from None
     budget = mode.budget if args.budget is None else (args.budget or None)
+    if budget is None:  # every row renders at the size asked (a budget shrinks slow rows)
+        for name in (BASELINE, *names):
+            check_memory(name, size.width, size.height)
     meshes, mesh_variants = _scene_size_options(args)
     check_writable(args.results_dir, f"--results-dir {str(args.results_dir)!r}")
     return BenchSettings(
@@ -285,6 +288,8 @@ def run(args: argparse.Namespace) -> int:
         path = run_bench(settings, log)
     except SceneError as error:  # checked before anything is measured or written
         raise UserError(str(error)) from None
+    except OSError as error:  # a full disk: no run file, no lock, no staging folder
+        raise UserError(cannot_write(error, settings.results)) from None
     print(console_table(load_run(path)["rtc"]))
     print(f"rtc bench: wrote {path}")
     if baseline is None:

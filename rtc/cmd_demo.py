@@ -9,7 +9,7 @@ from pathlib import Path
 
 from harness.images import FORMATS, write_image
 from raytracer.canvas import MAX_SIDE
-from rtc.cli import UserError, check_output
+from rtc.cli import UserError, check_memory, check_output
 from rtc.demos import DEMOS
 
 NAME = "demo"
@@ -74,6 +74,7 @@ def run(args: argparse.Namespace) -> int:
     else:
         width, height = parse_size(args.size) if args.size is not None else demo.size
         output = check_output(str(output) if args.output is None else args.output)
+        check_memory("naive", width, height)
     size = f" at {width}x{height}" if demo.size else ""
     print(f"chapter {chapter}: {demo.title}{size}", flush=True)
     start = time.perf_counter()

@@ -51,12 +51,40 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
 
 
+MAX_FEATURE_BYTES = 16 << 20  # the book's longest feature file is some 20 kB
+
+
+def check_features(path: Path) -> None:
+    """A ``UserError`` naming the first feature file under ``path`` that pytest-bdd could not
+    read: not a regular file (a named pipe would block it), too large, or not UTF-8 text."""
+    from scene.files import describe, read_bytes
+
+    odd = describe(path)
+    if odd is not None and not path.is_dir():
+        raise UserError(f"{path}: {odd}")
+    files = [path] if not path.is_dir() else sorted(path.rglob("*.feature"))
+    for file in files:
+        try:
+            data = read_bytes(file, MAX_FEATURE_BYTES)
+        except OSError as error:
+            raise UserError(f"{file}: cannot read the feature file: {error.strerror}") from None
+        try:
+            data.decode("utf-8")
+        except UnicodeDecodeError as error:
+            line = data[: error.start].count(b"\n") + 1
+            raise UserError(
+                f"{file}:{line}: the feature file is not UTF-8 text (byte "
+                f"0x{data[error.start]:02x}); save it as UTF-8"
+            ) from None
+
+
 def run(args: argparse.Namespace) -> int:
     from steps import kata
 
     path = args.path if args.path is not None else kata.PROJECT_FEATURES
     if not path.exists():
         raise UserError(f"no such feature file or folder: {path}")
+    check_features(path)
     for chapter in args.chapter or []:
         if not 1 <= chapter <= 99:
             raise UserError(f"--chapter {chapter}: the book's chapters are numbered from 1")

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import importlib.util
 import keyword
+import re
 import shlex
 import sys
 from importlib.metadata import entry_points
@@ -46,13 +47,28 @@ def _module_location(module: str) -> str | None:
     return None if spec is None else spec.origin
 
 
+MAX_NAME = 64  # the package's folder, its module and its pip name are all made of it
+_ASCII_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
+
+
 def check_name(name: str, folder: Path) -> None:
     """A ``UserError`` unless ``name`` can name a new variant (and package) in ``folder``:
-    a Python identifier, not ``all``, not another variant's or module's name."""
+    a Python identifier of ASCII letters, digits and _ starting with a letter (pip reads
+    only such a package name: ``rtc-variant-NAME``), not too long for a file name, not a
+    keyword, not ``all``, not another variant's or module's name."""
+    if len(name) > MAX_NAME:
+        raise UserError(
+            f"a name of {len(name)} characters ({name[:20]!r}...); at most {MAX_NAME}"
+        )
     if not name.isidentifier() or keyword.iskeyword(name):
         raise UserError(
             f"{name!r} is not a Python identifier: use letters, digits and _, not starting "
             "with a digit, and not a Python keyword (e.g. my_tracer)"
+        )
+    if not _ASCII_NAME.fullmatch(name):
+        raise UserError(
+            f"{name!r} cannot name a package pip installs: use ASCII letters, digits and _, "
+            "starting with a letter (e.g. my_tracer)"
         )
     if name == ALL:
         raise UserError("'all' means every variant; pick another name")
@@ -100,8 +116,8 @@ def run(args: argparse.Namespace) -> int:
     folder: Path = (args.dir if args.dir is not None else Path(name)).expanduser().absolute()
     check_name(name, folder)
     install, start = commands(name, folder)
-    existed = folder.exists()
     try:
+        existed = folder.exists()
         result = scaffold(name, folder, install, start)
     except (ScaffoldError, OSError) as error:
         raise UserError(str(error)) from None

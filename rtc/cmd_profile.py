@@ -11,7 +11,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from rtc.cli import UserError
+from rtc.cli import UserError, check_memory
 from rtc.cmd_demo import parse_size
 
 NAME = "profile"
@@ -86,6 +86,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"rtc profile: warning: {warning}", file=sys.stderr, flush=True)
     if size is None:
         size = profile_size(Size(scene.camera.hsize, scene.camera.vsize))
+    check_memory(variant.name, size.width, size.height)
     folder = _folder(args.output_dir)
     request = Request(
         variant=variant.name, scene=args.scene.resolve(), size=size, folder=folder,

@@ -13,7 +13,7 @@ from typing import Any
 from harness.images import write_image
 from harness.make_meshes import provide
 from raytracer.camera import RenderSettings
-from rtc.cli import UserError, check_output
+from rtc.cli import UserError, check_memory, check_output
 from rtc.cmd_demo import parse_size
 from scene import SceneError, load_scene
 
@@ -81,13 +81,14 @@ def _progress_bar(rows: int) -> tuple[Callable[[int], object] | None, Callable[[
     return bar.update, bar.close
 
 
-def _watch_compiles() -> list[float]:
+def _watch_compiles() -> tuple[list[float], Callable[[], None]]:
     """Say on stderr what numba compiles and that it happens once (the first render of a
     new kind of scene compiles for seconds); the seconds spent, one entry per compile.
-    Nothing is watched unless the variant loaded numba's kernels module."""
+    Nothing is watched unless the variant loaded numba's kernels module. Returns the list
+    and what stops the watch (a process that renders again, a test, is told nothing more)."""
     spent: list[float] = []
     if "variants.numba" not in sys.modules:
-        return spent
+        return spent, lambda: None
     from variants.numba.specialize import kernel_folder, on_compile
 
     def told(what: str, seconds: float | None) -> None:
@@ -101,8 +102,7 @@ def _watch_compiles() -> list[float]:
             spent.append(seconds)
             print(f"rtc render: compiled in {seconds:.1f} s", file=sys.stderr, flush=True)
 
-    on_compile(told)
-    return spent
+    return spent, on_compile(told)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -122,9 +122,10 @@ def run(args: argparse.Namespace) -> int:
         world = variant.world_for(scene)
     except SceneError as error:
         raise UserError(str(error)) from None
+    camera = scene.camera
+    check_memory(variant.name, camera.hsize, camera.vsize)
     for warning in scene.warnings:
         print(f"rtc render: warning: {warning}", file=sys.stderr, flush=True)
-    camera = scene.camera
     print(
         f"rendering {args.scene} at {camera.hsize}x{camera.vsize} with {variant.name} "
         f"(depth {settings.depth}, epsilon {settings.epsilon:g}, "
@@ -140,7 +141,7 @@ def run(args: argparse.Namespace) -> int:
         )
         for note in scene.notes:
             print(f"scene: {note}")
-    compiles = _watch_compiles()
+    compiles, unwatch = _watch_compiles()
     update, close = _progress_bar(camera.vsize)
     start = time.perf_counter()
     try:
@@ -149,6 +150,7 @@ def run(args: argparse.Namespace) -> int:
         raise UserError(f"{variant.name} could not render {args.scene}: {error}") from None
     finally:
         close()
+        unwatch()
     elapsed = time.perf_counter() - start
     try:
         write_image(image, output)

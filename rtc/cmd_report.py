@@ -6,7 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from rtc.cli import UserError, add_results_dir, check_writable
+from rtc.cli import UserError, add_results_dir, cannot_write, check_writable
 
 NAME = "report"
 HELP = "write results/README.md and a self-contained results/report.html from results/runs/"
@@ -29,6 +29,8 @@ def run(args: argparse.Namespace) -> int:
         readme, page, _ = build_report(args.results_dir, warn)
     except FileNotFoundError as error:
         raise UserError(str(error)) from None
+    except OSError as error:  # a full disk: each file is written whole or not at all
+        raise UserError(cannot_write(error, args.results_dir)) from None
     print(f"rtc report: wrote {readme} and {page}")
     project_readme = Path(args.results_dir).resolve().parent / "README.md"
     if update_readme(project_readme, args.results_dir):

@@ -10,7 +10,7 @@ import time
 from datetime import UTC, datetime
 from pathlib import Path
 
-from rtc.cli import UserError, add_results_dir
+from rtc.cli import UserError, add_results_dir, cannot_write, check_writable
 
 NAME = "stability"
 HELP = (
@@ -66,6 +66,7 @@ def run(args: argparse.Namespace) -> int:
         variants, unavailable = select_variants(args.variants)
     except LookupError as error:
         raise UserError(f"--variants: {error.args[0]}") from None
+    check_writable(args.results_dir, f"--results-dir {str(args.results_dir)!r}")
     started_clock = time.monotonic()
     started = datetime.now(UTC)
 
@@ -81,7 +82,10 @@ def run(args: argparse.Namespace) -> int:
         describe_machine(Path(__file__).resolve().parent.parent), started,
         time.monotonic() - started_clock,
     )  # fmt: skip
-    path = runfile.write_run(args.results_dir, data)
+    try:
+        path = runfile.write_run(args.results_dir, data)
+    except OSError as error:  # a full disk: the run file is written whole or not at all
+        raise UserError(cannot_write(error, args.results_dir)) from None
     if args.json:
         print(json.dumps(data, indent=1))
     else:

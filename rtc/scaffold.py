@@ -16,6 +16,7 @@ from __future__ import annotations
 import ast
 import inspect
 import os
+import re
 import tempfile
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -220,7 +221,7 @@ requires = ["setuptools>=64"]
 build-backend = "setuptools.build_meta"
 
 [project]
-name = "rtc-variant-{variant.replace("_", "-")}"
+name = "rtc-variant-{re.sub("_+", "-", variant).strip("-")}"
 version = "0.1.0"
 description = "A ray tracer written test-first with The Ray Tracer Challenge"
 requires-python = ">=3.11"

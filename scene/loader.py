@@ -28,6 +28,7 @@ from scene.build import Builder, divide_groups
 from scene.colors import read_color
 from scene.context import Context, Definition, Kind, updated
 from scene.errors import SceneError
+from scene.files import read_text
 from scene.limits import Limits, limits_from_environment
 from scene.materials import read_material_properties
 from scene.progress import LoadProgress
@@ -42,6 +43,9 @@ AREA_LIGHT_REQUIRED = AREA_LIGHT_KEYS[1:-1]  # all but add and jitter
 DEFINE_KEYS = ("define", "value", "extend")
 MAX_SIDE = 16384  # as the canvas allows
 
+
+# the most of a scene file read: YAML of this size already takes minutes to read
+MAX_SCENE_BYTES = 64 << 20
 
 @dataclass
 class Scene:
@@ -150,7 +154,7 @@ def load_scene(
     """
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = read_text(path, MAX_SCENE_BYTES)
     except OSError as error:
         raise SceneError(path, None, f"cannot read the scene file: {error.strerror}") from None
     except UnicodeDecodeError as error:

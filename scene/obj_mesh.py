@@ -29,6 +29,7 @@ from compiled.library import Recipe, load
 from raytracer.obj_file import (
     DEGENERATE_SINE,
     ObjNoFacesError,
+    ObjParseError,
     _coordinates,
     _corners,
     _no_faces,
@@ -117,10 +118,10 @@ def read_mesh(data: bytes, source: str, *, require_faces: bool = True) -> Mesh:
     if data.startswith(BOM):
         data = data[len(BOM) :]
     if any(marker in data for marker in EXOTIC) or data.count(b"\r") != data.count(b"\r\n"):
-        return book_mesh(data, source, require_faces=require_faces)
+        return _normals_checked(book_mesh(data, source, require_faces=require_faces), data)
     scanned = _Scan(data, source).run()
     if scanned is None:  # text only Python can split, or too many slow lines
-        return book_mesh(data, source, require_faces=require_faces)
+        return _normals_checked(book_mesh(data, source, require_faces=require_faces), data)
     if require_faces and scanned.count == 0:
         found = SimpleNamespace(
             lines=scanned.lines, vertices=range(len(scanned.positions) + 1),
@@ -128,7 +129,30 @@ def read_mesh(data: bytes, source: str, *, require_faces: bool = True) -> Mesh:
             first_degenerate_line=scanned.first_degenerate_line,
         )  # fmt: skip
         raise ObjNoFacesError(source, _no_faces(source, found))  # type: ignore[arg-type]
-    return scanned
+    return _normals_checked(scanned, data)
+
+
+def _normals_checked(mesh: Mesh, data: bytes) -> Mesh:
+    """``mesh``, unless a triangle's corner uses a normal of length 0 (``vn 0 0 0``): that
+    corner would shade as if lit from nowhere (ambient light only). An ``ObjParseError``
+    naming the ``vn`` line then."""
+    if mesh.corner_normals is None or not len(mesh.normals):
+        return mesh
+    used = np.unique(mesh.corner_normals[mesh.corner_normals >= 0])
+    flat = used[~np.any(mesh.normals[used] != 0.0, axis=1)]
+    if not len(flat):
+        return mesh
+    wanted, seen = int(flat[0]), -1
+    for number, line in enumerate(_decode(data).split("\n"), start=1):
+        if line.split(maxsplit=1)[:1] == ["vn"]:
+            seen += 1
+            if seen == wanted:
+                raise ObjParseError(
+                    mesh.source, number, line, "a vertex normal of length 0 has no direction "
+                    "(a smooth triangle's corner uses it); give its direction, or leave the "
+                    "face's normals out (f 1 2 3) for a flat triangle",
+                )  # fmt: skip
+    raise ObjParseError(mesh.source, 0, "", f"vertex normal {wanted + 1} has length 0")
 
 
 def _decode(data: bytes) -> str:

@@ -66,6 +66,28 @@ def compose(
             loader.dispose()
 
 
+def _yaml11_surprise(node: Node, value: object) -> str:
+    """Why a plain scalar YAML 1.1 (PyYAML) read as a number means another number than it
+    shows, or "": ``020`` is octal 16, ``1:30`` base 60 (90)."""
+    if not isinstance(node, ScalarNode) or node.style or not isinstance(value, int | float):
+        return ""
+    text = str(node.value).strip().lstrip("+-").replace("_", "")
+    if ":" in text:
+        return (
+            f"{text!r} is a base-60 number to YAML 1.1 ({value}); write the number itself, "
+            "or quote it if it is a name"
+        )
+    if _OCTAL.fullmatch(text) and int(text, 8) != int(text, 10):
+        return (
+            f"{text!r} starts with 0, so YAML 1.1 reads it as the octal number {value}; write "
+            f"{int(text, 10)} without the leading 0"
+        )
+    return ""
+
+
+_OCTAL = re.compile(r"0[0-7]+")
+
+
 def line_of(node: Node) -> int:
     """The 1-based line where ``node`` starts."""
     return int(node.start_mark.line) + 1
@@ -169,8 +191,12 @@ class Reader:
         return value
 
     def number(self, node: Node, what: str, *, allow_infinity: bool = False) -> float:
-        """A finite number (or ±infinity when allowed); never NaN, never a boolean."""
+        """A finite number (or ±infinity when allowed); never NaN, never a boolean; never a
+        number YAML 1.1 reads otherwise than it looks (``_yaml11_surprise``)."""
         value = self.scalar(node, what)
+        surprise = _yaml11_surprise(node, value)
+        if surprise:
+            self.fail(node, f"{what}: {surprise}")
         if isinstance(value, str) and _NUMBER_TEXT.fullmatch(value.strip()):
             value = float(value)
         if isinstance(value, bool) or not isinstance(value, int | float):

@@ -25,6 +25,7 @@ from typing import Any
 from yaml.nodes import MappingNode, Node
 
 from scene.context import Context
+from scene.files import describe, read_bytes
 from scene.fir_branch import BARK, LENGTH, NEEDLE, NEEDLES, RADIUS, needle_mesh
 from scene.kinds import ADDABLE, BY_NAME
 from scene.materials import read_material
@@ -59,6 +60,9 @@ FACTORIES: dict[str, tuple[str, ...]] = {
     "fir_branch": ("group", "add_child", "cylinder", "triangle"),
 }
 OPERATIONS = ("union", "intersection", "difference")
+# the most of an OBJ file read: a model within the default limit of shapes (5,000,000
+# triangles) is some 300 MB of text
+MAX_OBJ_BYTES = 1 << 30
 
 
 @dataclass(frozen=True)
@@ -142,6 +146,9 @@ def _child(ctx: Context, node: Node, what: str) -> ShapeSpec:
 def _obj_path(ctx: Context, entry: Entry) -> Path:
     name = ctx.reader.string(entry.value, "file")
     path = (ctx.reader.path.parent / name).resolve()
+    odd = describe(path)  # a named pipe would block the reader, a device never end
+    if odd is not None:
+        ctx.reader.fail(entry.value, f"cannot read OBJ file {path}: {odd}")
     provide = ctx.provide_mesh  # a generated mesh is written when first needed
     if not path.is_file() and not (provide is not None and provide(path)):
         ctx.reader.fail(
@@ -316,7 +323,7 @@ def _mesh(ctx: Context, spec: ShapeSpec) -> Mesh:
         ctx.count_shapes(known.count, spec.line, f"the {known.count:,} triangles of {spec.label}")
         return known
     try:
-        data = path.read_bytes()
+        data = read_bytes(path, MAX_OBJ_BYTES)
     except OSError as error:
         ctx.reader.fail(spec.line, f"{spec.label}: cannot read OBJ file {path}: {error.strerror}")
     try:

@@ -382,7 +382,7 @@ DAMAGE = [
     (_rows_not_a_list, "rows: expected a list, got {"),
     (_nan_wall, "rows[1].wall[0]: nan is not a measurement"),
     (_infinite_point, "series[0].points[0].wall: inf is not a measurement"),
-    (_zero_wall, "rows[0].wall: expected a list of seconds above 0, got [0.0]"),
+    (_zero_wall, "rows[0].wall: expected a list of seconds above 0 and below 1e+09, got [0.0]"),
     (_size_as_text, 'rows[1].size: expected [width, height], got "8x6"'),
     (_no_machine, "machine: missing"),
     (_kata_without_variant, "the report cannot use it: KeyError: 'variant'"),

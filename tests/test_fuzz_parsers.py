@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import shutil
 from collections.abc import Iterator
 from pathlib import Path
@@ -595,6 +596,191 @@ def read_result(path: Path) -> None:
         event("clear error")
     else:
         event("parsed")
+
+
+# ----------------------------------------------------------------- the report's pages
+
+# pieces of text a run file could hold in a name, a note or a picture's path
+TEXT_PIECES = (
+    "<", ">", "&", '"', "'", "`", "*", "**", "[", "]", "(", ")", "](", "#", "|", "\\", "!",
+    ":", "/", ".", "..", "\n", "\r", " ", "\t", "_", "-", "=", "\u2028", "é", "x", "1",
+    "javascript:alert(1)", "<script>", "</td>", "onerror=", "data:", "#anchor", "runs/ok.png",
+    "](javascript:alert(1))", "[x](#fine)", "[x](runs/ok.png)", "[x](../up.png)", "\n# h",
+)  # fmt: skip
+TEXTS = st.lists(st.sampled_from(TEXT_PIECES), max_size=12).map("".join)
+PICTURE_PATHS = st.sampled_from(
+    ["runs/ok.png", "runs/missing.png", "runs/link.png", "runs/pipe.png", "runs/text.png",
+     "runs/../../secret.png", "/etc/passwd", "javascript:alert(1)", "runs/ok.png\n# x",
+     "runs/ok .png", "runs", ""]
+) | TEXTS  # fmt: skip
+
+
+@st.composite
+def report_blocks(draw: st.DrawFn) -> list[Any]:
+    from harness.document import Bullets, Gallery, Heading, Para, Picture, Table
+
+    def picture() -> Picture:
+        width = draw(st.none() | st.integers(1, 500))
+        return Picture(draw(PICTURE_PATHS), draw(TEXTS), width)
+
+    kinds = draw(st.lists(st.integers(0, 5), min_size=1, max_size=6))
+    blocks: list[Any] = []
+    for kind in kinds:
+        if kind == 0:
+            blocks.append(Heading(draw(st.integers(1, 3)), draw(TEXTS)))
+        elif kind == 1:
+            blocks.append(Para(draw(TEXTS)))
+        elif kind == 2:
+            blocks.append(Bullets(draw(st.lists(TEXTS, max_size=3))))
+        elif kind == 3:
+            columns = draw(st.integers(1, 3))
+            rows = draw(st.lists(st.lists(TEXTS, min_size=columns, max_size=columns),
+                                 max_size=3))  # fmt: skip
+            blocks.append(Table([draw(TEXTS) for _ in range(columns)], rows, {0}))
+        elif kind == 4:
+            blocks.append(picture())
+        else:
+            rows = [(draw(TEXTS), [picture() if draw(st.booleans()) else None])
+                    for _ in range(draw(st.integers(0, 2)))]  # fmt: skip
+            blocks.append(Gallery(["a", draw(TEXTS)], rows))
+    return blocks
+
+
+@pytest.fixture(scope="module")
+def results_folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A results folder with one picture of its own, and around it what a run file could
+    point at: a secret PNG outside, a link to it, a pipe and a text file named as PNG."""
+    import os
+
+    base = tmp_path_factory.mktemp("report")
+    (base / "secret.png").write_bytes(b"\x89PNG\r\n\x1a\nSECRET")
+    runs = base / "results" / "runs"
+    runs.mkdir(parents=True)
+    shutil.copy(SCENES / "textures" / "planet.png", runs / "ok.png")
+    (runs / "link.png").symlink_to(base / "secret.png")
+    os.mkfifo(runs / "pipe.png")
+    (runs / "text.png").write_text("not a picture", encoding="utf-8")
+    return base / "results"
+
+
+@given(blocks=report_blocks())
+def test_any_text_in_a_report_is_escaped_and_no_file_outside_is_embedded(
+    blocks: list[Any], results_folder: Path
+) -> None:
+    """The report's own tags only, links to its headings or to files of the results
+    folder, pictures only embedded from there (never the secret outside, never a pipe's
+    wait), and no heading made by a line break in a name."""
+    from report_checks import check_html, check_markdown
+
+    from harness.document import Heading, to_html, to_markdown
+
+    page = to_html(blocks, results_folder, "title <script>")
+    markdown = to_markdown(blocks, results_folder)
+    headings = sum(isinstance(b, Heading) for b in blocks)
+    check_html(page, results_folder)
+    check_markdown(markdown, results_folder, headings)
+    assert "SECRET" not in page and "U0VDUkVU" not in page
+    assert len(re.findall(r"<h[1-6][ >]", page)) == headings
+    event(f"{page.count('data:image/png')} pictures embedded")
+
+
+# ------------------------------------------------------------------ the kernel cache
+
+
+@pytest.fixture(scope="module")
+def tiny_library(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path, bytes, bytes]:
+    """The test kernel (``tests/compiled_tiny.py``) built in a private folder of its own, and
+    copied to another that this process never loads from (damage written into a loaded
+    library would reach the process's own copy): the copy's name (``library_path``), its
+    library file, and the bytes of both it and its record."""
+    from test_hostile import TINY
+
+    from compiled import library
+
+    base = tmp_path_factory.mktemp("kernels")
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setenv("RTC_NUMBA_KERNELS", str(base / "built"))
+        patch.delenv("CC", raising=False)
+        built = TINY.path()
+        library.load(TINY)
+        library._loaded.pop(str(built), None)
+    shutil.copytree(base / "built", base / "copy", ignore=shutil.ignore_patterns("numba-*"))
+    path = base / "copy" / built.name
+    library._keys[str(path)] = library._keys[str(built)]
+    found, why = library.verify(path)
+    assert found is not None and found.parent == base / "copy", why
+    return path, found, found.read_bytes(), library.record_path(path).read_bytes()
+
+
+@st.composite
+def damaged(draw: st.DrawFn, original: bytes) -> bytes:
+    """``original`` cut, overwritten in places, lengthened, or replaced."""
+    how = draw(st.sampled_from(["cut", "overwrite", "append", "replace"]))
+    if how == "cut":
+        return original[: draw(st.integers(0, len(original)))]
+    if how == "append":
+        return original + draw(st.binary(min_size=1, max_size=64))
+    if how == "replace":
+        return draw(st.binary(max_size=4096))
+    data = bytearray(original)
+    for _ in range(draw(st.integers(1, 4))):
+        at = draw(st.integers(0, len(data) - 1))
+        patch = draw(st.binary(min_size=1, max_size=8))
+        data[at : at + len(patch)] = patch
+    return bytes(data)[: len(original)]
+
+
+@given(data=st.data())
+def test_a_damaged_library_is_never_taken_for_the_one_built(
+    data: st.DataObject, tiny_library: tuple[Path, Path, bytes, bytes]
+) -> None:
+    """Any damage to the library's bytes is found before it is loaded (its digest), and
+    said in one line; only the bytes built pass."""
+    from compiled import library
+
+    path, file, original, _record = tiny_library
+    bytes_now = data.draw(damaged(original))
+    file.write_bytes(bytes_now)
+    try:
+        found, why = library.verify(path)
+    finally:
+        file.write_bytes(original)
+    if bytes_now == original:
+        assert found == file and why == ""
+        event("the same bytes")
+    else:
+        assert found is None and why and "\n" not in why
+        assert why.startswith(f"its library {file.name} is not the one built"), why
+        event("damage found")
+
+
+@given(record=st.binary(max_size=300) | JSON_VALUES.map(json.dumps) | st.data())
+def test_a_damaged_record_is_never_trusted(
+    record: Any, tiny_library: tuple[Path, Path, bytes, bytes]
+) -> None:
+    """Any record but the one written names no library to load; verifying it never raises.
+    (``st.data``: the record with one of its fields changed.)"""
+    from compiled import library
+
+    path, file, _original, written = tiny_library
+    if isinstance(record, st.DataObject):
+        entry = json.loads(written)
+        field = record.draw(st.sampled_from(sorted(entry)))
+        entry[field] = record.draw(JSON_VALUES)
+        record = json.dumps(entry)
+    text = record if isinstance(record, bytes) else record.encode("utf-8")
+    place = library.record_path(path)
+    place.write_bytes(text)
+    try:
+        found, why = library.verify(path)
+    finally:
+        place.write_bytes(written)
+    if text == written or (found is not None and json.loads(text) == json.loads(written)):
+        assert found == file
+        event("the same record")
+    else:
+        assert found is None and why and "\n" not in why, (text, why)
+        event("record refused")
 
 
 # ------------------------------------------------- what fuzzing found, kept as regressions

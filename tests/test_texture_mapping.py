@@ -465,7 +465,7 @@ def test_a_texture_mistake_is_one_line_naming_the_scene_file_and_line(
          r"the image file .*bad\.ppm is not a plain PPM image: PPM line 4: the value 300 is "
          r"above the maximum value 255"),
         ("bad.ppm", b"P7\n", r"bad\.ppm is not a plain PPM image: PPM line 1: the magic"),
-        ("folder.png", "folder", r"image file not found: .*folder\.png"),
+        ("folder.png", "folder", r"cannot read image file .*folder\.png: it is a folder"),
     ],
 )  # fmt: skip
 def test_a_broken_image_is_one_line_naming_the_scene_line_and_the_image(

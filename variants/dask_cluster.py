@@ -33,8 +33,12 @@ Name and options (the grammar of ``variants.registry``)::
   in every worker) to this process's ``on_compile`` listeners (``compiles_announced``), so
   ``rtc render`` says them as it says its own;
 - when a worker dies, Dask runs its tiles again elsewhere (its nanny restarts it) and the
-  picture is the same; a tile that kills workers ``distributed.scheduler.allowed-failures``
-  times in a row, or raises, fails the render with one ``ClusterError`` line;
+  picture is the same; so when a local cluster's worker stops answering (stopped by
+  SIGSTOP, frozen) for ``WORKER_TTL_SECONDS`` (``distributed.scheduler.worker-ttl``,
+  checked as often: within twice that), its nanny replaces it (a running cluster's own
+  ``worker-ttl`` applies to its workers); a tile that kills workers
+  ``distributed.scheduler.allowed-failures`` times in a row, or raises, fails the render
+  with one ``ClusterError`` line;
 - an unreachable scheduler is one ``ClusterError`` line: at once for a refused port, an
   unknown host or something else answering, after ``timeout`` seconds for silence; so is a
   worker that cannot load the inner variant, and a world that does not pickle.
@@ -76,6 +80,7 @@ NAME = "dask"
 DEFAULT_TILE = 32
 DEFAULT_TIMEOUT = 5
 MAX_WORKERS = 256
+WORKER_TTL_SECONDS = 5  # a local worker's silence before it is replaced (pooled's: 10 s)
 USAGE = (
     "workers=N (a local cluster of N single-threaded processes, default: the CPU count) or "
     "scheduler=tcp://HOST:PORT (a running cluster), "
@@ -184,6 +189,9 @@ def connected(
                     processes=True,
                     dashboard_address=":0",  # a free port: no clash with another cluster
                     silence_logs=quiet,
+                    # a worker silent this long (stopped, frozen) is restarted by its nanny
+                    # and its tiles go to the others (Dask's default waits 5 minutes)
+                    scheduler_kwargs={"worker_ttl": f"{WORKER_TTL_SECONDS}s"},
                 )
             address = cluster.scheduler_address
         else:

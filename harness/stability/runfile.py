@@ -17,9 +17,16 @@ from datetime import datetime
 from pathlib import Path
 from typing import Any
 
-from harness.results import ResultFileError, new_stem, runs_dir, write_new_file
+from harness.results import (
+    MAX_RUN_FILE_BYTES,
+    ResultFileError,
+    new_stem,
+    runs_dir,
+    write_new_file,
+)
 from harness.stability.model import Case, Verdict
 from harness.stability.suite import Cell
+from scene.files import read_text
 
 SCHEMA_VERSION = 1
 KIND = "stability"
@@ -102,8 +109,12 @@ def list_runs(results: Path) -> list[Path]:
 def load_run(path: Path) -> dict[str, Any]:
     """A stability run's ``rtc`` section; ``ResultFileError`` naming the file if unreadable."""
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
+        data = json.loads(read_text(path, MAX_RUN_FILE_BYTES))
+    except OSError as error:  # a named pipe, a device, a file too large ...
+        raise ResultFileError(
+            f"{path}: cannot read the stability result: {error.strerror or error}"
+        ) from None
+    except (ValueError, RecursionError) as error:  # JSON's, UTF-8's, a huge integer
         raise ResultFileError(f"{path}: cannot read the stability result: {error}") from None
     rtc = data.get("rtc") if isinstance(data, dict) else None
     if not isinstance(rtc, dict) or rtc.get("kind") != KIND:

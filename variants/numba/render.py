@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 
+from compiled.library import built
 from raytracer.camera import Camera, RenderSettings
 from raytracer.sampling import GAMMA, MASK64
 from raytracer.tracer import Region
@@ -278,7 +279,7 @@ def explain(options: Options, w: World) -> str:
         lines.append("  kernel: generic, every feature compiled in (specialize=off)")
     lines.append(f"  precision: {config.describe()}")
     library = library_path(config)
-    state = "built" if library.is_file() else "built by the first render, a few seconds"
+    state = "built" if built(library) is not None else "built by the first render, a few seconds"
     lines.append(f"  compiled render: {library} ({state})")
     threads = render_threads(options)
     lines.append(

@@ -28,8 +28,8 @@ from __future__ import annotations
 import ctypes
 import functools
 import hashlib
-import importlib.util
 import os
+import shutil
 import sys
 import tempfile
 import threading
@@ -49,10 +49,12 @@ from compiled.library import (
     load,
     load_once,
     on_compile,
+    private_numba_cache,
 )
 from compiled.library import (
     library_path as compiled_library_path,
 )
+from scene.files import read_bytes
 from scene.kinds import KINDS
 from variants.numba.features import ALL_FLAGS, FeatureSet
 
@@ -120,31 +122,46 @@ def module_name(config: KernelConfig) -> str:
 
 
 def _write_if_changed(path: Path, text: str) -> None:
-    if path.is_file() and path.read_text(encoding="utf-8") == text:
-        return
+    """``path`` holds ``text`` afterwards: read back and compared (a damaged file, or a
+    folder in its place, is replaced), written atomically where it differs."""
+    data = text.encode("utf-8")
+    try:
+        if read_bytes(path, len(data)) == data:
+            return
+    except OSError:  # missing, too long, a folder ...
+        pass
     fd, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    with os.fdopen(fd, "w", encoding="utf-8") as out:
-        out.write(text)
-    os.replace(temporary, path)
+    try:
+        with os.fdopen(fd, "wb") as out:
+            out.write(data)
+        try:
+            os.replace(temporary, path)
+        except OSError:  # a folder where the module goes
+            shutil.rmtree(path, ignore_errors=True)
+            os.replace(temporary, path)
+    finally:
+        Path(temporary).unlink(missing_ok=True)
 
 
 def load_kernels(config: KernelConfig) -> ModuleType:
     """The kernel module for ``config`` (generated and imported once per process; this
-    imports numba)."""
+    imports numba). Its text is compiled from the source, never from a cached ``.pyc``,
+    and is checked against what it must be first: what runs is what this code generates.
+    numba's cache of its entry points is kept in the private kernel folder."""
     name = module_name(config)
     with _lock:
         loaded = sys.modules.get(name)
         if loaded is not None:
             return loaded
+        private_numba_cache()
         path = kernel_folder() / f"{name}.py"
-        _write_if_changed(path, module_source(config))
-        spec = importlib.util.spec_from_file_location(name, path)
-        if spec is None or spec.loader is None:
-            raise ImportError(f"cannot import the generated kernel module {path}")
-        module = importlib.util.module_from_spec(spec)
+        source = module_source(config)
+        _write_if_changed(path, source)
+        module = ModuleType(name)
+        module.__file__ = str(path)
         sys.modules[name] = module
         try:
-            spec.loader.exec_module(module)
+            exec(compile(source, str(path), "exec"), module.__dict__)
         except BaseException:
             del sys.modules[name]
             raise
