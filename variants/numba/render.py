@@ -18,6 +18,8 @@ from __future__ import annotations
 
 import os
 import threading
+import time
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -35,6 +37,9 @@ from variants.numba.pack import KIND_NAMES, Packed, PackedCamera, pack_camera, p
 from variants.numba.specialize import KernelConfig, Renderer, library_path, load_renderer
 
 PAGE = 4096  # bytes: each thread's scratch starts on a page of its own (no false sharing)
+BAND_SECONDS = 0.5  # a render that reports progress: each band of rows takes about this long
+BAND_GROWTH = 4  # a band has at most this many times the rows of the band before it
+FIRST_BAND = 32  # the first band: 1/32 of the image (at least two rows per thread)
 
 
 def max_threads() -> int:
@@ -220,6 +225,44 @@ def run_region(frame: Frame, region: Region, out: np.ndarray | None = None) -> n
     if errors:
         raise errors[0]
     return out
+
+
+def band_rows(left: int, height: int, threads: int, last_rows: int, last_seconds: float) -> int:
+    """How many rows the next band of a render in bands takes (``bands``), ``left`` rows of
+    ``height`` being still to do, after a band of ``last_rows`` rows that took
+    ``last_seconds`` (0 rows: the first band).
+
+    The first band is a small share of the image; the others aim at ``BAND_SECONDS`` each at
+    the rate the last one ran, growing at most ``BAND_GROWTH`` times a band (a first band of
+    empty sky is fast and says little of the rows below it). Every band has at least two
+    rows per thread (else the threads would wait for each other at every band's end), and no
+    band leaves fewer than that behind it."""
+    least = max(2 * threads, 1)
+    if last_rows <= 0:
+        rows = max(least, height // FIRST_BAND)
+    else:
+        rate = last_rows / max(last_seconds, 1e-9)
+        rows = max(least, min(int(rate * BAND_SECONDS), BAND_GROWTH * last_rows))
+    if left - rows < least:
+        rows = left
+    return max(1, min(rows, left))
+
+
+def bands(
+    height: int, threads: int, clock: Callable[[], float] = time.perf_counter
+) -> Iterator[tuple[int, int]]:
+    """(first row, end row) of each band of an image ``height`` rows high, rendered on
+    ``threads`` threads: the caller renders each band before asking for the next, and
+    reports its progress between them; each band is sized by how long the one before took
+    (``band_rows``, on ``clock``). A render in bands is the same picture as one in a
+    single region (a pixel depends on nothing but its place)."""
+    y, rows, seconds = 0, 0, 0.0
+    while y < height:
+        rows = band_rows(height - y, height, threads, rows, seconds)
+        began = clock()
+        yield y, y + rows
+        seconds = clock() - began
+        y += rows
 
 
 def traversals(
