@@ -566,8 +566,8 @@ def test_the_regions_of_a_frame_share_one_prepared_frame(monkeypatch: pytest.Mon
     assert np.array_equal(np.array(rows).reshape(16, 16, 3), image.array)
 
 
-def test_render_reports_progress_band_by_band_with_every_row() -> None:
-    """With a progress callback the image is rendered in bands of rows (how many depends on
+def test_render_reports_progress_chunk_by_chunk_with_every_row() -> None:
+    """With a progress callback each thread renders its rows in chunks (how many depends on
     their time: ``tests/test_progress.py`` fixes it), the same picture."""
     variant = load_variant("numba")
     camera, world = default_world(variant.api)

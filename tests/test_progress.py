@@ -243,8 +243,8 @@ FAMILIES = [
 @pytest.mark.parametrize("name", FAMILIES)
 def test_every_family_reports_every_row_once(name: str) -> None:
     """``rtc render``'s bar counts rows: each family's render reports all of them, in
-    pieces that add up (a row never twice), whether it renders rows, pixels, tiles, bands
-    or passes."""
+    pieces that add up (a row never twice), whether it renders rows, pixels, tiles, chunks
+    of rows or passes."""
     variant = load_variant(name)
     c, w = _scene(variant, 13, 11)
     rows: list[int] = []
@@ -261,40 +261,43 @@ def test_wavefront_reports_each_pass() -> None:
     assert sum(rows) == 110 and len(rows) > 1
 
 
-# ------------------------------------------------------------------------ numba's bands
+# ----------------------------------------------------------------------- numba's chunks
 
 
-def test_numbas_bands_cover_the_image_once_whatever_their_time() -> None:
-    from variants.numba.render import BAND_GROWTH, bands
+def test_a_numba_threads_chunks_cover_its_rows_once_whatever_their_time() -> None:
+    from variants.numba.render import CHUNK_GROWTH, chunks
 
     for seconds in (0.0, 0.001, 1.0, 100.0):
-        clock = Clock(step=seconds / 2)  # two readings per band
-        got = list(bands(1000, 2, clock))
-        assert got[0][0] == 0 and got[-1][1] == 1000
+        clock = Clock(step=seconds)  # each chunk takes ``seconds``: two readings apart
+        got = list(chunks(500, clock))
+        assert got[0] == (0, 1) and got[-1][1] == 500  # a first row, then by their time
         assert all(a[1] == b[0] for a, b in itertools.pairwise(got))
         sizes = [end - first for first, end in got]
-        assert all(n >= 4 for n in sizes)  # two rows per thread at the least
-        assert all(b <= BAND_GROWTH * a for a, b in itertools.pairwise(sizes[:-1]))
-    fast, slow = list(bands(1000, 2, Clock(0.0))), list(bands(1000, 2, Clock(50.0)))
-    assert len(fast) < 10 and len(slow) > 200  # slow bands stay small: a report each
+        assert all(b <= CHUNK_GROWTH * a for a, b in itertools.pairwise(sizes))
+    fast, slow = list(chunks(500, Clock(0.0))), list(chunks(500, Clock(50.0)))
+    assert len(fast) <= 6 and len(slow) == 500  # slow rows: a report after each
 
 
-def test_numba_in_bands_is_the_same_picture_as_in_one_region(
+def test_numba_in_chunks_is_the_same_picture_as_in_one_call(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
-    """``BAND_SECONDS`` 0: every band has the fewest rows (two per thread), so the render
-    reports many times whatever the machine's speed."""
+    """``CHUNK_SECONDS`` 0: every chunk is one row, so the render reports at least once per
+    row of the calling thread, whatever the machine's speed."""
     from variants.numba import render as numba_render
 
     variant = load_variant("numba")
     c, w = _scene(variant, 24, 40)
     whole = variant.api["render"](c, w, RenderSettings())
-    monkeypatch.setattr(numba_render, "BAND_SECONDS", 0.0)
+    monkeypatch.setattr(numba_render, "CHUNK_SECONDS", 0.0)
     rows: list[int] = []
-    banded = variant.api["render"](c, w, RenderSettings(), rows.append)
-    least = 2 * variant.tracer.prepared(c, w, RenderSettings()).threads
-    assert sum(rows) == 40 and len(rows) >= 40 // least - 1
-    assert np.array_equal(whole.array, banded.array)
+    chunked = variant.api["render"](c, w, RenderSettings(), rows.append)
+    threads = variant.tracer.prepared(c, w, RenderSettings()).threads
+    assert sum(rows) == 40 and len(rows) >= 40 // threads
+    assert np.array_equal(whole.array, chunked.array)
+    one = load_variant("numba[threads=1]")  # one thread: every row its own report
+    rows.clear()
+    alone = one.api["render"](c, w, RenderSettings(), rows.append)
+    assert rows == [1] * 40 and np.array_equal(whole.array, alone.array)
 
 
 # ---------------------------------------------------------------- the compile's ticker

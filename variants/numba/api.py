@@ -52,15 +52,7 @@ from variants.numba.pack import (
     pack_surface,
     pack_world,
 )
-from variants.numba.render import (
-    Frame,
-    Options,
-    bands,
-    explain,
-    prepare_frame,
-    run_region,
-    traversals,
-)
+from variants.numba.render import Frame, Options, explain, prepare_frame, run_region, traversals
 from variants.numba.specialize import load_kernels
 from variants.numba.textures import TextureTable
 
@@ -442,23 +434,15 @@ class NumbaTracer(Tracer):
         settings: RenderSettings,
         progress: Progress | None = None,
     ) -> None:
-        """Chapter 7: the image through a kernel specialized to ``w`` (on this variant's
-        threads): without ``progress``, as one region; with it, in bands of rows sized to
-        take about half a second each (``render.bands``), ``progress`` called with each
-        band's rows as it ends. The kernel is the same either way; a band's end costs a
-        moment of waiting for its slowest thread."""
-        frame = self.prepared(c, w, settings)
-        direct = isinstance(image, ArrayCanvas) and image.array.dtype == frame.dtype
-        whole = [(0, c.vsize)]
-        for y0, y1 in whole if progress is None else bands(c.vsize, frame.threads):
-            region = (0, y0, c.hsize, y1)
-            if direct:
-                assert isinstance(image, ArrayCanvas)
-                run_region(frame, region, out=image.array[y0:y1])  # straight into the canvas
-            else:
-                self.write_region(image, region, run_region(frame, region).ravel().tolist())
-            if progress is not None:
-                progress(y1 - y0)
+        """Chapter 7: the whole image as one region, through a kernel specialized to ``w``
+        (on this variant's threads); ``progress`` with the rows finished, as each thread's
+        chunks of rows end (``render.run_region``)."""
+        frame, whole = self.prepared(c, w, settings), (0, 0, c.hsize, c.vsize)
+        if isinstance(image, ArrayCanvas) and image.array.dtype == frame.dtype:
+            run_region(frame, whole, out=image.array, progress=progress)  # into the canvas
+        else:
+            values = run_region(frame, whole, progress=progress).ravel().tolist()
+            self.write_region(image, whole, values)
 
     def new_canvas(self, c: Camera) -> ArrayCanvas:
         """Chapter 2: an array-backed canvas in this variant's precision, all black."""
