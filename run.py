@@ -14,16 +14,24 @@ from __future__ import annotations
 
 import hashlib
 import os
+import queue
 import subprocess
 import sys
+import threading
+import time
+import tomllib
 import venv
+from collections import deque
 from pathlib import Path
+from typing import IO
 
 ROOT = Path(__file__).resolve().parent
 VENV = ROOT / ".venv"
 BIN = VENV / ("Scripts" if os.name == "nt" else "bin")
 STAMP = VENV / "installed-from.sha256"
 BUILD_INPUTS = ("pyproject.toml", "setup.py", "harness/_alloccount.c")  # a change reinstalls
+STATUS_EVERY = 5.0  # seconds: while pip works, its latest line is shown at most this often
+SILENT_EVERY = 10.0  # seconds between two lines saying that a quiet step (mypy) still runs
 
 
 def _wanted_stamp() -> str:
@@ -34,26 +42,101 @@ def _wanted_stamp() -> str:
     return digest.hexdigest()
 
 
+def _requirements() -> str:
+    """What the install brings, from pyproject.toml: the dependencies' names, then the
+    development tools'."""
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["project"]
+
+    def names(requirements: list[str]) -> str:
+        return ", ".join(
+            requirement.split(";")[0].split("[")[0].split(">")[0].split("=")[0].split("<")[0]
+            .strip()
+            for requirement in requirements
+        )  # fmt: skip
+
+    dev = project.get("optional-dependencies", {}).get("dev", [])
+    return f"{names(project['dependencies'])}; for the tests: {names(dev)}"
+
+
+def _shorten(line: str, width: int = 110) -> str:
+    return line if len(line) <= width else line[: width - 3] + "..."
+
+
+def _relay(stream: IO[str], lines: queue.Queue[str | None]) -> None:
+    for line in stream:
+        lines.put(line.rstrip())
+    lines.put(None)
+
+
+def _pip(*args: str) -> None:
+    """``pip ARGS`` in .venv, alive on screen: its warnings and errors as they come, its
+    latest line every ``STATUS_EVERY`` seconds (a long download or unpacking included),
+    how many packages it installed, and its last lines if it fails (SystemExit)."""
+    command = [str(BIN / "python"), "-m", "pip", *args, "--disable-pip-version-check"]
+    process = subprocess.Popen(
+        command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, errors="replace"
+    )
+    assert process.stdout is not None
+    lines: queue.Queue[str | None] = queue.Queue()
+    threading.Thread(target=_relay, args=(process.stdout, lines), daemon=True).start()
+    kept: deque[str] = deque(maxlen=40)
+    start = shown = time.monotonic()
+    latest = ""
+    while True:
+        try:
+            line = lines.get(timeout=1.0)
+        except queue.Empty:
+            line = ""
+        if line is None:
+            break
+        if line.strip():
+            kept.append(line)
+            latest = line.strip()
+            if latest.startswith(("ERROR", "WARNING", "error:", "warning:")):
+                print(f"run.py: pip: {latest}", flush=True)
+            elif latest.startswith("Successfully installed"):
+                count = len(latest.split()) - 2
+                print(f"run.py: pip installed {count} package{'s' * (count != 1)}", flush=True)
+                latest = ""
+        now = time.monotonic()
+        if latest and now - shown >= STATUS_EVERY:
+            print(f"run.py: pip [{now - start:3.0f} s]: {_shorten(latest)}", flush=True)
+            shown = now
+    if process.wait() != 0:
+        print("\n".join(["run.py: pip failed; its last lines:", *kept]), file=sys.stderr)
+        raise SystemExit(process.returncode)
+
+
 def ensure_environment() -> None:
     """Create .venv and install the project (editable, with dev tools) unless already current."""
     if STAMP.exists() and STAMP.read_text().strip() == _wanted_stamp():
         return
     if not (BIN / "python").exists():
-        print("run.py: creating .venv", flush=True)
+        print("run.py: creating .venv (Python's venv, with pip)", flush=True)
         venv.EnvBuilder(with_pip=True).create(VENV)
-    print("run.py: installing the project and its dependencies into .venv", flush=True)
-    subprocess.run(
-        [str(BIN / "python"), "-m", "pip", "install", "--quiet", "--upgrade", "pip"], check=True
+    print("run.py: updating pip in .venv", flush=True)
+    _pip("install", "--upgrade", "pip")
+    print(
+        "run.py: installing the project (editable: your edits count at once) into .venv, "
+        f"with what it needs: {_requirements()} (a few minutes the first time)",
+        flush=True,
     )
-    subprocess.run(
-        [str(BIN / "python"), "-m", "pip", "install", "--quiet", "-e", f"{ROOT}[dev]"], check=True
-    )
+    _pip("install", "-e", f"{ROOT}[dev]")
     STAMP.write_text(_wanted_stamp())
 
 
-def _run(*argv: str) -> int:
+def _run(*argv: str, silent: str | None = None) -> int:
+    """Run ``argv`` in the project's folder; its exit status. ``silent``: what the command
+    does, for one that prints nothing until it ends (mypy): while it runs, a line says so
+    every ``SILENT_EVERY`` seconds."""
     print("run.py: $", " ".join(argv), flush=True)
-    return subprocess.run(list(argv), cwd=ROOT).returncode
+    with subprocess.Popen(list(argv), cwd=ROOT) as process:  # Ctrl-C: as subprocess.run
+        start = time.monotonic()
+        while True:
+            try:
+                return process.wait(timeout=None if silent is None else SILENT_EVERY)
+            except subprocess.TimeoutExpired:
+                print(f"run.py: {silent}, {time.monotonic() - start:.0f} s so far", flush=True)
 
 
 def bench(extra: list[str]) -> int:
@@ -91,11 +174,11 @@ def test(extra: list[str]) -> int:
     steps = [
         [*parallel, *extra],
         [str(BIN / "ruff"), "check", "."],
-        [str(BIN / "mypy")],
     ]
     for argv in steps:
         worst = max(worst, _run(*argv))
-    return worst
+    mypy = "mypy is still checking the types (it reports at the end)"
+    return max(worst, _run(str(BIN / "mypy"), silent=mypy))
 
 
 def main(argv: list[str]) -> int:

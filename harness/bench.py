@@ -266,7 +266,13 @@ class Bench:
         attempts = [_attempt(row)]
         best = dict(row)
         for _ in range(self.settings.again):
-            quiet = wait_for_quiet(asked, QUIET_WAIT)
+            self.log(
+                f"{row['section']}: {name} got {figures.cpu_share(best):.2f} of {asked} cores: "
+                f"waiting up to {QUIET_WAIT:.0f} s for a quieter machine to time it again"
+            )
+            quiet = wait_for_quiet(
+                asked, QUIET_WAIT, report=lambda text: self.log(f"{row['section']}: {name}: {text}")
+            )
             self.log(
                 f"{row['section']}: {name} again: it got {figures.cpu_share(best):.2f} of "
                 f"{asked} cores ({quiet})"

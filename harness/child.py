@@ -302,6 +302,7 @@ def _announce_compiles(log: Callable[[str], None]) -> None:
     kind of scene compiles for tens of seconds, which would otherwise pass in silence)."""
     if "variants.numba" not in sys.modules:
         return
+    from rtc.progress import compile_ticker
     from variants.numba.specialize import on_compile
 
     def told(what: str, seconds: float | None) -> None:
@@ -310,7 +311,8 @@ def _announce_compiles(log: Callable[[str], None]) -> None:
         else:
             log(f"compiled in {seconds:.1f} s")
 
-    on_compile(told)
+    on_compile(compile_ticker(log))  # a line every few seconds while it compiles; first:
+    on_compile(told)  # it has stopped when the end of a compile is told
 
 
 def main(argv: list[str]) -> int:

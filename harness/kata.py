@@ -15,11 +15,13 @@ SECTION = "kata"
 
 
 def measure(bench: Bench) -> None:
+    """Its progress (``rtc.progress``: a bar on a terminal, else a line every few seconds)
+    goes to our stderr."""
     bench.log(f"{SECTION}: rtc kata --variant all --json")
     try:
         done = subprocess.run(
             [sys.executable, "-m", "rtc.cli", "kata", "--variant", "all", "--json"],
-            capture_output=True,
+            stdout=subprocess.PIPE,
             text=True,
             timeout=1800,
         )

@@ -291,7 +291,13 @@ def _povray_point(
     picture = None
     for attempt in range(1 + bench.settings.again):
         if attempt:
-            quiet = wait_for_quiet(threads, QUIET_WAIT)
+            bench.log(
+                f"{SECTION}: POV-Ray was busy: waiting up to {QUIET_WAIT:.0f} s for a quieter "
+                "machine to time it again"
+            )
+            quiet = wait_for_quiet(
+                threads, QUIET_WAIT, report=lambda text: bench.log(f"{SECTION}: POV-Ray: {text}")
+            )
             bench.log(f"{SECTION}: POV-Ray on {threads} thread(s) again: it was busy ({quiet})")
         else:
             bench.log(f"{SECTION}: POV-Ray at {size}, {threads} thread(s)")

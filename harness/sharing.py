@@ -27,7 +27,7 @@ import os
 import tempfile
 import threading
 import time
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
@@ -76,11 +76,19 @@ def busy_cores(seconds: float = 1.0) -> float | None:
     return (after[0] - before[0]) / (after[1] - before[1]) * (os.cpu_count() or 1)
 
 
-def wait_for_quiet(cores: int, longest: float, step: float = 1.0) -> str:
+def wait_for_quiet(
+    cores: int,
+    longest: float,
+    step: float = 1.0,
+    report: Callable[[str], object] | None = None,
+    every: float = 10.0,
+) -> str:
     """Wait until ``cores`` cores are idle (the others' work leaves room for a measurement
-    asking for them), or ``longest`` seconds at most; says what it saw, for the log."""
+    asking for them), or ``longest`` seconds at most; says what it saw, for the log.
+    ``report``: told how busy the machine still is every ``every`` seconds of the wait (a
+    log that does not fall silent)."""
     total = os.cpu_count() or 1
-    waited = 0.0
+    waited = reported = 0.0
     while True:
         busy = busy_cores(step)
         waited += step
@@ -90,6 +98,9 @@ def wait_for_quiet(cores: int, longest: float, step: float = 1.0) -> str:
             return f"{total - busy:.1f} of {total} cores idle after {waited:.0f} s"
         if waited >= longest:
             return f"still {busy:.1f} of {total} cores busy after {waited:.0f} s"
+        if report is not None and waited - reported >= every:
+            report(f"still waiting: {busy:.1f} of {total} cores busy after {waited:.0f} s")
+            reported = waited
 
 
 def _alive(pid: int) -> bool:

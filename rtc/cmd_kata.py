@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 from rtc.cli import UserError
+from rtc.progress import MODES, Progress
 
 NAME = "kata"
 HELP = "run .feature files (default: the project's features/) and show progress by chapter"
@@ -39,6 +40,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--json", action="store_true", help="print the results as JSON")
     parser.add_argument("-v", "--verbose", action="store_true", help="show pytest's own output")
+    parser.add_argument(
+        "--progress", choices=MODES, default="auto",
+        help="how to show the progress of a run that takes more than a second, on stderr: "
+        "auto (the default: a bar on a terminal, else lines), bar, lines (one every 10 s) or "
+        "none",
+    )  # fmt: skip
     parser.add_argument(
         "--next",
         action="store_true",
@@ -93,10 +100,14 @@ def run(args: argparse.Namespace) -> int:
         raise UserError("--next shows one variant's next scenario: give one --variant NAME")
     if args.watch:
         return _watch(args, path, variants)
+    mode = "none" if args.verbose else args.progress  # pytest's own output says it
+    progress = Progress("rtc kata", 0, "scenario", mode=mode)
     try:
-        result = kata.run_kata(path, variants, args.chapter or [], args.verbose)
+        result = kata.run_kata(path, variants, args.chapter or [], args.verbose, progress)
     except LookupError as error:
         raise UserError(f"--variant: {error.args[0]}") from None
+    finally:
+        progress.close()
     if args.next:
         from steps.next_scenario import next_json, next_report, next_scenario
 
@@ -123,5 +134,6 @@ def _watch(args: argparse.Namespace, path: Path, variants: list[str]) -> int:
     for chapter in args.chapter or []:
         command += ["--chapter", str(chapter)]
     command += [flag for flag, on in (("--json", args.json), ("-v", args.verbose)) if on]
+    command += ["--progress", args.progress]
     command += ["--next"] if args.next else []
     return watch(command, distinct([path, *variant_folders(variants)]))

@@ -15,10 +15,20 @@ from harness.make_meshes import provide
 from raytracer.camera import RenderSettings
 from rtc.cli import UserError, check_memory, check_output
 from rtc.cmd_demo import parse_size
+from rtc.progress import MODES, Progress, compile_ticker, duration
 from scene import SceneError, load_scene
 
 NAME = "render"
 HELP = "render a scene file (the book's YAML scene format) to a PNG or PPM image"
+
+LONG_SECONDS = 30.0  # a render estimated to take longer gets the line naming a faster variant
+FAST_VARIANT = "numba"
+COMPILED = ("numba", "wavefront")  # a render through one of these gets no such line
+# How many times faster numba renders than a pure-Python variant, at the least (the bench's
+# table, results/README.md: about 14,000x naive, 400x cached and robust, 130x prealloc): the
+# line's estimate of numba's time errs on the long side.
+SPEED_UP = {"prealloc": 100.0}
+SPEED_UP_OTHERS = 1000.0
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -34,8 +44,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "the field of view stays)",
     )  # fmt: skip
     parser.add_argument(
-        "--variant", default="naive", metavar="V", help="the tracer to use (default: naive)"
-    )
+        "--variant", default="naive", metavar="V",
+        help=f"the tracer to use, one of: {', '.join(_registered())} (default: naive, the "
+        "book's pure-Python reference; numba is the fastest); a wrapper takes the variant "
+        "it runs after a colon, e.g. pooled:cached; options in brackets, e.g. "
+        "numba[threads=1]; rtc variants describes each",
+    )  # fmt: skip
     parser.add_argument(
         "--depth", type=int, default=5, metavar="N",
         help="how many times a ray may be reflected or refracted (default: 5, the book's)",
@@ -52,6 +66,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--seed", type=int, default=0, metavar="N",
         help="chooses the sample positions when --samples is above 1 (default: 0)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--progress", choices=MODES, default="auto",
+        help="how to show the progress of a render that takes more than a second, on "
+        "stderr: auto (the default: a bar on a terminal, else lines), bar, lines (one every "
+        "10 s) or none",
     )  # fmt: skip
     parser.add_argument(
         "--explain", action="store_true",
@@ -71,38 +91,90 @@ def _settings(args: argparse.Namespace) -> RenderSettings:
         raise UserError(f"bad option: {message}") from None
 
 
-def _progress_bar(rows: int) -> tuple[Callable[[int], object] | None, Callable[[], None]]:
-    """A tqdm bar on stderr counting rows, only when stderr is a terminal; (update, close)."""
-    if not sys.stderr.isatty():
-        return None, lambda: None
-    from tqdm import tqdm
+def _registered() -> list[str]:
+    """The registered variant names, for ``--help`` (naive first)."""
+    from variants.registry import variant_names
 
-    bar = tqdm(total=rows, unit="row", file=sys.stderr, leave=False, dynamic_ncols=True)
-    return bar.update, bar.close
+    return variant_names()
 
 
-def _watch_compiles() -> tuple[list[float], Callable[[], None]]:
-    """Say on stderr what numba compiles and that it happens once (the first render of a
-    new kind of scene compiles for seconds); the seconds spent, one entry per compile.
-    Nothing is watched unless the variant loaded numba's kernels module. Returns the list
-    and what stops the watch (a process that renders again, a test, is told nothing more)."""
+def _advice(name: str) -> Callable[[float], str | None] | None:
+    """For a render through a pure-Python variant (naive, cached, prealloc, robust, a
+    learner's, or a pool of them): given the render's estimated seconds, a line naming the
+    variant that renders it fast when the render will take longer than ``LONG_SECONDS``,
+    else None. None for a render that goes through a compiled variant already, or when no
+    ``FAST_VARIANT`` is registered."""
+    from variants.registry import VariantError, parse_variant_name
+
+    try:
+        spec: Any = parse_variant_name(name)
+    except VariantError:
+        return None
+    chain = []
+    while spec is not None:
+        chain.append(spec.name)
+        spec = spec.inner
+    if any(part in COMPILED for part in chain) or FAST_VARIANT not in _registered():
+        return None
+    speed_up = min(SPEED_UP.get(part, SPEED_UP_OTHERS) for part in chain)
+
+    def advise(seconds: float) -> str | None:
+        if seconds < LONG_SECONDS:
+            return None
+        fast = seconds / speed_up
+        when = "in under a second" if fast < 1.0 else f"in about {duration(fast)}"
+        return (
+            f"rtc render: {name} will take about {duration(seconds)} for this render; "
+            f"--variant {FAST_VARIANT} renders it {when} (plus, the first time, a compile "
+            "of some seconds)"
+        )
+
+    return advise
+
+
+def _clock() -> float:
+    """The progress's clock (tests put one of their own here)."""
+    return time.monotonic()
+
+
+def _progress(args: argparse.Namespace, rows: int, name: str) -> Progress:
+    """The render's progress on stderr, counting rows (``rtc.progress``)."""
+    return Progress(
+        "rtc render", rows, "row", mode=args.progress, clock=_clock, advice=_advice(name)
+    )
+
+
+def _watch_compiles(progress: Progress) -> tuple[list[float], Callable[[], None]]:
+    """Say on stderr what numba compiles, that it happens once (the first render of a new
+    kind of scene compiles for seconds) and, every few seconds, that it still does; the
+    seconds spent, one entry per compile, which the progress leaves out of the render's
+    time, and a function that stops watching. Nothing is watched unless the variant loaded
+    numba's kernels module."""
     spent: list[float] = []
     if "variants.numba" not in sys.modules:
         return spent, lambda: None
     from variants.numba.specialize import kernel_folder, on_compile
 
+    # the ticker first: it has stopped when the end of a compile is told
+    ticking = on_compile(compile_ticker(lambda text: progress.write(f"rtc render: {text}")))
+
     def told(what: str, seconds: float | None) -> None:
         if seconds is None:
-            print(
-                f"rtc render: compiling {what}: first time only, kept in {kernel_folder()}",
-                file=sys.stderr,
-                flush=True,
+            progress.write(
+                f"rtc render: compiling {what}: first time only, kept in {kernel_folder()}"
             )
         else:
             spent.append(seconds)
-            print(f"rtc render: compiled in {seconds:.1f} s", file=sys.stderr, flush=True)
+            progress.exclude(seconds)
+            progress.write(f"rtc render: compiled in {seconds:.1f} s")
 
-    return spent, on_compile(told)
+    telling = on_compile(told)
+
+    def stop() -> None:
+        ticking()
+        telling()
+
+    return spent, stop
 
 
 def run(args: argparse.Namespace) -> int:
@@ -141,16 +213,16 @@ def run(args: argparse.Namespace) -> int:
         )
         for note in scene.notes:
             print(f"scene: {note}")
-    compiles, unwatch = _watch_compiles()
-    update, close = _progress_bar(camera.vsize)
+    progress = _progress(args, camera.vsize, variant.name)
+    compiles, unwatch = _watch_compiles(progress)
     start = time.perf_counter()
     try:
-        image = variant.api["render"](camera, world, settings, update)
+        image = variant.api["render"](camera, world, settings, progress)
     except RenderError as error:
         raise UserError(f"{variant.name} could not render {args.scene}: {error}") from None
     finally:
-        close()
         unwatch()
+        progress.close()
     elapsed = time.perf_counter() - start
     try:
         write_image(image, output)

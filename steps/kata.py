@@ -20,7 +20,7 @@ from collections import Counter
 from collections.abc import Generator, Iterable, Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Protocol
 
 import pytest
 from pytest_bdd.exceptions import StepDefinitionNotFoundError
@@ -103,16 +103,34 @@ def item_chapter(item: pytest.Item) -> int | None:
     return chapter_of(tags, templated.feature.filename)
 
 
+class KataProgress(Protocol):
+    """What ``run_kata`` reports its progress to (``rtc.progress.Progress``): the number of
+    scenario tests once they are collected, then each one as it ends."""
+
+    def set_total(self, total: int) -> None: ...
+
+    def __call__(self, steps: int) -> None: ...
+
+
 class _Collector:
     """A pytest plugin that keeps one ``ScenarioResult`` per scenario test."""
 
-    def __init__(self, chapters: Iterable[int], verbose: bool = False) -> None:
+    def __init__(
+        self, chapters: Iterable[int], verbose: bool = False, progress: KataProgress | None = None
+    ) -> None:
         self.chapters = set(chapters)
         self.verbose = verbose
+        self.progress = progress
         self.results: list[ScenarioResult] = []
         self.errors: list[str] = []
 
+    def pytest_runtest_logfinish(self, nodeid: str, location: tuple[str, int, str]) -> None:
+        if self.progress is not None:
+            self.progress(1)
+
     def pytest_collection_finish(self, session: pytest.Session) -> None:
+        if self.progress is not None:
+            self.progress.set_total(len(session.items))
         # The results come from the exceptions themselves; pytest's own long tracebacks
         # (it parses every source file of every frame) cost ~0.15 s per failing scenario,
         # which adds up for a learner whose every scenario is still "to do". Collection
@@ -224,12 +242,14 @@ def run_kata(
     variants: Sequence[str] = ("naive",),
     chapters: Iterable[int] = (),
     verbose: bool = False,
+    progress: KataProgress | None = None,
 ) -> KataRun:
     """Run every scenario under ``path`` (a folder or one ``.feature`` file) for each variant.
 
     variants: variant names (``all`` = every available one); an unknown one raises
     ``LookupError`` before anything runs. chapters: only these chapters (empty = all).
-    verbose: show pytest's own output (``-v``); otherwise pytest stays silent.
+    verbose: show pytest's own output (``-v``); otherwise pytest stays silent. progress:
+    told how many scenario tests there are (a scenario per variant) and each one's end.
     """
     folder = Path(path).resolve()
     if not folder.exists():
@@ -237,7 +257,7 @@ def run_kata(
     selected, _ = select_variants(list(variants))
     names = [variant.name for variant in selected]
     _forget_parsed_features(folder)
-    collector = _Collector(chapters, verbose)
+    collector = _Collector(chapters, verbose, progress)
     with tempfile.TemporaryDirectory(prefix="rtc-kata-") as scratch:
         # A fresh module name per run: pytest would reuse an imported module of the same name.
         module = Path(scratch) / f"test_kata_{uuid.uuid4().hex}.py"

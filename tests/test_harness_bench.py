@@ -226,7 +226,7 @@ def _fake_bench(tmp_path: Path, shares: list[float], monkeypatch) -> tuple[Any, 
     from harness.results import RunWriter
     from harness.sizes import Size
 
-    monkeypatch.setattr(sharing, "wait_for_quiet", lambda cores, longest: "quiet")
+    monkeypatch.setattr(sharing, "wait_for_quiet", lambda cores, longest, **_: "quiet")
     settings = BenchSettings(
         scene=SceneRef("default-world", None), size=Size(8, 6), samples=1, depth=5, seed=0,
         threads=None, repeat=1, budget=None, variants=["naive", "numba"], sections=("table",),

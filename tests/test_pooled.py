@@ -121,12 +121,24 @@ def test_rtc_render_writes_no_file_when_a_worker_dies(
 ) -> None:
     from rtc import cmd_render
 
-    def kill_a_worker(rows: int) -> None:
-        children = multiprocessing.active_children()
-        if children:
-            os.kill(children[0].pid, signal.SIGKILL)  # type: ignore[arg-type]
+    class KillAWorker:
+        """``rtc render``'s progress, which kills a worker at the first row done."""
 
-    monkeypatch.setattr(cmd_render, "_progress_bar", lambda rows: (kill_a_worker, lambda: None))
+        def __call__(self, rows: int) -> None:
+            children = multiprocessing.active_children()
+            if children:
+                os.kill(children[0].pid, signal.SIGKILL)  # type: ignore[arg-type]
+
+        def write(self, text: str) -> None:
+            pass
+
+        def exclude(self, seconds: float) -> None:
+            pass
+
+        def close(self) -> None:
+            pass
+
+    monkeypatch.setattr(cmd_render, "_progress", lambda args, rows, name: KillAWorker())
     output = tmp_path / "out.png"
     arguments = ["render", str(REFERENCE_SCENE), "-o", str(output), "--size", "32x24"]
     try:

@@ -435,14 +435,14 @@ class NumbaTracer(Tracer):
         progress: Progress | None = None,
     ) -> None:
         """Chapter 7: the whole image as one region, through a kernel specialized to ``w``
-        (on this variant's threads); ``progress`` once, with every row, at the end."""
+        (on this variant's threads); ``progress`` with the rows finished, as each thread's
+        chunks of rows end (``render.run_region``)."""
         frame, whole = self.prepared(c, w, settings), (0, 0, c.hsize, c.vsize)
         if isinstance(image, ArrayCanvas) and image.array.dtype == frame.dtype:
-            run_region(frame, whole, out=image.array)  # straight into the canvas
+            run_region(frame, whole, out=image.array, progress=progress)  # into the canvas
         else:
-            self.write_region(image, whole, run_region(frame, whole).ravel().tolist())
-        if progress is not None:
-            progress(c.vsize)
+            values = run_region(frame, whole, progress=progress).ravel().tolist()
+            self.write_region(image, whole, values)
 
     def new_canvas(self, c: Camera) -> ArrayCanvas:
         """Chapter 2: an array-backed canvas in this variant's precision, all black."""

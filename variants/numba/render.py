@@ -18,6 +18,8 @@ from __future__ import annotations
 
 import os
 import threading
+import time
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -36,6 +38,8 @@ from variants.numba.pack import KIND_NAMES, Packed, PackedCamera, pack_camera, p
 from variants.numba.specialize import KernelConfig, Renderer, library_path, load_renderer
 
 PAGE = 4096  # bytes: each thread's scratch starts on a page of its own (no false sharing)
+CHUNK_SECONDS = 0.25  # with progress: each thread's rows in chunks of about this long
+CHUNK_GROWTH = 4  # a chunk has at most this many times the rows of the one before
 
 
 def max_threads() -> int:
@@ -184,11 +188,47 @@ def prepare_frame(
     )  # fmt: skip
 
 
-def run_region(frame: Frame, region: Region, out: np.ndarray | None = None) -> np.ndarray:
+def chunk_rows(left: int, last_rows: int, last_seconds: float) -> int:
+    """How many of its rows a thread renders in its next chunk (``chunks``), ``left`` being
+    still to do, after a chunk of ``last_rows`` rows that took ``last_seconds`` (0 rows:
+    the first chunk, one row). The others aim at ``CHUNK_SECONDS`` each at the rate the
+    last one ran, growing at most ``CHUNK_GROWTH`` times a chunk (a first row of empty sky
+    is fast and says little of the rows below it)."""
+    if last_rows <= 0:
+        return min(left, 1)
+    rate = last_rows / max(last_seconds, 1e-9)
+    return max(1, min(int(rate * CHUNK_SECONDS), CHUNK_GROWTH * last_rows, left))
+
+
+def chunks(count: int, clock: Callable[[], float] = time.perf_counter) -> Iterator[tuple[int, int]]:
+    """(first, end) of each chunk of a thread's ``count`` rows (its own: first = 0 is its
+    first row), each sized (``chunk_rows``) by how long the one before took on ``clock``:
+    the caller renders a chunk before it asks for the next."""
+    first, rows, seconds = 0, 0, 0.0
+    while first < count:
+        rows = chunk_rows(count - first, rows, seconds)
+        began = clock()
+        yield first, first + rows
+        seconds = clock() - began
+        first += rows
+
+
+def run_region(
+    frame: Frame,
+    region: Region,
+    out: np.ndarray | None = None,
+    progress: Callable[[int], object] | None = None,
+) -> np.ndarray:
     """Chapter 7: the pixels of ``region`` (x0, y0, x1, y1) as a (y1 - y0, x1 - x0, 3)
     array (``out`` if given: C-contiguous, the frame's dtype), on up to ``frame.threads``
     threads, thread k taking the region's rows k, k + threads, ... (the calling thread is
-    thread 0)."""
+    thread 0).
+
+    progress: called with the rows just finished, on the calling thread. Each thread then
+    renders its rows in chunks (``chunks``: a call of the kernel each, on the same rows
+    of the same thread, so the same pixels), without waiting for the others between
+    them; the calling thread reports every thread's rows done after each of its chunks,
+    and the rest once all have ended. Without it each thread's rows are one call."""
     x0, y0, x1, y1 = (int(v) for v in region)
     height, width = max(y1 - y0, 0), max(x1 - x0, 0)
     if out is None:
@@ -199,15 +239,31 @@ def run_region(frame: Frame, region: Region, out: np.ndarray | None = None) -> n
         return out
     threads = min(frame.threads, height)
     errors: list[BaseException] = []
+    finished = [0] * threads  # rows done, by thread (each writes its own)
+    reported = 0
+    row_bytes = width * 3 * out.itemsize
+
+    def report() -> None:
+        nonlocal reported
+        done = sum(finished)
+        if progress is not None and done > reported:
+            progress(done - reported)
+            reported = done
 
     def rows(k: int) -> None:
         try:
-            done = frame.renderer.function(
-                out.ctypes.data, x0, y0, x1, y1, k, threads, *frame.common, *frame.addresses[k]
-            )
-            expected = len(range(k, height, threads))
-            if done != expected:
-                raise RuntimeError(f"numba render: thread {k} did {done} of {expected} rows")
+            mine = len(range(k, height, threads))
+            for first, end in [(0, mine)] if progress is None else chunks(mine):
+                top, bottom = y0 + first * threads, min(y1, y0 + end * threads)
+                done = frame.renderer.function(
+                    out.ctypes.data + (top - y0) * row_bytes, x0, top, x1, bottom, k, threads,
+                    *frame.common, *frame.addresses[k],
+                )  # fmt: skip
+                if done != end - first:
+                    raise RuntimeError(f"numba render: thread {k} did {done} of {end - first} rows")
+                finished[k] += done
+                if k == 0:
+                    report()
         except BaseException as error:  # reported on the calling thread
             errors.append(error)
 
@@ -220,6 +276,7 @@ def run_region(frame: Frame, region: Region, out: np.ndarray | None = None) -> n
             helper.join()
     if errors:
         raise errors[0]
+    report()
     return out
 
 
