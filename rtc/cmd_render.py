@@ -43,13 +43,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="image size in pixels, e.g. 160x120 (default: the camera's width and height; "
         "the field of view stays)",
     )  # fmt: skip
-    parser.add_argument(
+    variant = parser.add_argument(
         "--variant", default="naive", metavar="V",
-        help=f"the tracer to use, one of: {', '.join(_registered())} (default: naive, the "
+        help="the tracer to use, one of: %(registered)s (default: naive, the "
         "book's pure-Python reference; numba is the fastest); a wrapper takes the variant "
         "it runs after a colon, e.g. pooled:cached; options in brackets, e.g. "
         "numba[threads=1]; rtc variants describes each",
     )  # fmt: skip
+    variant.registered = _Registered()  # type: ignore[attr-defined]
     parser.add_argument(
         "--depth", type=int, default=5, metavar="N",
         help="how many times a ray may be reflected or refracted (default: 5, the book's)",
@@ -89,6 +90,14 @@ def _settings(args: argparse.Namespace) -> RenderSettings:
     except ValueError as error:
         message = str(error).removeprefix("RenderSettings: ")
         raise UserError(f"bad option: {message}") from None
+
+
+class _Registered:
+    """The registered variant names as ``--help`` prints them, looked up only when it
+    does (a render does not pay for the lookup)."""
+
+    def __str__(self) -> str:
+        return ", ".join(_registered())
 
 
 def _registered() -> list[str]:

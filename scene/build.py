@@ -16,13 +16,15 @@ from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, NoReturn
+from typing import TYPE_CHECKING, Any, NoReturn
 
 from scene.context import updated
 from scene.errors import SceneError
-from scene.obj_mesh import Mesh
 from scene.progress import LoadProgress
 from scene.shapes import GROUPS, ShapeSpec
+
+if TYPE_CHECKING:  # an OBJ's reader (and numpy) only for a scene that reads one
+    from scene.obj_mesh import Mesh
 
 
 @dataclass(frozen=True)

@@ -25,7 +25,6 @@ from typing import Any
 
 import numpy as np
 
-from compiled.library import Recipe, load
 from raytracer.obj_file import (
     DEGENERATE_SINE,
     ObjNoFacesError,
@@ -45,29 +44,37 @@ EXOTIC = (b"\x00", b"\x0b", b"\x0c", b"\x1c", b"\x1d", b"\x1e", b"\xc2\x85", b"\
           b"\xe2\x80\xa9")  # fmt: skip
 EXTRA_SLOW = 4096  # slow lines of ordinary kind (v, vn, f) the scan makes room for
 
-SCANNER = Recipe(
-    name="obj_scan",
-    module="scene.obj_scan",
-    function="run_arrays",
-    parameters=(
-        ("int64_t", "mode"),
-        ("uint8_t *", "buf"),
-        ("int64_t", "base"),
-        ("int64_t", "n"),
-        ("int64_t *", "counts"),
-        ("double *", "vs"),
-        ("double *", "ns"),
-        ("int32_t *", "tri"),
-        ("int32_t *", "tri_n"),
-        ("int32_t *", "tri_line"),
-        ("int32_t *", "tri_group"),
-        ("int64_t *", "slow"),
-        ("int64_t", "capacity"),
-        ("int8_t *", "flags"),
-        ("double", "limit"),
-    ),
-    what="the OBJ scanner",
-)
+
+def _scanner() -> Any:
+    """The compiled OBJ scanner's function, built or loaded the first time an OBJ is read
+    (``compiled.library``: a scene without one never loads it)."""
+    from compiled.library import Recipe, load
+
+    return load(
+        Recipe(
+            name="obj_scan",
+            module="scene.obj_scan",
+            function="run_arrays",
+            parameters=(
+                ("int64_t", "mode"),
+                ("uint8_t *", "buf"),
+                ("int64_t", "base"),
+                ("int64_t", "n"),
+                ("int64_t *", "counts"),
+                ("double *", "vs"),
+                ("double *", "ns"),
+                ("int32_t *", "tri"),
+                ("int32_t *", "tri_n"),
+                ("int32_t *", "tri_line"),
+                ("int32_t *", "tri_group"),
+                ("int64_t *", "slow"),
+                ("int64_t", "capacity"),
+                ("int8_t *", "flags"),
+                ("double", "limit"),
+            ),
+            what="the OBJ scanner",
+        )
+    ).function
 
 
 @dataclass(frozen=True, eq=False)
@@ -222,7 +229,7 @@ class _Scan:
         self.data = data
         self.source = source
         self.buf = np.frombuffer(data, dtype=np.uint8) if data else np.zeros(1, np.uint8)
-        self.scanner = load(SCANNER).function
+        self.scanner = _scanner()
 
     def _call(self, mode: int, counts: np.ndarray, arrays: dict[str, Any], capacity: int) -> int:
         a = arrays
