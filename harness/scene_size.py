@@ -345,11 +345,11 @@ def commands(plan: Plan, paths: dict[str, Path], jobs: Path, log: Log) -> dict[s
         "threads": threads, "povray": found.version if found else None,
         "povray_missing": None if found else povray.missing(),
     }  # fmt: skip
-    folder = jobs / "commands"
+    folder = (jobs / "commands").resolve()  # the commands run in it: no relative path
     folder.mkdir(parents=True, exist_ok=True)
     for name in plan.meshes:
         scene = folder / f"{name[:-4]}.yml"
-        scene.write_text(scene_text(str(paths[name]), plan.size), encoding="utf-8")
+        scene.write_text(scene_text(str(paths[name].resolve()), plan.size), encoding="utf-8")
         pov = pov_scene(paths[name], plan.size, folder / f"{name[:-4]}.pov") if found else None
         ours = _rtc_render(scene, folder / f"{name[:-4]}.png", plan.size, plan.threads)
         log(f"{COMMAND_SECTION}: rtc render --variant {COMMAND_VARIANT} and POV-Ray, {name}")

@@ -108,13 +108,16 @@ def test_bad_scene_size_options_are_one_user_error(flag: str, value: str, messag
 # --- a tiny run, in fresh processes ---------------------------------------------------------------
 
 
-def test_a_tiny_run_measures_each_phase_and_records_what_could_not_run(tmp_path: Path) -> None:
+def test_a_tiny_run_measures_each_phase_and_records_what_could_not_run(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(tmp_path)  # relative folders, as rtc bench gives them (results/runs/...)
     plan = Plan(
         variants=("cached", "numba[nosuchoption=1]"),
         meshes=("ring-1k.obj",),
         size=Size(4, 3),
         repeat=2,
-        folder=tmp_path / "meshes",
+        folder=Path("meshes"),
     )
     logged: list[str] = []
     saved: dict[str, Any] = {}
@@ -123,7 +126,7 @@ def test_a_tiny_run_measures_each_phase_and_records_what_could_not_run(tmp_path:
         saved[name] = image
         return f"run/{name}"
 
-    parse, cached, unavailable, commands = run(plan, tmp_path / "jobs", logged.append, save)
+    parse, cached, unavailable, commands = run(plan, Path("jobs"), logged.append, save)
     assert (tmp_path / "meshes" / "ring-1k.obj").is_file()
     assert parse["section"] == PARSE_SECTION
     (parsed,) = parse["points"]
