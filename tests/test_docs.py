@@ -87,16 +87,15 @@ def test_no_tracked_file_names_what_a_clone_lacks() -> None:
     )
     if listed.returncode != 0:
         pytest.fail(f"git ls-files failed: {listed.stderr.strip()}")
+    # each word with one letter in brackets, so that this file does not name them itself
     forbidden = re.compile(
-        r"/work/|/root/|/home/\w|farm-bench|farm-studio|DESIGN\.md|\.\./shared"
+        r"/wor[k]/|/roo[t]/|/hom[e]/\w|far[m]-bench|far[m]-studio|DESIG[N]\.md|\.\./share[d]"
     )
     for name in listed.stdout.splitlines():
         path = ROOT / name
         if path.suffix not in {".py", ".md", ".yml", ".toml", ".cfg", ".txt", ".sh", ""}:
             continue
         if not path.is_file() or name.startswith("results/runs/"):
-            continue
-        if name.endswith("test_docs.py"):
             continue
         text = path.read_text(encoding="utf-8", errors="replace")
         found = forbidden.search(text)
