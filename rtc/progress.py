@@ -170,17 +170,9 @@ class Progress:
             print(text, file=self.stream, flush=True)
 
     def _open(self) -> None:
-        from tqdm import tqdm
+        from scene.progress import open_bar
 
-        self.bar = tqdm(
-            total=max(self.total, self.done) or None,
-            initial=self.done,  # drawn at once with what is done so far
-            desc=self.label,
-            unit=self.unit,
-            file=self.stream,
-            leave=False,
-            dynamic_ncols=True,
-        )
+        self.bar = open_bar(self.total, self.done, self.label, self.unit, self.stream)
         self.shown = True
 
     def close(self) -> None:

@@ -16,6 +16,17 @@ from typing import Any, TextIO
 DELAY = 1.0  # seconds before a bar appears
 
 
+def open_bar(total: int, done: int, label: str, unit: str, stream: TextIO, **more: Any) -> Any:
+    """A tqdm bar on ``stream`` drawn at once with ``done`` of ``total`` (0: unknown), cleared
+    when it is closed; ``rtc render``'s and ``rtc kata``'s bars are drawn by it too."""
+    from tqdm import tqdm
+
+    return tqdm(
+        total=max(total, done) or None, initial=done, desc=label, unit=unit, file=stream,
+        leave=False, dynamic_ncols=True, **more,
+    )  # fmt: skip
+
+
 class LoadProgress:
     """The phases of one load, drawn as a tqdm bar once the load is slow.
 
@@ -74,18 +85,10 @@ class LoadProgress:
         self.bar.update(done - self.bar.n)
 
     def _open(self) -> None:
-        from tqdm import tqdm
-
-        self.bar = tqdm(
-            total=max(self.total, self.done) or None,
-            initial=self.done,  # drawn at once with what is done so far
-            desc=f"{self.label}: {self.phase_name}",
-            unit=self.unit,
+        self.bar = open_bar(
+            self.total, self.done, f"{self.label}: {self.phase_name}", self.unit, self.stream,
             unit_scale=True,
-            file=self.stream,
-            leave=False,
-            dynamic_ncols=True,
-        )
+        )  # fmt: skip
         self.shown = True
 
     def close(self) -> None:
