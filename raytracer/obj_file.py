@@ -114,8 +114,9 @@ def _lines(text: str, chunk: int = 1 << 20) -> Iterator[str]:
 
 
 @contextmanager
-def _collector_paused() -> Iterator[None]:
-    """Pause the cyclic garbage collector (it stays paused if it already was)."""
+def collector_paused() -> Iterator[None]:
+    """Pause the cyclic garbage collector (it stays paused if it already was): a million new
+    triangles would otherwise start many full collections that find nothing to collect."""
     enabled = gc.isenabled()
     gc.disable()
     try:
@@ -241,7 +242,7 @@ def parse_obj_file(
     it: a file of gibberish is a parser with nothing in it).
     """
     parser = ObjParser(default_group=make_group())
-    with _collector_paused():
+    with collector_paused():
         _read(text, parser, source, make_triangle, make_smooth_triangle, make_group)
     if require_faces and parser.triangles == 0:
         raise ObjNoFacesError(source, _no_faces(source, parser))

@@ -11,13 +11,12 @@ inside it that does not set its own; an OBJ model's triangles share one material
 
 from __future__ import annotations
 
-import gc
 from collections.abc import Callable, Iterator, Mapping
-from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, NoReturn
 
+from raytracer.obj_file import collector_paused
 from scene.context import updated
 from scene.errors import SceneError
 from scene.progress import LoadProgress
@@ -38,19 +37,6 @@ class Inherited:
 def make_material(api: Mapping[str, Any], properties: Mapping[str, Any]) -> Any:
     """The variant's default ``material()`` with ``properties`` replaced."""
     return updated(api["material"](), **properties)
-
-
-@contextmanager
-def collector_paused() -> Iterator[None]:
-    """Pause the cyclic garbage collector (it stays paused if it already was): a million new
-    triangles would otherwise start many full collections that find nothing to collect."""
-    enabled = gc.isenabled()
-    gc.disable()
-    try:
-        yield
-    finally:
-        if enabled:
-            gc.enable()
 
 
 class Builder:
