@@ -478,23 +478,6 @@ DAMAGE: list[tuple[str, Callable[[Path], object], str]] = [
 ]
 
 
-@pytest.mark.parametrize(("damage", "words"), [(d, w) for _, d, w in DAMAGE],
-                         ids=[n for n, _, _ in DAMAGE])  # fmt: skip
-def test_a_damaged_library_is_built_again_with_one_line(
-    kernels: Path, capsys: pytest.CaptureFixture[str], damage: Any, words: str
-) -> None:
-    _record, file = the_library(kernels)
-    damage(file)
-    library._said.clear()
-    compiled = library.load(TINY)
-    assert compiled.origin.startswith("shared library")
-    assert scaled(compiled) == RIGHT
-    err = capsys.readouterr().err
-    (said,) = said_lines(err)
-    assert words in said and "building it again" in said, err
-    assert library.verify(TINY.path())[0] is not None  # sound again
-
-
 def test_an_unreadable_library_is_built_again_or_read_as_it_is(
     kernels: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
@@ -527,19 +510,23 @@ RECORD_DAMAGE: list[tuple[str, Callable[[Path], object], str]] = [
 ]  # fmt: skip
 
 
-@pytest.mark.parametrize(("damage", "words"), [(d, w) for _, d, w in RECORD_DAMAGE],
-                         ids=[n for n, _, _ in RECORD_DAMAGE])  # fmt: skip
-def test_a_damaged_record_is_built_again_with_one_line(
-    kernels: Path, capsys: pytest.CaptureFixture[str], damage: Any, words: str
+@pytest.mark.parametrize(
+    ("damaged", "damage", "words"),
+    [("library", d, w) for _, d, w in DAMAGE] + [("record", d, w) for _, d, w in RECORD_DAMAGE],
+    ids=[f"library-{n}" for n, _, _ in DAMAGE] + [f"record-{n}" for n, _, _ in RECORD_DAMAGE],
+)
+def test_a_damaged_library_or_record_is_built_again_with_one_line(
+    kernels: Path, capsys: pytest.CaptureFixture[str], damaged: str, damage: Any, words: str
 ) -> None:
-    record, _file = the_library(kernels)
-    damage(record)
+    record, file = the_library(kernels)
+    damage(file if damaged == "library" else record)
     library._said.clear()
     compiled = library.load(TINY)
     assert scaled(compiled) == RIGHT and compiled.origin.startswith("shared library")
     err = capsys.readouterr().err
     (said,) = said_lines(err)
     assert words in said and "building it again" in said, err
+    assert library.verify(TINY.path())[0] is not None  # sound again
 
 
 def test_a_half_cut_render_library_is_rebuilt_and_the_render_is_right(tmp_path: Path) -> None:
