@@ -315,6 +315,29 @@ def every_leaf_t(spec: ShapeSpec, ray: RaySpec) -> list[float]:
     return sorted(ts)
 
 
+DIRECTION_SCALES = (0.5, 2.0, 10.0)
+
+
+def has_torus(spec: ShapeSpec) -> bool:
+    return spec.kind == "torus" or any(has_torus(child) for child in spec.children)
+
+
+def quartic_depends_on_length(spec: ShapeSpec, ray: RaySpec) -> bool:
+    """The torus's quartic rule: naive's closed-form solver (``raytracer.quartic``) counts a
+    quantity within an absolute 1e-9 of zero as zero, so near a double root its roots depend
+    on the length of the ray's direction, which scales the quartic's coefficients (a ray
+    along the symmetry plane, 3 long, finds none of the 4 roots a unit ray finds). Where
+    naive's leaves hit change when the direction is rescaled, its answer is not an oracle."""
+    if not has_torus(spec):
+        return False
+    expected = structure(hits(NAIVE.api, spec, ray))
+    for factor in DIRECTION_SCALES:
+        longer = RaySpec(ray.origin, tuple(c * factor for c in ray.direction))  # type: ignore[arg-type]
+        if structure(hits(NAIVE.api, spec, longer)) != expected:
+            return True
+    return False
+
+
 def on_triangle_edge(spec: ShapeSpec, ray: RaySpec, scale: float) -> bool:
     """Whether the ray crosses a triangle's plane within ``scale`` of its boundary, in
     barycentric terms (relative to the triangle's size): whether it hits a corner or an
@@ -347,6 +370,8 @@ def naive_unstable_hits(spec: ShapeSpec, ray: RaySpec, expected: list[Hit], scal
     if has_tie(ts, scale) or on_triangle_edge(spec, ray, scale):
         return True
     if any(abs(t) <= scale for t in ts):  # the ray starts on a surface (a cone's tip ...)
+        return True
+    if quartic_depends_on_length(spec, ray):
         return True
     return any(
         structure(hits(NAIVE.api, spec, moved)) != structure(expected)
@@ -625,6 +650,13 @@ def kinds(spec: ShapeSpec) -> set[str]:
         ),
     ),
     ray=RaySpec((0.0, 0.0, 0.0), (0.0, 0.0, 1e-05)),
+)
+# caught robust finding the 4 roots of a torus (radii 0.5, 0.25) along a ray 3 long in its
+# symmetry plane, where naive's closed form finds none (it finds all 4 with the ray's
+# direction normalized): the torus's quartic rule, ``quartic_depends_on_length``
+@example(
+    spec=ShapeSpec("group", children=(ShapeSpec("torus", params=(0.5, 0.25)),)),
+    ray=RaySpec((0.0, 0.0, 3.0), (0.0, 0.0, -3.0)),
 )
 def test_intersect_and_normal_at_agree(spec: ShapeSpec, ray: RaySpec) -> None:
     """Random rays against random transformed shapes of every kind: each variant's
