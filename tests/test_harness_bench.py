@@ -296,7 +296,12 @@ def test_waiting_for_quiet_stops_when_the_cores_are_idle_or_after_the_longest(mo
     assert sharing.wait_for_quiet(1, 3) == "still 2.0 of 2 cores busy after 3 s"
 
 
-def test_the_ladder_reuses_the_tables_rows_and_says_why_povray_is_absent(tmp_path):
+def test_the_ladder_reuses_the_tables_rows_and_says_why_povray_is_absent(tmp_path, monkeypatch):
+    # a POV-Ray that answers --version, so that the reason is the scene, on any machine
+    fake = tmp_path / "povray"
+    fake.write_text("#!/bin/sh\necho 'POV-Ray 3.7.0.10 (a stand-in)'\n")
+    fake.chmod(0o755)
+    monkeypatch.setenv("RTC_POVRAY", str(fake))
     assert _bench(tmp_path, "--variants", "naive,cached", "--sections", "ladder,table") == 0
     rtc = load_run(list_runs(tmp_path)[0])["rtc"]
     ladder = [r for r in rtc["rows"] if r["section"] == "ladder"]
