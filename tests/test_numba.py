@@ -43,9 +43,9 @@ from raytracer.patterns import Pattern
 from raytracer.shapes.sphere import Sphere
 from raytracer.tuples import Tuple
 from scene import load_scene
+from variants.arrays.canvas import ArrayCanvas
 from variants.numba import layout as L
 from variants.numba.api import EXTRA, NumbaTracer
-from variants.numba.canvas import ArrayCanvas
 from variants.numba.features import analyse
 from variants.numba.pack import PackError, pack_world
 from variants.registry import Variant, VariantError, load_variant

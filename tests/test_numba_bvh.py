@@ -23,7 +23,7 @@ from raytracer.camera import RenderSettings
 from raytracer.materials import material
 from raytracer.matrices import Matrix
 from scene import load_scene
-from variants import flatten
+from variants.arrays import flatten
 from variants.numba import bvh, bvh_kernel, specialize
 from variants.numba import layout as L
 from variants.numba import pack as numba_pack

@@ -1,6 +1,6 @@
 """Packing a world, a shape or a camera into the flat arrays the kernels read (``layout``).
 
-A world is packed once per render, from the tree ``variants.flatten`` makes of it (of a scene
+A world is packed once per render, from the tree ``variants.arrays.flatten`` makes of it (of a scene
 description, with no book shape built, or of the book's shapes for the book's API): every
 leaf becomes one row of ``pf``/``pi`` with its composed transform (chapter 14), its material
 and pattern (chapters 6, 10, 11) and its own parameters (chapters 12, 13, 15); CSG trees
@@ -41,7 +41,6 @@ from typing import Any
 import numpy as np
 
 from raytracer.camera import Camera
-from raytracer.colors import Color
 from raytracer.lights import Light
 from raytracer.materials import Material
 from raytracer.matrices import Matrix, identity_matrix
@@ -55,10 +54,10 @@ from raytracer.patterns import (
 )
 from raytracer.shapes.shape import Shape
 from raytracer.shapes.sphere import Sphere
-from raytracer.tuples import Tuple
 from raytracer.world import World
 from scene.kinds import BY_NAME, KINDS, reference_kind
-from variants import flatten as F
+from variants.arrays import flatten as F
+from variants.arrays.rows import normal_rows, rgb, rows3x4, stretch
 from variants.numba import layout as L
 from variants.numba.bvh import BALLS_MAX, DEFAULT, STRUCTURES, Hierarchy, build_into, outward32
 from variants.numba.lights import light_rows
@@ -171,33 +170,6 @@ def _world_sphere(inv: Matrix) -> list[float] | None:
     if not all(math.isfinite(v) for v in values):
         return None
     return values
-
-
-def _rows3x4(m: Matrix) -> list[float]:
-    return [float(v) for row in m.rows[:3] for v in row]
-
-
-def _normal_rows(inv: Matrix) -> list[float]:
-    """Rows 0-2 of the inverse transpose (3x3): element (r, c) is inv[c][r]."""
-    return [float(inv.rows[c][r]) for r in range(3) for c in range(3)]
-
-
-def _xyz(t: Tuple) -> list[float]:
-    return [float(t.x), float(t.y), float(t.z)]
-
-
-def _rgb(c: Color) -> list[float]:
-    return [float(c.red), float(c.green), float(c.blue)]
-
-
-def _stretch(m: Matrix) -> float:
-    """An upper bound of how much the 3x3 part A of ``m`` can lengthen a vector: the square
-    root of the largest row sum of |AᵀA| (Gershgorin; exact for a rotation times a scale
-    along the axes). Plain Python: a numpy call here would wake BLAS threads, which then
-    spin beside the render's threads."""
-    a = [row[:3] for row in m.rows[:3]]
-    gram = [[sum(a[k][i] * a[k][j] for k in range(3)) for j in range(3)] for i in range(3)]
-    return math.sqrt(max(sum(abs(v) for v in row) for row in gram))
 
 
 @dataclass
@@ -333,7 +305,7 @@ def _bounding_sphere(local: np.ndarray | None, kind: int, fwd: Matrix | None) ->
     # a sphere lies in its unit ball, not only in the corners' hull
     radius = 1.0 if kind == L.K_SPHERE else max(math.dist(centre, p) for p in points)
     world_centre = F.apply(fwd, np.array(centre)).tolist()
-    world_radius = radius * _stretch(fwd) * (1.0 + 1e-6) + 1e-9
+    world_radius = radius * stretch(fwd) * (1.0 + 1e-6) + 1e-9
     if not (math.isfinite(world_radius) and all(math.isfinite(v) for v in world_centre)):
         return none
     return [*world_centre, world_radius]
@@ -347,7 +319,7 @@ def _box(bounds: np.ndarray) -> tuple[float, ...]:
 
 
 class _Packer:
-    """Collects rows and items while walking a flattened scene (``variants.flatten``),
+    """Collects rows and items while walking a flattened scene (``variants.arrays.flatten``),
     then builds the arrays.
 
     Rows and items are kept as single rows (lists) or as blocks (arrays: a run of
@@ -409,9 +381,9 @@ class _Packer:
             raise PackError(f"numba: {where} has no material (got {type(m).__name__})")
         f = [0.0] * L.NF
         i = [0] * L.NI
-        f[L.INV : L.INV + 12] = _rows3x4(inv)
-        f[L.NRM : L.NRM + 9] = _normal_rows(inv)
-        f[L.COLOR : L.COLOR + 3] = _rgb(m.color)
+        f[L.INV : L.INV + 12] = rows3x4(inv)
+        f[L.NRM : L.NRM + 9] = normal_rows(inv)
+        f[L.COLOR : L.COLOR + 3] = rgb(m.color)
         f[L.AMBIENT] = float(m.ambient)
         f[L.DIFFUSE] = float(m.diffuse)
         f[L.SPECULAR] = float(m.specular)
@@ -424,12 +396,12 @@ class _Packer:
         if used is not None:
             i[L.PATTERN] = pattern_kind(used, where)
             pattern_inv = _inverse(used.transform, f"the pattern transform of {where}")
-            f[L.PAT : L.PAT + 12] = _rows3x4(pattern_inv)
+            f[L.PAT : L.PAT + 12] = rows3x4(pattern_inv)
             if i[L.PATTERN] in (L.P_MAP, L.P_CUBE_MAP):
                 i[L.PAT_TEX] = self.textures.pattern(used, where)
             elif i[L.PATTERN] != L.P_TEST:
-                f[L.PAT_A : L.PAT_A + 3] = _rgb(used.a)  # type: ignore[attr-defined]
-                f[L.PAT_B : L.PAT_B + 3] = _rgb(used.b)  # type: ignore[attr-defined]
+                f[L.PAT_A : L.PAT_A + 3] = rgb(used.a)  # type: ignore[attr-defined]
+                f[L.PAT_B : L.PAT_B + 3] = rgb(used.b)  # type: ignore[attr-defined]
         i[L.KIND] = kind
         i[L.CASTS_SHADOW] = 1 if shadow else 0
         i[L.TRI_FIRST] = -1  # a primitive of its own, not a run of compact triangles
@@ -725,7 +697,7 @@ def _triangle_spheres(points: np.ndarray, fwd: Matrix) -> np.ndarray:
     radius = np.sqrt(((points - centre[:, None, :]) ** 2).sum(axis=2)).max(axis=1)
     out = np.empty((len(points), 4), dtype=np.float64)
     out[:, 0:3] = F.apply(fwd, centre)
-    out[:, 3] = radius * _stretch(fwd) * (1.0 + 1e-6) + 1e-9
+    out[:, 3] = radius * stretch(fwd) * (1.0 + 1e-6) + 1e-9
     bad = ~np.isfinite(out).all(axis=1)
     out[bad] = (0.0, 0.0, 0.0, math.inf)
     return out
@@ -743,7 +715,7 @@ def _pack(
 
 
 def _flattened(make: Any, *args: Any) -> Any:
-    """``make(*args)`` (a ``variants.flatten`` function), its errors in the kernels' words."""
+    """``make(*args)`` (a ``flatten`` function), its errors in the kernels' words."""
     try:
         return make(*args)
     except F.FlattenError as error:
@@ -865,5 +837,5 @@ class PackedCamera:
 def pack_camera(c: Camera, dtype: Any = np.float64) -> PackedCamera:
     """The inverse view transform (the reference's), half extents and pixel size."""
     inv = _inverse(c.transform, "the camera transform")
-    row = [*_rows3x4(inv), float(c.half_width), float(c.half_height), float(c.pixel_size)]
+    row = [*rows3x4(inv), float(c.half_width), float(c.half_height), float(c.pixel_size)]
     return PackedCamera(np.array(row, dtype=dtype), int(c.hsize), int(c.vsize))

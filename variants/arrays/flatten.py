@@ -38,6 +38,7 @@ from scene.build import make_material
 from scene.kinds import BY_NAME, SHAPE_METHODS, Kind, reference_kind, unchanged
 from scene.obj_mesh import Mesh
 from scene.shapes import GROUPS, ShapeSpec
+from variants.arrays.rows import rows3x4
 
 BOX_PAD = 1e-9  # a world box grows by this much (relative, plus absolute): no hit is lost
 
@@ -261,7 +262,7 @@ def union(boxes: Sequence[np.ndarray]) -> np.ndarray:
 
 MESH_PACKER = Recipe(
     name="pack_mesh",
-    module="variants.mesh_kernel",
+    module="variants.arrays.mesh_kernel",
     function="pack_mesh",
     parameters=(
         ("int64_t", "n"), ("double *", "positions"), ("int32_t *", "tri"), ("double *", "fwd"),
@@ -272,15 +273,15 @@ MESH_PACKER = Recipe(
 
 
 def mesh_geometry(mesh: Mesh, rows: slice, fwd: Matrix) -> tuple[np.ndarray, np.ndarray]:
-    """``Triangles.geometry`` of an OBJ model's triangles ``rows`` (``variants.mesh_kernel``):
-    the numbers ``face_normals`` and ``world_boxes`` give, term by term."""
+    """``Triangles.geometry`` of an OBJ model's triangles ``rows`` (``mesh_kernel``): the
+    numbers ``face_normals`` and ``world_boxes`` give, term by term."""
     tri = np.ascontiguousarray(mesh.triangles[rows], dtype=np.int32)
     n = len(tri)
     tg = np.empty((n, 12), dtype=np.float64)
     bounds = np.empty((n, 6), dtype=np.float64)
     if n:
         positions = np.ascontiguousarray(mesh.positions, dtype=np.float64)
-        m = np.array([float(v) for row in fwd.rows[:3] for v in row], dtype=np.float64)
+        m = np.array(rows3x4(fwd), dtype=np.float64)
         load(MESH_PACKER).function(n, positions, tri, m, tg, bounds, BOX_PAD)
     return tg, bounds
 
