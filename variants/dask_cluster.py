@@ -82,9 +82,10 @@ from variants.registry import (
     check_options,
     load_variant,
     parse_int,
+    tracer_of,
     tracer_variant,
 )
-from variants.wrapper import Wrapper, tracer_of
+from variants.wrapper import Wrapper
 
 NAME = "dask"
 DEFAULT_TILE = 32

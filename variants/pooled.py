@@ -88,9 +88,10 @@ from variants.registry import (
     load_variant,
     parse_choice,
     parse_int,
+    tracer_of,
     tracer_variant,
 )
-from variants.wrapper import Wrapper, tracer_of
+from variants.wrapper import Wrapper
 
 NAME = "pooled"
 GRANULARITIES = ("line", "pixel", "tile")
