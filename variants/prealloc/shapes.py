@@ -36,14 +36,11 @@ from variants.prealloc.buffers import (
     add_intersection,
     new_ray,
     sort_intersections,
+    tuple_buffer,
 )
-from variants.prealloc.geometry import (
-    flat_matrix,
-    normal_to_world_into,
-    transform_ray_into,
-    world_to_object_into,
-)
-from variants.prealloc.records import MaterialRecord, PreallocUnsupported, check_reimplemented
+from variants.prealloc.errors import PreallocUnsupported, check_reimplemented
+from variants.prealloc.geometry import flat_matrix, transform_point_into, transform_ray_into
+from variants.prealloc.records import MaterialRecord
 
 INF = math.inf
 
@@ -105,6 +102,39 @@ def normal_at_into(
     world_to_object_into(rec, point, out)
     rec.local_normal_at_into(out, u, v, out)
     normal_to_world_into(rec, out, out)
+
+
+def world_to_object_into(rec: ShapeRecord, point: Vec, out: Vec) -> None:
+    """Chapter 14: ``out = world_to_object(shape, point)``, through every parent (naive
+    twin: ``raytracer.shapes.space.world_to_object``)."""
+    if rec.parent is not None:
+        world_to_object_into(rec.parent, point, out)
+        point = out
+    transform_point_into(rec.inverse, point, out)
+
+
+def normal_to_world_into(rec: ShapeRecord, normal: Vec, out: Vec) -> None:
+    """Chapter 14: ``out = normal_to_world(shape, normal)``: through the inverse transpose,
+    w dropped, normalized (a zero normal stays zero), then through every parent (naive
+    twin: ``raytracer.shapes.space.normal_to_world``)."""
+    m = rec.inverse_transpose
+    x, y, z, w = normal
+    nx = m[0] * x + m[1] * y + m[2] * z + m[3] * w
+    ny = m[4] * x + m[5] * y + m[6] * z + m[7] * w
+    nz = m[8] * x + m[9] * y + m[10] * z + m[11] * w
+    if nx != 0 or ny != 0 or nz != 0:
+        length = math.sqrt(nx * nx + ny * ny + nz * nz + 0.0 * 0.0)
+        out[0] = nx / length
+        out[1] = ny / length
+        out[2] = nz / length
+        out[3] = 0.0 / length
+    else:
+        out[0] = nx
+        out[1] = ny
+        out[2] = nz
+        out[3] = 0.0
+    if rec.parent is not None:
+        normal_to_world_into(rec.parent, out, out)
 
 
 class SphereRecord(ShapeRecord):
@@ -389,10 +419,6 @@ class ConeRecord(CylinderRecord):
             out[0], out[1], out[2] = x, side_y, z
 
 
-def _tuple_buffer(t: Tuple) -> Vec:
-    return [float(t.x), float(t.y), float(t.z), float(t.w)]
-
-
 class TriangleRecord(ShapeRecord):
     """Chapter 15: the triangle, with ``p1``, ``e1``, ``e2`` and ``normal`` as buffers."""
 
@@ -401,10 +427,10 @@ class TriangleRecord(ShapeRecord):
     def __init__(self, shape: Shape, material: MaterialRecord, eps: float) -> None:
         super().__init__(shape, material, eps)
         assert isinstance(shape, Triangle)
-        self.p1 = _tuple_buffer(shape.p1)
-        self.e1 = _tuple_buffer(shape.e1)
-        self.e2 = _tuple_buffer(shape.e2)
-        self.normal = _tuple_buffer(shape.normal)
+        self.p1 = tuple_buffer(shape.p1)
+        self.e1 = tuple_buffer(shape.e1)
+        self.e2 = tuple_buffer(shape.e2)
+        self.normal = tuple_buffer(shape.normal)
 
     def add_hit(self, xs: IntersectionBuffer, t: float, u: float, v: float) -> None:
         """Twin of ``Triangle.intersection_at``: a flat triangle does not keep u and v."""
@@ -452,9 +478,9 @@ class SmoothTriangleRecord(TriangleRecord):
     def __init__(self, shape: Shape, material: MaterialRecord, eps: float) -> None:
         super().__init__(shape, material, eps)
         assert isinstance(shape, SmoothTriangle)
-        self.n1 = _tuple_buffer(shape.n1)
-        self.n2 = _tuple_buffer(shape.n2)
-        self.n3 = _tuple_buffer(shape.n3)
+        self.n1 = tuple_buffer(shape.n1)
+        self.n2 = tuple_buffer(shape.n2)
+        self.n3 = tuple_buffer(shape.n3)
 
     def add_hit(self, xs: IntersectionBuffer, t: float, u: float, v: float) -> None:
         """Twin of ``SmoothTriangle.intersection_at``: the hit keeps u and v."""
