@@ -14,7 +14,7 @@ from scene import shapes as scene_shapes
 from scene.kinds import ADDABLE, BY_NAME, KINDS, Kind, reference_kind
 from variants.numba import features, kernel_flags
 from variants.numba import layout as L
-from variants.numba.pack import KIND_NAMES
+from variants.numba.features import KIND_NAMES
 from variants.wavefront import scene as wavefront
 
 

@@ -46,8 +46,9 @@ from scene import load_scene
 from variants.arrays.canvas import ArrayCanvas
 from variants.numba import layout as L
 from variants.numba.api import EXTRA, NumbaTracer
+from variants.numba.errors import PackError
 from variants.numba.features import analyse
-from variants.numba.pack import PackError, pack_world
+from variants.numba.pack import pack_world
 from variants.registry import Variant, VariantError, load_variant
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -44,14 +44,8 @@ from raytracer.world import World
 from variants.arrays.canvas import ArrayCanvas, ArrayCanvasTracer
 from variants.numba import layout as L
 from variants.numba.lights import light_rows, move_on
-from variants.numba.pack import (
-    Packed,
-    pack_camera,
-    pack_scene,
-    pack_shapes,
-    pack_surface,
-    pack_world,
-)
+from variants.numba.pack import pack_camera, pack_scene, pack_shapes, pack_surface, pack_world
+from variants.numba.packed import Packed
 from variants.numba.render import Frame, Options, explain, prepare_frame, run_region, traversals
 from variants.numba.specialize import load_kernels
 from variants.numba.textures import TextureTable

@@ -29,6 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from compiled.library import Compiled, Recipe, load
 from variants.numba import layout as L
 
 STRUCTURES = ("sah", "groups", "off")
@@ -37,6 +38,26 @@ LEAF_MAX = 4  # the most units in a leaf
 UNIT_COST = 1.0  # a unit's test against a box test, for the heuristic (a primitive is first
 # tested against its bounding sphere, about as fast as a box; 2.0 measured no faster)
 BALLS_MAX = 32  # from this many world spheres on, they join the hierarchy (``sah``)
+
+BVH_BUILDER = Recipe(
+    name="build_bvh",
+    module="variants.numba.bvh_kernel",
+    function="build",
+    parameters=(
+        ("int64_t", "n"), ("float *", "units"), ("int64_t *", "order"),
+        ("int32_t *", "uitems"), ("int32_t *", "items"), ("double *", "boxes"),
+        ("int64_t", "base"), ("int64_t *", "work"), ("double *", "fwork"),
+        ("int64_t", "leaf_max"), ("int64_t", "sah_depth"), ("double", "unit_cost"),
+        ("int64_t *", "stats"),
+    ),
+    what="the hierarchy builder",
+)  # fmt: skip
+
+
+def load_bvh_builder() -> Compiled:
+    """The hierarchy's builder (``bvh_kernel.build``): from its shared library (built first
+    if missing), else numba's ``njit`` function with its disk cache. Once per process."""
+    return load(BVH_BUILDER)
 
 
 @dataclass(frozen=True)
@@ -92,8 +113,6 @@ def build_into(
     rounded outwards; reordered); ``order``: the row of ``items`` each unit stands for (n
     ints; reordered). Returns (rows of ``out`` used, the box items' boxes: one row each,
     named by their ITEM_D, what was built)."""
-    from variants.numba.specialize import load_bvh_builder
-
     n = len(units)
     started = time.perf_counter()
     boxes = np.zeros((max(n, 1), L.NBOX), dtype=np.float64)

@@ -19,11 +19,21 @@ import numpy as np
 from scene.kinds import KINDS
 from variants.numba import kernel_flags
 from variants.numba import layout as L
-from variants.numba.pack import KIND_NAMES, PATTERN_NAMES, Packed
+from variants.numba.packed import Packed
 
 ALL_FLAGS: tuple[str, ...] = tuple(
     name for name in vars(kernel_flags) if name.startswith("HAS_")
 )  # in the order kernel_flags lists them
+KIND_NAMES = {kind.number: kind.name for kind in KINDS}
+PATTERN_NAMES = {
+    L.P_STRIPE: "stripe",
+    L.P_GRADIENT: "gradient",
+    L.P_RING: "ring",
+    L.P_CHECKERS: "checkers",
+    L.P_TEST: "test_pattern",
+    L.P_MAP: "texture_map",
+    L.P_CUBE_MAP: "cube_map",
+}
 KIND_FLAGS = {kind.number: f"HAS_{kind.name.upper()}" for kind in KINDS}
 """Each kind of the kind table's switch (``kernel_flags`` holds one for every kind)."""
 PATTERN_FLAGS = {

@@ -25,26 +25,21 @@ import numpy as np
 from raytracer.lights import AreaLight, CyclicSequence, PointLight
 from variants.arrays.rows import rgb, xyz
 from variants.numba import layout as L
-
-
-def _error(message: str) -> Exception:
-    from variants.numba.pack import PackError
-
-    return PackError(message)
+from variants.numba.errors import PackError
 
 
 def _sequence_values(light: AreaLight, where: str, for_one_call: bool) -> tuple[list[float], int]:
     """(the values to pack, the position to start from) of ``light.jitter_by``."""
     sequence = light.jitter_by
     if not isinstance(sequence, CyclicSequence):
-        raise _error(f"numba: {where} jitters by a {type(sequence).__name__}, not a sequence")
+        raise PackError(f"numba: {where} jitters by a {type(sequence).__name__}, not a sequence")
     values = [float(v) for v in sequence.values]
     taken = 2 * light.samples
     if for_one_call:
         start = sequence.position
         return [values[(start + j) % len(values)] for j in range(taken)], 0
     if taken % len(values) != 0:
-        raise _error(
+        raise PackError(
             f"numba: {where} jitters by a sequence of {len(values)} values, which does not "
             f"divide the {taken} values (2 per cell) each shaded point takes from it: the "
             "reference's picture would then depend on the order in which points are shaded, "
@@ -85,7 +80,7 @@ def light_rows(
         elif isinstance(light, PointLight):
             rows[k, 0:6] = xyz(light.position) + rgb(light.intensity)
         else:
-            raise _error(
+            raise PackError(
                 f"numba: {where} is a {type(light).__name__}; the kernels know point lights "
                 "and area lights"
             )

@@ -35,7 +35,7 @@ import itertools
 import math
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -60,7 +60,10 @@ from variants.arrays import flatten as F
 from variants.arrays.rows import normal_rows, rgb, rows3x4, stretch
 from variants.numba import layout as L
 from variants.numba.bvh import BALLS_MAX, DEFAULT, STRUCTURES, Hierarchy, build_into, outward32
+from variants.numba.errors import PackError
+from variants.numba.features import PATTERN_NAMES
 from variants.numba.lights import light_rows
+from variants.numba.packed import Packed, PackedCamera, flat
 from variants.numba.textures import TextureTable, texture_kind
 
 PATTERN_KINDS: tuple[tuple[type[Pattern], int], ...] = (
@@ -70,22 +73,8 @@ PATTERN_KINDS: tuple[tuple[type[Pattern], int], ...] = (
     (CheckersPattern, L.P_CHECKERS),
     (TestPattern, L.P_TEST),
 )
-KIND_NAMES = {kind.number: kind.name for kind in KINDS}
-PATTERN_NAMES = {
-    L.P_STRIPE: "stripe",
-    L.P_GRADIENT: "gradient",
-    L.P_RING: "ring",
-    L.P_CHECKERS: "checkers",
-    L.P_TEST: "test_pattern",
-    L.P_MAP: "texture_map",
-    L.P_CUBE_MAP: "cube_map",
-}
 OPERATIONS = {"union": L.OP_UNION, "intersection": L.OP_INTERSECTION, "difference": L.OP_DIFFERENCE}
 TEST_SHAPE = BY_NAME["test_shape"]
-
-
-class PackError(ValueError):
-    """Something the numba kernels cannot compile; the message names the object."""
 
 
 def _refusal(error: F.FlattenError) -> PackError:
@@ -170,86 +159,6 @@ def _world_sphere(inv: Matrix) -> list[float] | None:
     if not all(math.isfinite(v) for v in values):
         return None
     return values
-
-
-@dataclass
-class Packed:
-    """A packed world or shape: the arrays (see ``layout``) and what they came from.
-
-    shapes: the leaf shape of each primitive row; capacity: the most intersections a ray
-    can have with everything packed; cs_size, cs_prims: the largest CSG tree's intersection
-    list and primitive count (per-thread scratch sizes, at least 1); hierarchy: how the
-    items are arranged (``bvh``).
-    """
-
-    pf: np.ndarray
-    pi: np.ndarray
-    items: np.ndarray
-    boxes: np.ndarray
-    csg: np.ndarray
-    lights: np.ndarray
-    shapes: list[Shape | None]
-    capacity: int
-    cs_size: int
-    cs_prims: int
-    balls: np.ndarray = field(default_factory=lambda: np.zeros((L.NBALL, 0)), repr=False)
-    hierarchy: Hierarchy = field(default_factory=lambda: Hierarchy("off"))
-    seconds: float = 0.0  # the time packing took, the hierarchy's build included
-    textures: TextureTable = field(default_factory=TextureTable, repr=False)
-    light_values: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)
-    tg: np.ndarray = field(default_factory=lambda: np.zeros((0, L.NTG)), repr=False)
-    tn: np.ndarray = field(default_factory=lambda: np.zeros((0, L.NTN)), repr=False)
-    _rows_by_id: dict[int, int] | None = field(default=None, repr=False)
-    _texture_arrays: tuple[np.ndarray, np.ndarray] | None = field(default=None, repr=False)
-
-    def row_of(self, shape: Shape) -> int:
-        """The primitive row of ``shape`` (by identity), or -1."""
-        if self._rows_by_id is None:
-            self._rows_by_id = {id(shape): row for row, shape in enumerate(self.shapes)}
-        return self._rows_by_id.get(id(shape), -1)
-
-    def arrays(self) -> tuple[np.ndarray, ...]:
-        """(pf, pi, items, boxes, csg): the tables (2-D, one row per primitive, item ...)."""
-        return self.pf, self.pi, self.items, self.boxes, self.csg
-
-    def flat(self) -> tuple[Any, ...]:
-        """(pf, pi, items, n_items, boxes, csg, balls, n_balls): the tables flattened
-        (row-major; ``layout``) and the counts, as the kernels take a world."""
-        return (
-            _flat(self.pf), _flat(self.pi), _flat(self.items), len(self.items),
-            _flat(self.boxes), _flat(self.csg), _flat(self.balls), self.balls.shape[1],
-        )  # fmt: skip
-
-    def light_table(self) -> tuple[np.ndarray, int]:
-        """(lights, n_lights): the lights flattened (``layout``), their sequences' values
-        after them, and their number."""
-        rows = np.ascontiguousarray(self.lights).reshape(-1)
-        table = np.concatenate([rows, self.light_values.astype(rows.dtype, copy=False)])
-        return (table if table.size else np.zeros(1, dtype=rows.dtype)), len(self.lights)
-
-    def triangle_tables(self) -> tuple[np.ndarray, np.ndarray]:
-        """(tg, tn): the compact triangles' corners, edges and normals, and the smooth
-        ones' corner normals, flattened (``layout``)."""
-        return _flat(self.tg), _flat(self.tn)
-
-    def triangles(self) -> int:
-        """How many primitives the rows stand for (a compact run's row, its triangles)."""
-        runs = self.pi[:, L.TRI_FIRST] >= 0
-        return int(np.where(runs, self.pi[:, L.TRI_COUNT], 1).sum())
-
-    def texture_table(self) -> tuple[np.ndarray, np.ndarray]:
-        """(ti, tf): the texture patterns' records (``layout``, ``textures``), in the
-        primitives' precision."""
-        if self._texture_arrays is None:
-            self._texture_arrays = self.textures.arrays(self.pf.dtype)
-        return self._texture_arrays
-
-
-def _flat(table: np.ndarray) -> np.ndarray:
-    """A table as the 1-D, C-contiguous array the kernels index (at least one element, so
-    that a pointer to it is valid)."""
-    flat = np.ascontiguousarray(table).reshape(-1)
-    return flat if flat.size else np.zeros(1, dtype=table.dtype)
 
 
 def _stack(parts: list[Any], width: int, dtype: Any) -> np.ndarray:
@@ -818,20 +727,11 @@ def pack_surface(
     else:
         raise PackError(f"numba: {where} has no surface of its own")
     built = packer.build([])
-    return _flat(built.pf), _flat(built.pi)
+    return flat(built.pf), flat(built.pi)
 
 
 def _label(shape: object) -> str:
     return f"a {type(shape).__name__}"
-
-
-@dataclass(frozen=True)
-class PackedCamera:
-    """Chapter 7: the camera as the kernels read it (``layout`` CAM_*)."""
-
-    array: np.ndarray
-    hsize: int
-    vsize: int
 
 
 def pack_camera(c: Camera, dtype: Any = np.float64) -> PackedCamera:

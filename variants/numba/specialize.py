@@ -19,8 +19,8 @@ Two things are compiled from a kernel module:
   render falls back to the same ``cfunc`` with numba's own disk cache (and pays numba's
   start-up).
 
-The hierarchy's builder (``bvh_kernel``) is built the same way (``load_bvh_builder``). The
-kernel folder, the build and the load are ``compiled.library``'s.
+The kernel folder, the build and the load are ``compiled.library``'s (the hierarchy's
+builder, ``bvh.load_bvh_builder``, is built the same way).
 """
 
 from __future__ import annotations
@@ -40,13 +40,10 @@ from typing import Any
 
 from compiled.library import (
     BuildError,
-    Compiled,
-    Recipe,
     announce,
     compiler,
     kernel_folder,
     link,
-    load,
     load_once,
     on_compile,
     private_numba_cache,
@@ -257,26 +254,3 @@ def _build_library(config: KernelConfig, path: Path) -> None:
     real = "float" if config.float32 else "double"
     stub = STUB.replace("REAL", real).replace("ENTRY_NAME", ENTRY_NAME)
     link(load_kernels(config).make_render_entry(False), stub, path, "render")
-
-
-# ------------------------------------------------------------- the hierarchy's builder
-
-BVH_BUILDER = Recipe(
-    name="build_bvh",
-    module="variants.numba.bvh_kernel",
-    function="build",
-    parameters=(
-        ("int64_t", "n"), ("float *", "units"), ("int64_t *", "order"),
-        ("int32_t *", "uitems"), ("int32_t *", "items"), ("double *", "boxes"),
-        ("int64_t", "base"), ("int64_t *", "work"), ("double *", "fwork"),
-        ("int64_t", "leaf_max"), ("int64_t", "sah_depth"), ("double", "unit_cost"),
-        ("int64_t *", "stats"),
-    ),
-    what="the hierarchy builder",
-)  # fmt: skip
-
-
-def load_bvh_builder() -> Compiled:
-    """The hierarchy's builder (``bvh_kernel.build``): from its shared library (built first
-    if missing), else numba's ``njit`` function with its disk cache. Once per process."""
-    return load(BVH_BUILDER)

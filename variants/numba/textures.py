@@ -26,6 +26,7 @@ from raytracer.textures.mappings import cylindrical_map, planar_map, spherical_m
 from raytracer.textures.maps import CubeMap, TextureMap
 from raytracer.textures.uv_patterns import UVAlignCheck, UVCheckers, UVImage, UVPattern
 from variants.numba import layout as L
+from variants.numba.errors import PackError
 
 MAPPINGS = {
     id(spherical_map): L.M_SPHERICAL,
@@ -64,8 +65,6 @@ def _rgb(c: Color, what: str) -> list[float]:
 
 
 def _error(what: str, problem: str) -> Exception:
-    from variants.numba.pack import PackError
-
     return PackError(f"numba: {what} {problem}")
 
 
