@@ -48,6 +48,9 @@ from __future__ import annotations
 
 import importlib.util
 
+from variants.numba.api import EXTRA, NumbaTracer
+from variants.numba.bvh import DEFAULT, STRUCTURES
+from variants.numba.render import Options, max_threads
 from variants.registry import (
     Unavailable,
     Variant,
@@ -99,10 +102,6 @@ def variant(inner: Variant | None = None, **options: str) -> Variant:
     check_options(NAME, options, OPTIONS)
     if importlib.util.find_spec("numba") is None:
         raise Unavailable("numba is not installed (pip install numba)")
-    from variants.numba.api import EXTRA, NumbaTracer
-    from variants.numba.bvh import DEFAULT, STRUCTURES
-    from variants.numba.render import Options, max_threads
-
     float32 = parse_bool(NAME, "float32", options.get("float32", "off"))
     fastmath = parse_bool(NAME, "fastmath", options.get("fastmath", "off"))
     specialize = parse_bool(NAME, "specialize", options.get("specialize", "on"))
