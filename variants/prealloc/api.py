@@ -41,10 +41,9 @@ from variants.prealloc.buffers import (
 from variants.prealloc.context import TraceContext
 from variants.prealloc.errors import PreallocUnsupported
 from variants.prealloc.geometry import flat_matrix, position_into, reflect_into, transform_ray_into
+from variants.prealloc.groups import CSGRecord, filter_intersections_into
 from variants.prealloc.patterns import pattern_record
 from variants.prealloc.shapes import (
-    CSGRecord,
-    filter_intersections_into,
     intersect_into,
     normal_at_into,
     normal_to_world_into,
