@@ -286,7 +286,7 @@ def test_the_reference_scene_needs_what_it_has() -> None:
     world = load_scene(SCENES / "reference.yml", api).world
     packed = pack_world(world)
     assert analyse(packed).flags == {
-        "HAS_SPHERE", "HAS_PLANE", "HAS_CYLINDER", "HAS_PATTERNS", "HAS_CHECKERS",
+        "HAS_SPHERE", "HAS_PLANE", "HAS_CYLINDER", "HAS_PATTERNS", "HAS_CHECKERS_PATTERN",
         "HAS_SHADOWS", "HAS_REFLECTION", "HAS_REFRACTION", "HAS_SCHLICK",
     }  # fmt: skip
     assert packed.balls.shape[1] == 5

@@ -45,20 +45,6 @@ BOX_PAD = 1e-9  # a world box grows by this much (relative, plus absolute): no h
 Box = tuple[tuple[float, float, float], tuple[float, float, float]]
 
 
-PATTERN_METHODS = ("local_pattern_at",)
-"""What a subclass of a reference pattern must inherit unchanged to count as its kind."""
-
-
-def pattern_kind(pattern: object, table: Sequence[tuple[type, int]]) -> int | None:
-    """A tracer's number for ``pattern`` from its ``table`` of (reference pattern class,
-    number), most derived first; None for any other pattern (or a subclass that changes
-    how it colors)."""
-    for cls, number in table:
-        if isinstance(pattern, cls):
-            return number if unchanged(type(pattern), cls, PATTERN_METHODS) else None
-    return None
-
-
 class FlattenError(ValueError):
     """A transform a flattening tracer cannot use; the message names the shape, without
     the tracer's name (each tracer adds its own)."""

@@ -45,34 +45,22 @@ from raytracer.lights import Light
 from raytracer.materials import Material
 from raytracer.matrices import Matrix, identity_matrix
 from raytracer.patterns import (
-    CheckersPattern,
-    GradientPattern,
     Pattern,
-    RingPattern,
-    StripePattern,
-    TestPattern,
 )
 from raytracer.shapes.shape import Shape
 from raytracer.shapes.sphere import Sphere
 from raytracer.world import World
 from scene.kinds import BY_NAME, KINDS, reference_kind
+from scene.pattern_kinds import PATTERN_KINDS, PatternKind, names, reference_pattern_kind
 from variants.arrays import flatten as F
 from variants.arrays.rows import normal_rows, rgb, rows3x4, stretch
 from variants.numba import layout as L
 from variants.numba.bvh import BALLS_MAX, DEFAULT, STRUCTURES, Hierarchy, build_into, outward32
 from variants.numba.errors import PackError
-from variants.numba.features import PATTERN_NAMES
 from variants.numba.lights import light_rows
 from variants.numba.packed import Packed, PackedCamera, flat
-from variants.numba.textures import TextureTable, texture_kind
+from variants.numba.textures import TextureTable
 
-PATTERN_KINDS: tuple[tuple[type[Pattern], int], ...] = (
-    (StripePattern, L.P_STRIPE),
-    (GradientPattern, L.P_GRADIENT),
-    (RingPattern, L.P_RING),
-    (CheckersPattern, L.P_CHECKERS),
-    (TestPattern, L.P_TEST),
-)
 OPERATIONS = {"union": L.OP_UNION, "intersection": L.OP_INTERSECTION, "difference": L.OP_DIFFERENCE}
 TEST_SHAPE = BY_NAME["test_shape"]
 
@@ -103,15 +91,12 @@ def shape_kind(shape: Shape, where: str) -> int:
     return kind.number
 
 
-def pattern_kind(pattern: Pattern, where: str) -> int:
-    """The kernel kind of a pattern; a ``PackError`` for anything else."""
-    texture = texture_kind(pattern)
-    if texture is not None:
-        return texture
-    kind = F.pattern_kind(pattern, PATTERN_KINDS)
+def pattern_kind(pattern: Pattern, where: str) -> PatternKind:
+    """The kind of a pattern (``scene.pattern_kinds``); a ``PackError`` for anything else."""
+    kind = reference_pattern_kind(pattern)
     if kind is not None:
         return kind
-    known = ", ".join(PATTERN_NAMES.values())
+    known = names(PATTERN_KINDS)
     raise PackError(
         f"numba: cannot compile the pattern of {where}, a {type(pattern).__name__}: the "
         f"kernels know the patterns {known}"
@@ -303,12 +288,13 @@ class _Packer:
         f[L.REFRACTIVE_INDEX] = float(m.refractive_index)
         used = pattern if pattern is not None else m.pattern
         if used is not None:
-            i[L.PATTERN] = pattern_kind(used, where)
+            pattern_kind_ = pattern_kind(used, where)
+            i[L.PATTERN] = pattern_kind_.number
             pattern_inv = _inverse(used.transform, f"the pattern transform of {where}")
             f[L.PAT : L.PAT + 12] = rows3x4(pattern_inv)
-            if i[L.PATTERN] in (L.P_MAP, L.P_CUBE_MAP):
+            if pattern_kind_.texture:
                 i[L.PAT_TEX] = self.textures.pattern(used, where)
-            elif i[L.PATTERN] != L.P_TEST:
+            elif pattern_kind_.two_colors:
                 f[L.PAT_A : L.PAT_A + 3] = rgb(used.a)  # type: ignore[attr-defined]
                 f[L.PAT_B : L.PAT_B + 3] = rgb(used.b)  # type: ignore[attr-defined]
         i[L.KIND] = kind

@@ -53,6 +53,7 @@ from compiled.library import (
 )
 from scene.files import read_bytes
 from scene.kinds import KINDS
+from scene.pattern_kinds import PATTERN_KINDS
 from variants.numba.features import ALL_FLAGS, FeatureSet
 
 PACKAGE_DIR = Path(__file__).resolve().parent
@@ -107,6 +108,7 @@ def module_source(config: KernelConfig) -> str:
         f"COUNT_RAYS = {config.count_rays}",
         *[f"{flag} = {flag in config.features.flags}" for flag in ALL_FLAGS],
         "# the kind table: " + ", ".join(f"{k.name}={k.number}" for k in KINDS),
+        "# the pattern table: " + ", ".join(f"{k.name}={k.number}" for k in PATTERN_KINDS),
     ]
     parts = [f"# ---- {part}.py{_body(part)}" for part in TEMPLATE_PARTS]
     return "\n".join(header) + "\n\n" + "\n".join(parts)

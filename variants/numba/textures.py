@@ -46,18 +46,6 @@ UV_NAMES = {
 _RGB = operator.attrgetter("red", "green", "blue")
 
 
-def texture_kind(pattern: Pattern) -> int | None:
-    """``P_MAP`` or ``P_CUBE_MAP`` for the reference's texture patterns (not subclasses
-    that change how they color), else None."""
-    if type(pattern).local_pattern_at is TextureMap.local_pattern_at and isinstance(
-        pattern, TextureMap
-    ):
-        return L.P_MAP
-    if type(pattern).local_pattern_at is CubeMap.local_pattern_at and isinstance(pattern, CubeMap):
-        return L.P_CUBE_MAP
-    return None
-
-
 def _rgb(c: Color, what: str) -> list[float]:
     if not isinstance(c, Color):
         raise _error(what, f"is a {type(c).__name__}, not a color")

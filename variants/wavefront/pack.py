@@ -26,18 +26,16 @@ from raytracer.materials import Material
 from raytracer.matrices import Matrix
 from raytracer.patterns import Pattern
 from raytracer.world import World
+from scene.pattern_kinds import NO_PATTERN, PatternKind, names, reference_pattern_kind
 from variants.arrays import flatten as F
 from variants.arrays.rows import normal_rows, rgb, rows3x4, stretch, xyz
 from variants.wavefront.scene import (
     KIND_NAMES,
     MATERIAL_FIELDS,
-    NO_PATTERN,
     OPERATIONS,
     PATTERN_KINDS,
-    PATTERN_NAMES,
     SLOTS,
     SPHERE,
-    TEST_PATTERN,
     Bunch,
     Combine,
     CsgTree,
@@ -78,15 +76,15 @@ def _unknown(where: str, shape: object) -> Unsupported:
     )
 
 
-def pattern_kind(pattern: object, where: str) -> int:
-    """The pattern kind of a material's pattern; ``Unsupported`` for any other (a texture
-    map, a pattern of patterns)."""
-    kind = F.pattern_kind(pattern, PATTERN_KINDS)
+def pattern_kind(pattern: object, where: str) -> PatternKind:
+    """The kind of a material's pattern (``scene.pattern_kinds``); ``Unsupported`` for any
+    other (a texture map, a pattern of patterns)."""
+    kind = reference_pattern_kind(pattern, PATTERN_KINDS)
     if kind is not None:
         return kind
     raise Unsupported(
         f"wavefront: the pattern of {where} is {_a(type(pattern).__name__)}; the passes "
-        f"vectorize {PATTERN_NAMES}"
+        f"vectorize {names(PATTERN_KINDS)}"
     )
 
 
@@ -216,9 +214,10 @@ class _Packer:
         pattern = NO_PATTERN
         pat = [0.0] * 18
         if m.pattern is not None:
-            pattern = pattern_kind(m.pattern, where)
+            kind = pattern_kind(m.pattern, where)
+            pattern = kind.number
             pat[0:12] = rows3x4(_pattern_inverse(m.pattern, where))
-            if pattern != TEST_PATTERN:
+            if kind.two_colors:
                 pat[12:15] = rgb(m.pattern.a)
                 pat[15:18] = rgb(m.pattern.b)
         found = self.mat_ids[key] = len(self.mat_rows)
