@@ -333,6 +333,7 @@ def test_the_builder_constants_are_the_layout_ones() -> None:
     )  # fmt: skip
     assert bvh_kernel.BINS == L.BVH_BINS and bvh_kernel.STACK == L.BVH_STACK
     assert bvh_kernel.UNIT_WIDTH == L.BVH_UNIT and bvh_kernel.STATS == L.BVH_STATS
+    assert bvh_kernel.WORK == L.BVH_WORK and bvh_kernel.FWORK == L.BVH_FWORK
     assert L.MIN_SCRATCH >= 2 * L.BVH_DEPTH  # the hit ray's range stack
 
 

@@ -15,7 +15,7 @@ The variant's ``bvh`` option picks one of three structures (``STRUCTURES``):
 - ``groups``: the scene's own group tree: a group's box skips its children (chapter 14);
 - ``off``: no boxes at all: every ray visits every item.
 
-The kernels traverse all three with the same loop and no recursion (``kernels_trace``): a
+The kernels traverse all three with the same loop and no recursion (``kernels_hits``): a
 box the ray misses, or meets only beyond the nearest hit so far, sends it past the box's
 contents; the hit ray visits an inner node's second child first when it travels down the
 node's split axis.
@@ -116,8 +116,8 @@ def build_into(
     n = len(units)
     started = time.perf_counter()
     boxes = np.zeros((max(n, 1), L.NBOX), dtype=np.float64)
-    work = np.zeros(6 * L.BVH_STACK + 3 * L.BVH_BINS, dtype=np.int64)
-    fwork = np.zeros(3 * L.BVH_BINS * 6 + 2 * L.BVH_BINS, dtype=np.float64)
+    work = np.zeros(L.BVH_WORK, dtype=np.int64)
+    fwork = np.zeros(L.BVH_FWORK, dtype=np.float64)
     stats = np.zeros(L.BVH_STATS, dtype=np.int64)
     # below sah_depth the heuristic decides; from there on stretches are halved, so the
     # depth stays within BVH_DEPTH (the kernels' range stack)
