@@ -48,7 +48,6 @@ def describe_job(job: Job) -> str:
     return f"tile x {x0}..{x1 - 1}, y {y0}..{y1 - 1}"
 
 
-
 class RowProgress:
     """``progress(rows)`` called as image rows finish, while regions of a ``width`` x
     ``height`` image complete in any order (a pool's or a cluster's)."""

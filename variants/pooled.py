@@ -111,6 +111,7 @@ USAGE = (
     "wraps INNER (pooled:INNER, default naive)"
 )
 
+
 class RenderWorkerError(RenderError):
     """A pooled render failed in a worker; no image was produced."""
 

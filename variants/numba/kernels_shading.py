@@ -15,7 +15,6 @@ less than 1/255):
   ``pow`` (the reference's ``**``).
 """
 
-# ruff: noqa: F401
 import math
 from typing import Any
 
@@ -32,12 +31,17 @@ from variants.numba.kernel_flags import (
     HAS_PATTERNS,
     HAS_RING_PATTERN,
     HAS_STRIPE_PATTERN,
-    HAS_TEST_PATTERN,
     HAS_TEXTURE_MAP,
     HAS_UV_IMAGE,
     F,
 )
-from variants.numba.kernels_geometry import INLINE, ONE, ZERO, normalized, to_object_point
+from variants.numba.kernels_geometry import (
+    INLINE,
+    ONE,
+    ZERO,
+    normalized,
+    to_object_point,
+)
 from variants.numba.layout import (
     AMBIENT,
     COLOR,
@@ -60,7 +64,6 @@ from variants.numba.layout import (
     M_CUBE,
     M_CYLINDRICAL,
     M_PLANAR,
-    M_SPHERICAL,
     MAP_KIND,
     MAP_UV,
     NF,

@@ -1,10 +1,10 @@
 """One compiled kernel per (feature set, float type, fastmath): generated, compiled, cached.
 
-The kernel template is the body of five files (``layout``, ``kernels_geometry``,
-``kernels_shading``, ``kernels_trace``, ``kernels_api``: everything below their
-``# ---- kernel template ----`` line). A kernel module is a header setting the
-``kernel_flags`` switches, followed by those bodies, written to
-``<kernel folder>/rtc_numba_<digest>.py``. numba reads module globals as constants, so
+The kernel template is the body of the files ``TEMPLATE_PARTS`` names, in that order
+(``layout``, then the ``kernels_*`` parts: everything below their ``# ---- kernel template
+----`` line; each part's imports above that line are for the linters and mypy). A kernel
+module is a header setting the ``kernel_flags`` switches, followed by those bodies, written
+to ``<kernel folder>/rtc_numba_<digest>.py``. numba reads module globals as constants, so
 switches that are off remove their code. The digest is a hash of the module's text, so
 editing any template file gives new modules (numba's cache only checks the file a function
 is in, not the files its callees come from; here there is only one file).
@@ -57,7 +57,10 @@ from scene.pattern_kinds import PATTERN_KINDS
 from variants.numba.features import ALL_FLAGS, FeatureSet
 
 PACKAGE_DIR = Path(__file__).resolve().parent
-TEMPLATE_PARTS = ("layout", "kernels_geometry", "kernels_shading", "kernels_trace", "kernels_api")
+TEMPLATE_PARTS = (
+    "layout", "kernels_geometry", "kernels_shapes", "kernels_prims", "kernels_shading",
+    "kernels_hits", "kernels_indices", "kernels_trace", "kernels_api",
+)  # fmt: skip
 MARKER = "# ---- kernel template ----"
 PREFIX = "rtc_numba_"
 FAST_FLAGS = '{"afn", "arcp", "contract", "nsz", "reassoc"}'  # (as text: a set's order varies)
@@ -100,7 +103,7 @@ def module_source(config: KernelConfig) -> str:
         "from typing import Any",
         "",
         "import numpy as np",
-        "from numba import njit",
+        "from numba import cfunc, njit, types",
         "",
         f"F = np.{'float32' if config.float32 else 'float64'}",
         # every fast-math flag but nnan and ninf: the kernels use infinity (no bound, no hit)
