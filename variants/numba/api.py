@@ -37,8 +37,9 @@ from raytracer.shapes.group import Group
 from raytracer.shapes.shape import Shape
 from raytracer.shapes.smooth_triangle import SmoothTriangle
 from raytracer.shapes.test_shape import TestShape
+from raytracer.space import Placed
 from raytracer.tolerance import epsilon
-from raytracer.tracer import Progress, Region, light_and_point
+from raytracer.tracer import Progress, Region, light_and_point, shape_lit
 from raytracer.tuples import Tuple
 from raytracer.world import World
 from variants.arrays.canvas import ArrayCanvas, ArrayCanvasTracer
@@ -238,7 +239,7 @@ class NumbaTracer(ArrayCanvasTracer):
     def lighting(
         self,
         material: Material,
-        object: Shape | None,
+        object: Placed | None,
         light: Light,
         point: Tuple,
         eyev: Tuple,
@@ -253,7 +254,8 @@ class NumbaTracer(ArrayCanvasTracer):
         sequence moves on by the values the call takes, as the reference's does."""
         intensity = light_fraction(in_shadow)
         textures = TextureTable()
-        pf, pi = pack_surface(object, self.dtype, material=material, textures=textures)
+        shape = None if object is None else shape_lit(object)
+        pf, pi = pack_surface(shape, self.dtype, material=material, textures=textures)
         rgb = self.k.api_lighting(
             pf, pi, *textures.arrays(self.dtype), 0, _light_table(light, self.dtype), 1, 0,
             np.uint64(0), _xyz(point), _xyz(eyev), _xyz(normalv), intensity, bool(ambient),

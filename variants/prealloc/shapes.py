@@ -86,7 +86,7 @@ def normal_at_into(
 
 def world_to_object_into(rec: ShapeRecord, point: Vec, out: Vec) -> None:
     """Chapter 14: ``out = world_to_object(shape, point)``, through every parent (naive
-    twin: ``raytracer.shapes.space.world_to_object``)."""
+    twin: ``raytracer.space.world_to_object``)."""
     if rec.parent is not None:
         world_to_object_into(rec.parent, point, out)
         point = out
@@ -96,7 +96,7 @@ def world_to_object_into(rec: ShapeRecord, point: Vec, out: Vec) -> None:
 def normal_to_world_into(rec: ShapeRecord, normal: Vec, out: Vec) -> None:
     """Chapter 14: ``out = normal_to_world(shape, normal)``: through the inverse transpose,
     w dropped, normalized (a zero normal stays zero), then through every parent (naive
-    twin: ``raytracer.shapes.space.normal_to_world``)."""
+    twin: ``raytracer.space.normal_to_world``)."""
     m = rec.inverse_transpose
     x, y, z, w = normal
     nx = m[0] * x + m[1] * y + m[2] * z + m[3] * w

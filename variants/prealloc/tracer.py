@@ -18,8 +18,8 @@ from raytracer.intersections import Computations, Intersection
 from raytracer.lights import Light, describe_lights
 from raytracer.materials import Material, light_fraction
 from raytracer.rays import Ray
-from raytracer.shapes.shape import Shape
-from raytracer.tracer import Tracer, light_and_point
+from raytracer.space import Placed
+from raytracer.tracer import Tracer, light_and_point, shape_lit
 from raytracer.tuples import Tuple
 from raytracer.world import World
 from variants.prealloc import shading
@@ -75,7 +75,7 @@ class PreallocTracer(Tracer):
     def lighting(
         self,
         material: Material,
-        object: Shape | None,
+        object: Placed | None,
         light: Light,
         point: Tuple,
         eyev: Tuple,
@@ -87,7 +87,7 @@ class PreallocTracer(Tracer):
         the book's true or false, or the fraction of the light that arrives)."""
         intensity = light_fraction(in_shadow)
         ctx = call_context()
-        obj = None if object is None else ctx.record(object)
+        obj = None if object is None else ctx.record(shape_lit(object))
         out = new_color()
         shading.lighting_into(
             ctx,
