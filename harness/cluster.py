@@ -161,7 +161,7 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
     from harness.usage import Timings
     from raytracer.camera import RenderSettings
     from variants.dask_cluster import DaskTracer
-    from variants.pooled import make_jobs
+    from variants.jobs import make_jobs
     from variants.registry import load_variant
 
     def settings_with(samples: int) -> RenderSettings:

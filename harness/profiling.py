@@ -366,7 +366,7 @@ def stages_job(job: Mapping[str, Any]) -> dict[str, Any]:
     if tracer is not None and compiled:
         before = _kernel_files()
         if getattr(getattr(tracer, "options", None), "bvh", None) == "sah":
-            from variants.numba.specialize import load_bvh_builder
+            from variants.numba.bvh import load_bvh_builder
 
             load_bvh_builder()  # loaded (built if missing) here, not inside the packing
         builder = lap()

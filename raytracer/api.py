@@ -10,6 +10,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
+import raytracer  # the package, whose exports are the book's API (it never imports this)
+
 CHAPTER_TITLES: dict[int, str] = {
     1: "Tuples, Points, and Vectors",
     2: "Drawing on a Canvas",
@@ -104,8 +106,6 @@ def naive_api() -> Mapping[str, Any]:
 
     Only names the reference defines are included, so the mapping grows chapter by chapter.
     """
-    import raytracer
-
     api: dict[str, Any] = {}
     for python_name in raytracer.__all__:
         name = book_name(python_name)

@@ -1,5 +1,9 @@
 """Intersections (chapter 5), their precomputed state (chapters 7, 8 and 11), and Schlick's
 approximation of the Fresnel effect (chapter 11).
+
+``Intersection`` and its constructors are defined beside ``Shape`` (``raytracer.shapes.shape``:
+a shape's ``local_intersect`` makes them, and each names the other); they are this module's
+names too.
 """
 
 from __future__ import annotations
@@ -7,43 +11,30 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 from raytracer.rays import Ray, position
-from raytracer.shapes.shape import normal_at
+from raytracer.shapes.shape import (  # chapter 5's, defined beside Shape (each names the other)
+    Intersection,
+    Shape,
+    intersection,
+    intersection_with_uv,
+    intersections,
+    normal_at,
+)
 from raytracer.tolerance import epsilon
 from raytracer.tuples import Tuple, dot, reflect
 
-if TYPE_CHECKING:
-    from raytracer.shapes.shape import Shape
-
-
-@dataclass(frozen=True, slots=True)
-class Intersection:
-    """Where a ray meets a shape: distance ``t`` along the ray, and the ``object`` hit.
-
-    u, v: where on a triangle the hit is (chapter 15); None for other shapes.
-    """
-
-    t: float
-    object: Shape
-    u: float | None = None
-    v: float | None = None
-
-
-def intersection(t: float, obj: Shape) -> Intersection:
-    """Chapter 5: an intersection at ``t`` with ``obj``."""
-    return Intersection(t, obj)
-
-
-def intersection_with_uv(t: float, obj: Shape, u: float, v: float) -> Intersection:
-    """Chapter 15: an intersection that also records the triangle's ``u`` and ``v``."""
-    return Intersection(t, obj, u, v)
-
-
-def intersections(*xs: Intersection) -> list[Intersection]:
-    """Chapter 5: a new list of the given intersections sorted by ``t`` (stable)."""
-    return sorted(xs, key=lambda i: i.t)
+__all__ = [
+    "Computations",
+    "Intersection",
+    "computations_at",
+    "hit",
+    "intersection",
+    "intersection_with_uv",
+    "intersections",
+    "prepare_computations",
+    "schlick",
+]
 
 
 def hit(xs: Sequence[Intersection]) -> Intersection | None:

@@ -24,15 +24,13 @@ the point (``Tracer.intensity_at``). The arithmetic, which every variant reprodu
 from __future__ import annotations
 
 from dataclasses import dataclass, fields
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from raytracer.colors import BLACK, WHITE, Color
 from raytracer.lights import AreaLight, Light, point_on_light
 from raytracer.patterns import Pattern, pattern_at_shape
+from raytracer.space import Placed
 from raytracer.tuples import Tuple, dot, normalize, reflect
-
-if TYPE_CHECKING:
-    from raytracer.shapes.shape import Shape
 
 
 @dataclass(frozen=True, slots=True)
@@ -89,7 +87,7 @@ def light_fraction(in_shadow: bool | float) -> float:
 
 def lighting(
     material: Material,
-    object: Shape | None,
+    object: Placed | None,
     light: Light,
     point: Tuple,
     eyev: Tuple,

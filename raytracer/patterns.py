@@ -10,7 +10,6 @@ from __future__ import annotations
 import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
 
 from raytracer.colors import Color
 from raytracer.matrices import (
@@ -21,11 +20,8 @@ from raytracer.matrices import (
     inverse_of,
     is_invertible,
 )
-from raytracer.shapes.space import world_to_object
+from raytracer.space import Placed, world_to_object
 from raytracer.tuples import Tuple
-
-if TYPE_CHECKING:
-    from raytracer.shapes.shape import Shape
 
 
 @dataclass(slots=True, eq=True)
@@ -147,7 +143,7 @@ def pattern_at(pattern: Pattern, point: Tuple) -> Color:
     return pattern.local_pattern_at(point)
 
 
-def pattern_at_shape(pattern: Pattern, shape: Shape, world_point: Tuple) -> Color:
+def pattern_at_shape(pattern: Pattern, shape: Placed, world_point: Tuple) -> Color:
     """Chapters 10 and 14: the color of ``pattern`` on ``shape`` at a world-space point."""
     object_point = world_to_object(shape, world_point)
     pattern_point = pattern.inverse_transform * object_point
@@ -159,6 +155,6 @@ def stripe_at(pattern: StripePattern, point: Tuple) -> Color:
     return pattern.local_pattern_at(point)
 
 
-def stripe_at_object(pattern: StripePattern, obj: Shape, world_point: Tuple) -> Color:
+def stripe_at_object(pattern: StripePattern, obj: Placed, world_point: Tuple) -> Color:
     """Chapter 10: the stripe color on ``obj`` at a world-space point."""
     return pattern_at_shape(pattern, obj, world_point)

@@ -56,7 +56,8 @@ from raytracer.lights import AreaLight, CyclicSequence, Light, describe_lights, 
 from raytracer.materials import lighting as phong
 from raytracer.rays import Ray, ray
 from raytracer.sampling import light_jitters, sample_offset
-from raytracer.shapes.shape import intersect
+from raytracer.shapes.shape import Shape, intersect
+from raytracer.space import Placed
 from raytracer.tolerance import using_epsilon
 from raytracer.tuples import Tuple, dot, magnitude, normalize
 from raytracer.world import World
@@ -89,6 +90,14 @@ STEPS = (
 RENDER_LOOP = ("pixel_color", "prepare", "render_region", "render_into")
 """The steps of chapter 7's ``render`` below it: a variant that overrides one renders with
 code of its own."""
+
+
+def shape_lit(obj: Placed) -> Shape:
+    """``lighting``'s object as the shape it is, for a tracer that needs the whole shape (to
+    pack it); the reference's ``lighting`` reads only its placement (``Placed``)."""
+    if not isinstance(obj, Shape):
+        raise TypeError(f"lighting: expected the shape being lit, got {type(obj).__name__}")
+    return obj
 
 
 def light_and_point(

@@ -15,6 +15,7 @@ from yaml.nodes import Node, ScalarNode
 
 from scene.colors import read_color
 from scene.context import Context, updated
+from scene.pattern_kinds import PATTERN_KINDS
 from scene.reader import Entry, line_of
 from scene.textures import MAP_KEYS, read_map_pattern
 from scene.transforms import read_transform, transform_problem
@@ -30,12 +31,8 @@ NUMBER_PROPERTIES = {
     "refractive-index": "refractive_index",
 }
 MATERIAL_KEYS = ("color", *NUMBER_PROPERTIES, "pattern")
-PATTERNS = {
-    "stripes": "stripe_pattern",
-    "gradient": "gradient_pattern",
-    "rings": "ring_pattern",
-    "checkers": "checkers_pattern",
-}
+# the format's pattern type -> the book's factory (the pattern table, ``scene.pattern_kinds``)
+PATTERNS = {k.key: k.name for k in PATTERN_KINDS if k.key is not None}
 MAP = "map"  # a texture map (the bonus chapter): ``scene.textures``
 PATTERN_TYPES = (*PATTERNS, MAP)
 PATTERN_KEYS = ("type", "colors", "transform")

@@ -23,7 +23,7 @@ from scene.build import DIVIDE_THRESHOLD, divide_groups
 from scene.loader import load_scene_text
 from variants.cached import CACHED_CLASSES, CachedComposite
 from variants.prealloc.context import TraceContext
-from variants.prealloc.shapes import GroupRecord, box_buffer, meets_box
+from variants.prealloc.groups import GroupRecord, box_buffer, meets_box
 from variants.registry import load_variant
 from variants.robust.geometry import ROBUST_CLASSES
 

@@ -361,7 +361,7 @@ def test_a_worker_whose_parent_is_gone_exits_at_its_next_beat(
 
 
 def test_a_ctrl_c_while_a_worker_starts_is_held_back_not_lost() -> None:
-    from variants.pooled import sigint_blocked
+    from variants.jobs import sigint_blocked
 
     # Python's own Ctrl-C handler, even when the suite runs with SIGINT ignored (in a
     # background job); put back afterwards

@@ -43,11 +43,12 @@ from raytracer.patterns import Pattern
 from raytracer.shapes.sphere import Sphere
 from raytracer.tuples import Tuple
 from scene import load_scene
+from variants.arrays.canvas import ArrayCanvas
 from variants.numba import layout as L
 from variants.numba.api import EXTRA, NumbaTracer
-from variants.numba.canvas import ArrayCanvas
+from variants.numba.errors import PackError
 from variants.numba.features import analyse
-from variants.numba.pack import PackError, pack_world
+from variants.numba.pack import pack_world
 from variants.registry import Variant, VariantError, load_variant
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -285,7 +286,7 @@ def test_the_reference_scene_needs_what_it_has() -> None:
     world = load_scene(SCENES / "reference.yml", api).world
     packed = pack_world(world)
     assert analyse(packed).flags == {
-        "HAS_SPHERE", "HAS_PLANE", "HAS_CYLINDER", "HAS_PATTERNS", "HAS_CHECKERS",
+        "HAS_SPHERE", "HAS_PLANE", "HAS_CYLINDER", "HAS_PATTERNS", "HAS_CHECKERS_PATTERN",
         "HAS_SHADOWS", "HAS_REFLECTION", "HAS_REFRACTION", "HAS_SCHLICK",
     }  # fmt: skip
     assert packed.balls.shape[1] == 5

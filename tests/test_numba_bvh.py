@@ -23,13 +23,14 @@ from raytracer.camera import RenderSettings
 from raytracer.materials import material
 from raytracer.matrices import Matrix
 from scene import load_scene
-from variants import flatten
-from variants.numba import bvh, bvh_kernel, specialize
+from variants.arrays import flatten
+from variants.numba import bvh, bvh_kernel
 from variants.numba import layout as L
 from variants.numba import pack as numba_pack
 from variants.numba.bvh import BALLS_MAX, build_tree
 from variants.numba.features import analyse
-from variants.numba.pack import Packed, pack_world, world_inverse
+from variants.numba.pack import pack_world, world_inverse
+from variants.numba.packed import Packed
 from variants.registry import VariantError, load_variant
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -332,6 +333,7 @@ def test_the_builder_constants_are_the_layout_ones() -> None:
     )  # fmt: skip
     assert bvh_kernel.BINS == L.BVH_BINS and bvh_kernel.STACK == L.BVH_STACK
     assert bvh_kernel.UNIT_WIDTH == L.BVH_UNIT and bvh_kernel.STATS == L.BVH_STATS
+    assert bvh_kernel.WORK == L.BVH_WORK and bvh_kernel.FWORK == L.BVH_FWORK
     assert L.MIN_SCRATCH >= 2 * L.BVH_DEPTH  # the hit ray's range stack
 
 
@@ -532,10 +534,10 @@ def test_without_a_c_compiler_the_builder_runs_in_numba(
     unit_items = np.zeros((300, L.NITEM), dtype=np.int64)
     unit_items[:, L.ITEM_A] = np.arange(300)
     linked = build_tree(unit_items, unit_boxes)
-    assert "shared library" in specialize.load_bvh_builder().origin
+    assert "shared library" in bvh.load_bvh_builder().origin
     monkeypatch.setenv("CC", "/bin/false")
     monkeypatch.setenv("RTC_NUMBA_KERNELS", str(tmp_path))
-    builder = specialize.load_bvh_builder()
+    builder = bvh.load_bvh_builder()
     assert "numba with its disk cache" in builder.origin and "could not link" in builder.origin
     assert not list(tmp_path.glob("*.so"))
     fallback = build_tree(unit_items, unit_boxes)

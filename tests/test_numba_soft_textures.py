@@ -31,8 +31,9 @@ from raytracer.textures.uv_patterns import UVCheckers
 from raytracer.tuples import Tuple
 from scene import load_scene
 from variants.numba import layout as L
+from variants.numba.errors import PackError
 from variants.numba.features import analyse
-from variants.numba.pack import PackError, pack_world
+from variants.numba.pack import pack_world
 from variants.numba.render import Options
 from variants.numba.specialize import load_kernels, module_source
 from variants.registry import load_variant

@@ -18,7 +18,8 @@ from raytracer.camera import Camera, RenderSettings
 from raytracer.tracer import TRACER, Tracer
 from raytracer.world import World
 from rtc.cli import main
-from variants.pooled import PooledTracer, RenderWorkerError, _serve, make_jobs
+from variants.jobs import make_jobs
+from variants.pooled import PooledTracer, RenderWorkerError, _serve
 from variants.pooled import variant as pooled_variant
 from variants.registry import Variant, VariantError, load_variant
 

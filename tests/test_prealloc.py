@@ -27,7 +27,7 @@ from variants.cached import to_twins
 from variants.prealloc import api as pa
 from variants.prealloc.buffers import IntersectionBuffer, new_ray
 from variants.prealloc.context import TraceContext
-from variants.prealloc.records import PreallocUnsupported
+from variants.prealloc.errors import PreallocUnsupported
 from variants.prealloc.render import PixelTracer
 from variants.prealloc.shading import intersect_world_into
 from variants.prealloc.tracer import PreallocTracer

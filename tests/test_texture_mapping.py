@@ -62,8 +62,8 @@ from steps.book import Book
 from steps.errors import CheckFailed
 from steps.phrases import then
 from variants.cached import CACHED_CLASSES
+from variants.prealloc.errors import PreallocUnsupported
 from variants.prealloc.patterns import pattern_record
-from variants.prealloc.records import PreallocUnsupported
 from variants.registry import load_variant
 
 SCENES = Path(__file__).resolve().parent.parent / "harness" / "scenes"

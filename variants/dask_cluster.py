@@ -49,8 +49,10 @@ what the benchmark uses to time start-up apart from rendering.
 
 from __future__ import annotations
 
+import asyncio
 import logging
 import pickle
+import socket
 import sys
 import time
 from collections.abc import Iterator, Mapping
@@ -59,11 +61,19 @@ from typing import Any
 
 import numpy as np
 
+from compiled.library import announce, on_compile
 from raytracer.camera import Camera, RenderSettings
 from raytracer.canvas import Canvas
 from raytracer.tracer import Progress, Region, Tracer
 from raytracer.world import World
-from variants.pooled import default_workers, describe_job, make_jobs, sigint_blocked
+from variants.jobs import (
+    RowProgress,
+    default_workers,
+    describe_job,
+    make_jobs,
+    recursion_limit_at_least,
+    sigint_blocked,
+)
 from variants.registry import (
     RenderError,
     Variant,
@@ -72,9 +82,10 @@ from variants.registry import (
     check_options,
     load_variant,
     parse_int,
+    tracer_of,
     tracer_variant,
 )
-from variants.wrapper import RowProgress, Wrapper, recursion_limit_at_least, tracer_of
+from variants.wrapper import Wrapper
 
 NAME = "dask"
 DEFAULT_TILE = 32
@@ -112,19 +123,16 @@ def worker_tracer(inner: str) -> Tracer:
 
 
 def forward_compiles() -> None:
-    """Once per worker process that has numba's kernels: each compile it starts (the first
-    render of a new kind of scene compiles for seconds, in every worker at once) is logged
-    as a Dask event under ``COMPILE_TOPIC``, which the rendering client announces."""
-    if _FORWARDING or "variants.numba.specialize" not in sys.modules:
+    """Once per worker process: each compile it starts (numba's kernels: the first render
+    of a new kind of scene compiles for seconds, in every worker at once) is logged as a
+    Dask event under ``COMPILE_TOPIC``, which the rendering client announces."""
+    if _FORWARDING:
         return
-    from distributed import get_worker
-
-    from variants.numba.specialize import on_compile
 
     def tell(what: str, seconds: float | None) -> None:
         if seconds is None:  # the start: the end is the render's own business
             with suppress(ValueError):  # not in a worker after all
-                worker = get_worker()
+                worker = _distributed().get_worker()
                 worker.log_event(COMPILE_TOPIC, {"what": what, "worker": worker.address})
 
     on_compile(tell)
@@ -158,8 +166,10 @@ def trace_tile(
 
 
 def _distributed() -> Any:
+    """The ``distributed`` package, imported on first use: its import takes about a second,
+    which a process that only lists the variants does not pay."""
     try:
-        import distributed
+        import distributed  # deferred: about 1 s (see above)
     except ImportError as error:  # a dependency; this names the fix if it is missing
         raise ImportError(
             "the dask variant needs the 'distributed' package: pip install distributed"
@@ -225,20 +235,15 @@ def probe(address: str, timeout: float) -> None:
     A plain socket first, so a refused port or an unknown host fails at once (Dask's own
     connect retries those until its timeout); then Dask's handshake, on an event loop of its
     own (a ``Client`` that fails to start lingers for 20 s in its ``__del__``)."""
-    import asyncio
-    import socket
-
-    from distributed.comm import connect
-    from distributed.comm.addressing import parse_address, parse_host_port
-
-    scheme, location = parse_address(address)
+    comm = _distributed().comm
+    scheme, location = comm.addressing.parse_address(address)
     if scheme in ("tcp", "tls"):
-        with socket.create_connection(parse_host_port(location), timeout=timeout):
+        with socket.create_connection(comm.addressing.parse_host_port(location), timeout=timeout):
             pass
 
     async def shake_hands() -> None:
-        comm = await connect(address, timeout=timeout)
-        await comm.close()
+        link = await comm.connect(address, timeout=timeout)
+        await link.close()
 
     async def shake_hands_in_time() -> None:  # a peer that answers and then waits: no hang
         try:
@@ -282,10 +287,6 @@ def _wait_for_a_worker(client: Any, timeout: float, scheduler: str) -> None:
 def compiles_announced(client: Any) -> Iterator[None]:
     """While inside: the workers' compile events reach this process's ``on_compile``
     listeners (``rtc render`` prints them) as "WHAT on worker ADDRESS"."""
-    if "variants.numba.specialize" not in sys.modules:
-        yield
-        return
-    from variants.numba.specialize import announce
 
     def told(event: tuple[float, Any]) -> None:
         _, message = event
@@ -383,11 +384,9 @@ class DaskTracer(Wrapper):
                 client.cancel([*futures, frame])
 
     def _result(self, future: Any, job: Region, count: int) -> np.ndarray:
-        from distributed import KilledWorker
-
         try:
             values: np.ndarray = future.result()
-        except KilledWorker:
+        except _distributed().KilledWorker:
             raise ClusterError(
                 f"dask render: {describe_job(job)} (one of {count} tiles) killed the workers "
                 "that ran it, again and again (distributed.scheduler.allowed-failures); no "
@@ -442,12 +441,11 @@ def cluster_settings(options: Mapping[str, str]) -> tuple[int, str | None, int, 
 
 def _check_address(scheduler: str) -> None:
     """A ``VariantError`` unless ``scheduler`` reads as SCHEME://HOST:PORT."""
-    from distributed.comm.addressing import parse_address, parse_host_port
-
+    addressing = _distributed().comm.addressing
     try:
-        scheme, location = parse_address(scheduler, strict=True)
+        scheme, location = addressing.parse_address(scheduler, strict=True)
         if scheme in ("tcp", "tls"):
-            host, port = parse_host_port(location)
+            host, port = addressing.parse_host_port(location)
             if not host or not 0 < int(port) < 65536:
                 raise ValueError(f"{location} has no host or a port outside 1..65535")
     except (ValueError, TypeError) as error:

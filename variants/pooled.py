@@ -60,7 +60,6 @@ import time
 import traceback
 from collections import deque
 from collections.abc import Iterator, Mapping
-from contextlib import contextmanager
 from dataclasses import dataclass
 from multiprocessing import get_context
 from multiprocessing.connection import Connection, wait
@@ -68,8 +67,18 @@ from typing import Any
 
 from raytracer.camera import Camera, RenderSettings
 from raytracer.canvas import Canvas
-from raytracer.tracer import Progress, Region, Tracer
+from raytracer.tracer import Progress, Tracer
 from raytracer.world import World
+from variants.jobs import (
+    DEFAULT_TILE,
+    Job,
+    RowProgress,
+    default_workers,
+    describe_job,
+    make_jobs,
+    recursion_limit_at_least,
+    sigint_blocked,
+)
 from variants.registry import (
     RenderError,
     Variant,
@@ -79,14 +88,14 @@ from variants.registry import (
     load_variant,
     parse_choice,
     parse_int,
+    tracer_of,
     tracer_variant,
 )
-from variants.wrapper import RowProgress, Wrapper, recursion_limit_at_least, tracer_of
+from variants.wrapper import Wrapper
 
 NAME = "pooled"
 GRANULARITIES = ("line", "pixel", "tile")
 DEFAULT_GRANULARITY = "line"
-DEFAULT_TILE = 16
 MAX_WORKERS = 256
 START_METHOD = "spawn"
 IN_FLIGHT = 2  # jobs sent ahead to each worker, so it never waits for the parent
@@ -102,45 +111,13 @@ USAGE = (
     "wraps INNER (pooled:INNER, default naive)"
 )
 
-Job = Region  # x0, y0, x1, y1: the pixels x0 <= x < x1, y0 <= y < y1
-
 
 class RenderWorkerError(RenderError):
     """A pooled render failed in a worker; no image was produced."""
 
 
-def default_workers() -> int:
-    """The CPUs this process may run on."""
-    try:
-        return len(os.sched_getaffinity(0))
-    except AttributeError:  # not on Linux
-        return os.cpu_count() or 1
-
-
-def make_jobs(hsize: int, vsize: int, granularity: str, tile: int = DEFAULT_TILE) -> list[Job]:
-    """The jobs covering an ``hsize`` x ``vsize`` image, top row first."""
-    if granularity == "line":
-        return [(0, y, hsize, y + 1) for y in range(vsize)]
-    if granularity == "pixel":
-        return [(x, y, x + 1, y + 1) for y in range(vsize) for x in range(hsize)]
-    return [
-        (x, y, min(x + tile, hsize), min(y + tile, vsize))
-        for y in range(0, vsize, tile)
-        for x in range(0, hsize, tile)
-    ]
-
-
 def _unit(granularity: str, tile: int) -> str:
     return f"{tile}x{tile} tile" if granularity == "tile" else granularity
-
-
-def describe_job(job: Job) -> str:
-    x0, y0, x1, y1 = job
-    if (x1 - x0, y1 - y0) == (1, 1):
-        return f"pixel ({x0}, {y0})"
-    if y1 - y0 == 1:
-        return f"line {y0}" + (f" x {x0}..{x1 - 1}" if x0 != 0 else "")
-    return f"tile x {x0}..{x1 - 1}, y {y0}..{y1 - 1}"
 
 
 # ------------------------------------------------------------------------------ a worker
@@ -242,26 +219,6 @@ class _Worker:
     @property
     def label(self) -> str:
         return f"worker {self.number} (pid {self.process.pid})"
-
-
-@contextmanager
-def sigint_blocked() -> Iterator[None]:
-    """SIGINT blocked in this thread while a worker starts: the worker inherits the block
-    (a Ctrl-C while its interpreter imports would otherwise end it with a traceback) until
-    it ignores SIGINT, and a Ctrl-C meant for us meanwhile is not lost: another thread takes
-    it, or it waits until the block ends. The resource tracker is started first: starting
-    it unblocks SIGINT (CPython's own guard, bpo-33613)."""
-    if not hasattr(signal, "pthread_sigmask"):  # not POSIX
-        yield
-        return
-    from multiprocessing import resource_tracker
-
-    resource_tracker.ensure_running()
-    mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, mask)
 
 
 def _process_state(pid: int | None) -> str | None:

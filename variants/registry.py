@@ -33,6 +33,11 @@ from dataclasses import dataclass, field
 from importlib.metadata import entry_points
 from typing import Any
 
+from raytracer.api import naive_api
+from raytracer.tracer import BOOK_STEPS, RENDER_LOOP, Tracer
+from variants.stubs import is_stub
+from variants.wrapper import steps_overridden
+
 GROUP = "rtc.variants"
 ALL = "all"
 MAX_WRAPPED = 32  # variants inside each other in one name (NAME:INNER:...); more is a typo
@@ -96,8 +101,6 @@ class Variant:
         with its ``divide`` once it has written one."""
         if self.tracer is not None:
             return self.tracer.world_for(scene)
-        from variants.learner import is_stub
-
         divide = self.api.get("divide")
         return scene.book_world(divide=None if divide is None or is_stub(divide) else divide)
 
@@ -117,10 +120,6 @@ def tracer_variant(
     """A ``Variant`` around ``tracer``: the book's API is ``api`` (default: the reference's)
     with every pipeline name bound to ``tracer``; ``overrides`` adds the book names the
     variant changes outside the tracer (constructors of its own shapes ...)."""
-    from raytracer.api import naive_api
-    from raytracer.tracer import BOOK_STEPS, RENDER_LOOP
-    from variants.wrapper import steps_overridden
-
     mapping = dict(api if api is not None else naive_api())
     for step in BOOK_STEPS:
         mapping[step] = getattr(tracer, step)
@@ -296,6 +295,18 @@ def reject_inner(name: str, inner: Variant | None) -> None:
             f"variant {name!r} does not wrap another variant, so '{name}:{inner.name}' "
             f"means nothing; write {name!r} alone"
         )
+
+
+def tracer_of(wrapper: str, inner: Variant) -> Tracer:
+    """The inner variant's tracer, which a wrapper named ``wrapper`` hands regions to; a
+    ``VariantError`` for a variant without one."""
+    if not isinstance(inner.tracer, Tracer):
+        raise VariantError(
+            f"variant {wrapper!r} cannot wrap {inner.name!r}: it has no tracer (a "
+            "raytracer.tracer.Tracer whose render_region the workers call); a variant that "
+            "answers through its api alone can only render in one process"
+        )
+    return inner.tracer
 
 
 def check_options(name: str, options: Mapping[str, str], accepted: Iterable[str] = ()) -> None:

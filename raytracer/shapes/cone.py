@@ -6,10 +6,9 @@ import math
 from dataclasses import dataclass
 
 from raytracer.bounds import BoundingBox
-from raytracer.intersections import Intersection
 from raytracer.rays import Ray
 from raytracer.shapes.cylinder import intersect_caps, side_hits
-from raytracer.shapes.shape import Shape
+from raytracer.shapes.shape import Intersection, Shape
 from raytracer.tolerance import epsilon
 from raytracer.tuples import Tuple, point, vector
 

@@ -7,9 +7,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from raytracer.bounds import BoundingBox
-from raytracer.intersections import Intersection
 from raytracer.rays import Ray
-from raytracer.shapes.shape import Shape
+from raytracer.shapes.shape import Intersection, Shape
 from raytracer.tolerance import epsilon
 from raytracer.tuples import Tuple, point, vector
 

@@ -10,9 +10,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from raytracer.bounds import BoundingBox, enclose, ray_meets_box, transform_box
-from raytracer.intersections import Intersection, intersections
 from raytracer.rays import Ray
-from raytracer.shapes.shape import Shape, intersect
+from raytracer.shapes.shape import Intersection, Shape, intersect, intersections
 from raytracer.tuples import Tuple
 
 

@@ -1,4 +1,6 @@
-"""The abstract shape (chapter 9, refactoring chapters 5 and 6; ``parent`` from chapter 14).
+"""The abstract shape (chapter 9, refactoring chapters 5 and 6; ``parent`` from chapter 14),
+and chapter 5's ``Intersection``, which a shape's ``local_intersect`` makes and which names
+its shape (``raytracer.intersections`` hands it on with the rest of chapter 5).
 
 A shape is an entity: ``set_transform``, ``s.material ← m`` and ``add_child`` change it in
 place. Shapes compare by value (type, transform, material and their own fields, never
@@ -13,7 +15,6 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
 
 from raytracer.bounds import UNBOUNDED, BoundingBox, transform_box
 from raytracer.materials import Material, material
@@ -28,16 +29,17 @@ from raytracer.matrices import (
 )
 from raytracer.rays import Ray
 from raytracer.rays import transform as transform_ray
-from raytracer.shapes.space import normal_to_world, world_to_object
+from raytracer.space import normal_to_world, world_to_object
 from raytracer.tuples import Tuple
 
-if TYPE_CHECKING:
-    from raytracer.intersections import Intersection
-
 __all__ = [
+    "Intersection",
     "Shape",
     "bounds_of",
     "intersect",
+    "intersection",
+    "intersection_with_uv",
+    "intersections",
     "local_intersect",
     "local_normal_at",
     "normal_at",
@@ -90,6 +92,34 @@ class Shape(ABC):
         its object space. Each shape kind defines its own; a kind that does not is taken
         to be everywhere (infinite), so a group holding it always tests it."""
         return UNBOUNDED
+
+
+@dataclass(frozen=True, slots=True)
+class Intersection:
+    """Where a ray meets a shape: distance ``t`` along the ray, and the ``object`` hit.
+
+    u, v: where on a triangle the hit is (chapter 15); None for other shapes.
+    """
+
+    t: float
+    object: Shape
+    u: float | None = None
+    v: float | None = None
+
+
+def intersection(t: float, obj: Shape) -> Intersection:
+    """Chapter 5: an intersection at ``t`` with ``obj``."""
+    return Intersection(t, obj)
+
+
+def intersection_with_uv(t: float, obj: Shape, u: float, v: float) -> Intersection:
+    """Chapter 15: an intersection that also records the triangle's ``u`` and ``v``."""
+    return Intersection(t, obj, u, v)
+
+
+def intersections(*xs: Intersection) -> list[Intersection]:
+    """Chapter 5: a new list of the given intersections sorted by ``t`` (stable)."""
+    return sorted(xs, key=lambda i: i.t)
 
 
 def intersect(shape: Shape, ray: Ray) -> list[Intersection]:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from raytracer.intersections import Intersection, intersection_with_uv
+from raytracer.shapes.shape import Intersection, intersection_with_uv
 from raytracer.shapes.triangle import Triangle
 from raytracer.tuples import Tuple
 

@@ -5,9 +5,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from raytracer.bounds import BoundingBox
-from raytracer.intersections import Intersection
 from raytracer.rays import Ray
-from raytracer.shapes.shape import Shape
+from raytracer.shapes.shape import Intersection, Shape
 from raytracer.tuples import Tuple, point, vector
 
 

@@ -12,10 +12,9 @@ import math
 from dataclasses import dataclass
 
 from raytracer.bounds import BoundingBox
-from raytracer.intersections import Intersection
 from raytracer.quartic import solve_quartic
 from raytracer.rays import Ray
-from raytracer.shapes.shape import Shape
+from raytracer.shapes.shape import Intersection, Shape
 from raytracer.tuples import Tuple, point, vector
 
 

@@ -6,9 +6,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from raytracer.bounds import BoundingBox
-from raytracer.intersections import Intersection
 from raytracer.rays import Ray
-from raytracer.shapes.shape import Shape
+from raytracer.shapes.shape import Intersection, Shape
 from raytracer.tolerance import epsilon
 from raytracer.tuples import Tuple, cross, dot, magnitude, normalize, point, vector
 

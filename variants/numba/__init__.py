@@ -13,23 +13,24 @@ Options (all off by default; the name spells the ones given, sorted):
   bounding-volume hierarchy built by the surface area heuristic (the default), the scene's
   own group boxes, or none (every ray visits every primitive).
 
-The package: ``layout`` (array columns), ``pack`` (world -> arrays; ``lights`` and
-``textures`` pack the light table and the texture patterns' records), ``bvh`` and
-``bvh_kernel`` (the hierarchy over the packed items, and its compiled builder),
-``features`` (what a scene needs), ``specialize`` (one generated kernel module per feature
-set; its render compiled once into a shared library, loaded without numba; the
-hierarchy's builder likewise), ``kernels_*`` (the kernel template), ``render`` (frames,
-and regions on threads over interleaved rows), ``api`` (``NumbaTracer``: the book's
-pipeline and API through the kernels), ``canvas`` (an array-backed ``Canvas``). Its
-benchmark is ``rtc bench --numba-targets`` (``harness.numba_targets``).
+The package: ``layout`` (array columns), ``pack`` (world -> arrays, into a ``packed``
+world; ``lights`` and ``textures`` pack the light table and the texture patterns' records;
+what cannot be packed is an ``errors.PackError``), ``bvh`` and ``bvh_kernel`` (the
+hierarchy over the packed items, and its compiled builder), ``features`` (what a scene
+needs), ``specialize`` (one generated kernel module per feature set; its render compiled
+once into a shared library, loaded without numba), ``kernels_*`` (the kernel template),
+``render`` (frames, and regions on threads over interleaved rows), ``api``
+(``NumbaTracer``: the book's pipeline and API through the kernels; its canvas is
+``variants.arrays``'). Its benchmark is ``rtc bench --numba-targets``
+(``harness.numba_targets``).
 
 Same pictures, not the same bits: at float64 without fastmath the kernels follow the
 reference's arithmetic except where a faster formulation rounds differently, each one
 documented where it lives: spheres with a similarity transform tested in world space with
 a cancellation-free quadratic and their normals taken as (point - centre) / radius
-(``kernels_geometry``); reciprocals instead of divisions when normalizing; the
-specular term left out where it is below 1e-9 of the light, Schlick's powers as
-products (``kernels_shading``); group transforms composed once (``pack``). Colors move by
+(``kernels_geometry``, ``kernels_prims``); reciprocals instead of divisions when
+normalizing; the specular term left out where it is below 1e-9 of the light, Schlick's
+powers as products (``kernels_shading``); group transforms composed once (``pack``). Colors move by
 about 1e-9 at most; ``tests/test_numba.py`` and ``rtc bench --numba-targets`` measure it.
 The ``bvh`` structures change which primitives a ray visits and in what order, never the
 hit it keeps (ties go to the earlier primitive, as in the reference's sorted list) nor a
@@ -48,6 +49,9 @@ from __future__ import annotations
 
 import importlib.util
 
+from variants.numba.api import EXTRA, NumbaTracer
+from variants.numba.bvh import DEFAULT, STRUCTURES
+from variants.numba.render import Options, max_threads
 from variants.registry import (
     Unavailable,
     Variant,
@@ -99,10 +103,6 @@ def variant(inner: Variant | None = None, **options: str) -> Variant:
     check_options(NAME, options, OPTIONS)
     if importlib.util.find_spec("numba") is None:
         raise Unavailable("numba is not installed (pip install numba)")
-    from variants.numba.api import EXTRA, NumbaTracer
-    from variants.numba.bvh import DEFAULT, STRUCTURES
-    from variants.numba.render import Options, max_threads
-
     float32 = parse_bool(NAME, "float32", options.get("float32", "off"))
     fastmath = parse_bool(NAME, "fastmath", options.get("fastmath", "off"))
     specialize = parse_bool(NAME, "specialize", options.get("specialize", "on"))

@@ -37,21 +37,16 @@ from raytracer.shapes.group import Group
 from raytracer.shapes.shape import Shape
 from raytracer.shapes.smooth_triangle import SmoothTriangle
 from raytracer.shapes.test_shape import TestShape
+from raytracer.space import Placed
 from raytracer.tolerance import epsilon
-from raytracer.tracer import Progress, Region, Tracer, light_and_point
+from raytracer.tracer import Progress, Region, light_and_point, shape_lit
 from raytracer.tuples import Tuple
 from raytracer.world import World
+from variants.arrays.canvas import ArrayCanvas, ArrayCanvasTracer
 from variants.numba import layout as L
-from variants.numba.canvas import ArrayCanvas
 from variants.numba.lights import light_rows, move_on
-from variants.numba.pack import (
-    Packed,
-    pack_camera,
-    pack_scene,
-    pack_shapes,
-    pack_surface,
-    pack_world,
-)
+from variants.numba.pack import pack_camera, pack_scene, pack_shapes, pack_surface, pack_world
+from variants.numba.packed import Packed
 from variants.numba.render import Frame, Options, explain, prepare_frame, run_region, traversals
 from variants.numba.specialize import load_kernels
 from variants.numba.textures import TextureTable
@@ -123,7 +118,7 @@ def _uv(shape: Shape, hit: Intersection | None, caller: str) -> tuple[float, flo
     return float(hit.u), float(hit.v)
 
 
-class NumbaTracer(Tracer):
+class NumbaTracer(ArrayCanvasTracer):
     """The book's tracer through the kernels, for one set of options (chapters 5-16)."""
 
     __slots__ = ("_kernels", "dtype", "options")
@@ -244,7 +239,7 @@ class NumbaTracer(Tracer):
     def lighting(
         self,
         material: Material,
-        object: Shape | None,
+        object: Placed | None,
         light: Light,
         point: Tuple,
         eyev: Tuple,
@@ -259,7 +254,8 @@ class NumbaTracer(Tracer):
         sequence moves on by the values the call takes, as the reference's does."""
         intensity = light_fraction(in_shadow)
         textures = TextureTable()
-        pf, pi = pack_surface(object, self.dtype, material=material, textures=textures)
+        shape = None if object is None else shape_lit(object)
+        pf, pi = pack_surface(shape, self.dtype, material=material, textures=textures)
         rgb = self.k.api_lighting(
             pf, pi, *textures.arrays(self.dtype), 0, _light_table(light, self.dtype), 1, 0,
             np.uint64(0), _xyz(point), _xyz(eyev), _xyz(normalv), intensity, bool(ambient),
@@ -444,18 +440,9 @@ class NumbaTracer(Tracer):
             values = run_region(frame, whole, progress=progress).ravel().tolist()
             self.write_region(image, whole, values)
 
-    def new_canvas(self, c: Camera) -> ArrayCanvas:
-        """Chapter 2: an array-backed canvas in this variant's precision, all black."""
-        return ArrayCanvas(np.zeros((c.vsize, c.hsize, 3), dtype=self.dtype))
-
-    def write_region(self, image: Canvas, region: Region, values: Sequence[float]) -> None:
-        """A region's pixels into ``image``: one array assignment on an ``ArrayCanvas``."""
-        if not isinstance(image, ArrayCanvas):
-            super().write_region(image, region, values)
-            return
-        x0, y0, x1, y1 = region
-        block = np.asarray(values, dtype=image.array.dtype).reshape(y1 - y0, x1 - x0, 3)
-        image.array[y0:y1, x0:x1] = block
+    def canvas_dtype(self) -> Any:
+        """This variant's precision (``float32``)."""
+        return self.dtype
 
     # -- what the harness asks of a tracer
 

@@ -15,7 +15,7 @@ The variant's ``bvh`` option picks one of three structures (``STRUCTURES``):
 - ``groups``: the scene's own group tree: a group's box skips its children (chapter 14);
 - ``off``: no boxes at all: every ray visits every item.
 
-The kernels traverse all three with the same loop and no recursion (``kernels_trace``): a
+The kernels traverse all three with the same loop and no recursion (``kernels_hits``): a
 box the ray misses, or meets only beyond the nearest hit so far, sends it past the box's
 contents; the hit ray visits an inner node's second child first when it travels down the
 node's split axis.
@@ -29,6 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from compiled.library import Compiled, Recipe, load
 from variants.numba import layout as L
 
 STRUCTURES = ("sah", "groups", "off")
@@ -37,6 +38,26 @@ LEAF_MAX = 4  # the most units in a leaf
 UNIT_COST = 1.0  # a unit's test against a box test, for the heuristic (a primitive is first
 # tested against its bounding sphere, about as fast as a box; 2.0 measured no faster)
 BALLS_MAX = 32  # from this many world spheres on, they join the hierarchy (``sah``)
+
+BVH_BUILDER = Recipe(
+    name="build_bvh",
+    module="variants.numba.bvh_kernel",
+    function="build",
+    parameters=(
+        ("int64_t", "n"), ("float *", "units"), ("int64_t *", "order"),
+        ("int32_t *", "uitems"), ("int32_t *", "items"), ("double *", "boxes"),
+        ("int64_t", "base"), ("int64_t *", "work"), ("double *", "fwork"),
+        ("int64_t", "leaf_max"), ("int64_t", "sah_depth"), ("double", "unit_cost"),
+        ("int64_t *", "stats"),
+    ),
+    what="the hierarchy builder",
+)  # fmt: skip
+
+
+def load_bvh_builder() -> Compiled:
+    """The hierarchy's builder (``bvh_kernel.build``): from its shared library (built first
+    if missing), else numba's ``njit`` function with its disk cache. Once per process."""
+    return load(BVH_BUILDER)
 
 
 @dataclass(frozen=True)
@@ -92,13 +113,11 @@ def build_into(
     rounded outwards; reordered); ``order``: the row of ``items`` each unit stands for (n
     ints; reordered). Returns (rows of ``out`` used, the box items' boxes: one row each,
     named by their ITEM_D, what was built)."""
-    from variants.numba.specialize import load_bvh_builder
-
     n = len(units)
     started = time.perf_counter()
     boxes = np.zeros((max(n, 1), L.NBOX), dtype=np.float64)
-    work = np.zeros(6 * L.BVH_STACK + 3 * L.BVH_BINS, dtype=np.int64)
-    fwork = np.zeros(3 * L.BVH_BINS * 6 + 2 * L.BVH_BINS, dtype=np.float64)
+    work = np.zeros(L.BVH_WORK, dtype=np.int64)
+    fwork = np.zeros(L.BVH_FWORK, dtype=np.float64)
     stats = np.zeros(L.BVH_STATS, dtype=np.int64)
     # below sah_depth the heuristic decides; from there on stretches are halved, so the
     # depth stays within BVH_DEPTH (the kernels' range stack)

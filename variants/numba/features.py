@@ -17,24 +17,20 @@ from dataclasses import dataclass
 import numpy as np
 
 from scene.kinds import KINDS
+from scene.pattern_kinds import PATTERN_KINDS
 from variants.numba import kernel_flags
 from variants.numba import layout as L
-from variants.numba.pack import KIND_NAMES, PATTERN_NAMES, Packed
+from variants.numba.packed import Packed
 
 ALL_FLAGS: tuple[str, ...] = tuple(
     name for name in vars(kernel_flags) if name.startswith("HAS_")
 )  # in the order kernel_flags lists them
+KIND_NAMES = {kind.number: kind.name for kind in KINDS}
+PATTERN_NAMES = {kind.number: kind.name for kind in PATTERN_KINDS}
 KIND_FLAGS = {kind.number: f"HAS_{kind.name.upper()}" for kind in KINDS}
 """Each kind of the kind table's switch (``kernel_flags`` holds one for every kind)."""
-PATTERN_FLAGS = {
-    L.P_STRIPE: "HAS_STRIPE",
-    L.P_GRADIENT: "HAS_GRADIENT",
-    L.P_RING: "HAS_RING",
-    L.P_CHECKERS: "HAS_CHECKERS",
-    L.P_TEST: "HAS_TEST_PATTERN",
-    L.P_MAP: "HAS_TEXTURE_MAP",
-    L.P_CUBE_MAP: "HAS_CUBE_MAP",
-}
+PATTERN_FLAGS = {kind.number: f"HAS_{kind.name.upper()}" for kind in PATTERN_KINDS}
+"""Each kind of the pattern table's switch (``kernel_flags`` holds one for every kind)."""
 SHADING_FLAGS = {
     "HAS_SHADOWS": "shadows",
     "HAS_REFLECTION": "reflection",

@@ -25,11 +25,11 @@ HAS_TEST_SHAPE = True  # the chapter 9 test shape (the book API only, never a re
 HAS_CSG = True
 HAS_BOXES = True  # bounding boxes (the hierarchy's nodes, or groups')
 
-HAS_PATTERNS = True
-HAS_STRIPE = True
-HAS_GRADIENT = True
-HAS_RING = True
-HAS_CHECKERS = True
+HAS_PATTERNS = True  # some material has a pattern; then one switch per pattern kind
+HAS_STRIPE_PATTERN = True
+HAS_GRADIENT_PATTERN = True
+HAS_RING_PATTERN = True
+HAS_CHECKERS_PATTERN = True
 HAS_TEST_PATTERN = True
 HAS_TEXTURE_MAP = True  # texture_map patterns: spherical, planar, cylindrical mappings
 HAS_CUBE_MAP = True  # cube_map patterns

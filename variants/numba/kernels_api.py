@@ -9,18 +9,30 @@ Vectors travel as separate floats; flat arrays hold a packed world or shape (``l
 import numpy as np
 from numba import njit
 
-from variants.numba.kernel_flags import HAS_BOXES, HAS_CSG, F
+from variants.numba.kernel_flags import (
+    HAS_BOXES,
+    HAS_CSG,
+    F,
+)
 from variants.numba.kernels_geometry import (
     INF,
     ONE,
     ZERO,
     box_range,
-    intersect_prim,
-    local_normal,
     nth,
     to_object_point,
     to_object_vector,
     to_world_normal,
+)
+from variants.numba.kernels_hits import (
+    csg_allowed,
+    csg_collect,
+    scratch,
+    shadowed,
+)
+from variants.numba.kernels_prims import (
+    intersect_prim,
+    local_normal,
     world_normal,
 )
 from variants.numba.kernels_shading import (
@@ -34,15 +46,11 @@ from variants.numba.kernels_shading import (
 from variants.numba.kernels_trace import (
     ENTRY,
     camera_ray,
-    csg_allowed,
-    csg_collect,
     drain,
     light_intensity,
     prepare,
     push,
-    scratch,
     shade_and_push,
-    shadowed,
 )
 from variants.numba.layout import (
     B_PRIM,

@@ -15,7 +15,6 @@ less than 1/255):
   ``pow`` (the reference's ``**``).
 """
 
-# ruff: noqa: F401
 import math
 from typing import Any
 
@@ -25,19 +24,24 @@ from numba import njit
 from variants.numba.kernel_flags import (
     FASTMATH,
     HAS_AREA_LIGHTS,
-    HAS_CHECKERS,
+    HAS_CHECKERS_PATTERN,
     HAS_CUBE_MAP,
-    HAS_GRADIENT,
+    HAS_GRADIENT_PATTERN,
     HAS_JITTER,
     HAS_PATTERNS,
-    HAS_RING,
-    HAS_STRIPE,
-    HAS_TEST_PATTERN,
+    HAS_RING_PATTERN,
+    HAS_STRIPE_PATTERN,
     HAS_TEXTURE_MAP,
     HAS_UV_IMAGE,
     F,
 )
-from variants.numba.kernels_geometry import INLINE, ONE, ZERO, normalized, to_object_point
+from variants.numba.kernels_geometry import (
+    INLINE,
+    ONE,
+    ZERO,
+    normalized,
+    to_object_point,
+)
 from variants.numba.layout import (
     AMBIENT,
     COLOR,
@@ -60,7 +64,6 @@ from variants.numba.layout import (
     M_CUBE,
     M_CYLINDRICAL,
     M_PLANAR,
-    M_SPHERICAL,
     MAP_KIND,
     MAP_UV,
     NF,
@@ -228,11 +231,11 @@ def local_pattern(pf, pi, tex, p, x, y, z):
     """Chapter 10: primitive p's pattern color at a pattern-space point; the bonus
     chapter's texture patterns read their records from ``tex`` = (ti, tf)."""
     kind = pi[p * NI + PATTERN]
-    if HAS_STRIPE and kind == P_STRIPE:
+    if HAS_STRIPE_PATTERN and kind == P_STRIPE:
         if math.floor(x) % 2 == 0:
             return pattern_a(pf, p)
         return pattern_b(pf, p)
-    if HAS_GRADIENT and kind == P_GRADIENT:
+    if HAS_GRADIENT_PATTERN and kind == P_GRADIENT:
         fraction = x - math.floor(x)
         a = p * NF + PAT_A
         b = p * NF + PAT_B
@@ -241,11 +244,11 @@ def local_pattern(pf, pi, tex, p, x, y, z):
             pf[a + 1] + (pf[b + 1] - pf[a + 1]) * fraction,
             pf[a + 2] + (pf[b + 2] - pf[a + 2]) * fraction,
         )
-    if HAS_RING and kind == P_RING:
+    if HAS_RING_PATTERN and kind == P_RING:
         if math.floor(math.sqrt(x * x + z * z)) % 2 == 0:
             return pattern_a(pf, p)
         return pattern_b(pf, p)
-    if HAS_CHECKERS and kind == P_CHECKERS:
+    if HAS_CHECKERS_PATTERN and kind == P_CHECKERS:
         if (math.floor(x) + math.floor(y) + math.floor(z)) % 2 == 0:
             return pattern_a(pf, p)
         return pattern_b(pf, p)

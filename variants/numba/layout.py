@@ -37,6 +37,8 @@ This file is also the first part of every generated kernel module (see
 # ---- kernel template ----
 
 from scene.kinds import kind as _kind  # the kind table (``scene.kinds``) numbers the kinds
+from scene.pattern_kinds import NO_PATTERN as _NO_PATTERN  # and the pattern table patterns
+from scene.pattern_kinds import pattern_kind as _pattern_kind
 
 # pf: primitive floats
 INV = 0  # 12: world -> object space, rows 0-2 of the composed inverse transform (row-major)
@@ -105,15 +107,16 @@ K_TRIANGLE = _kind("triangle").number
 K_SMOOTH_TRIANGLE = _kind("smooth_triangle").number
 K_TEST = _kind("test_shape").number  # chapter 9's test shape: no hits, normal = the point
 
-# pattern kinds
-P_NONE = 0
-P_STRIPE = 1
-P_GRADIENT = 2
-P_RING = 3
-P_CHECKERS = 4
-P_TEST = 5
-P_MAP = 6  # the bonus chapter on texture mapping: a uv pattern through a mapping
-P_CUBE_MAP = 7  # ... six uv patterns, one per face of the cube
+# pattern kinds: their numbers in the pattern table (``scene.pattern_kinds``; the header of
+# a generated kernel module lists them too)
+P_NONE = _NO_PATTERN
+P_STRIPE = _pattern_kind("stripe_pattern").number
+P_GRADIENT = _pattern_kind("gradient_pattern").number
+P_RING = _pattern_kind("ring_pattern").number
+P_CHECKERS = _pattern_kind("checkers_pattern").number
+P_TEST = _pattern_kind("test_pattern").number
+P_MAP = _pattern_kind("texture_map").number  # texture mapping: a uv pattern through a mapping
+P_CUBE_MAP = _pattern_kind("cube_map").number  # ... six uv patterns, one per face of a cube
 
 # ti (texture ints) and tf (texture floats): texture patterns' records (the bonus chapter
 # on texture mapping), each starting at an offset that names it. A map record in ti: the
@@ -187,6 +190,8 @@ BVH_BINS = 16  # bins per axis
 BVH_STACK = 256  # its stack of nodes to build
 BVH_UNIT = 6  # per unit (float32): box lo x, y, z, hi x, y, z
 BVH_STATS = 5  # what it reports: nodes, leaves, box items, depth, items
+BVH_WORK = 6 * BVH_STACK + 3 * BVH_BINS  # its scratch: ints (pending nodes, open boxes, counts)
+BVH_FWORK = 3 * BVH_BINS * 6 + 2 * BVH_BINS + 15  # ... and floats (the bins' boxes, areas ...)
 
 # lights: one row per light, then the area lights' jitter sequences (the values of each,
 # in order, from lights[n_lights * NLIGHT + LIGHT_SEQ])

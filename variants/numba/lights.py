@@ -22,38 +22,24 @@ from typing import Any
 
 import numpy as np
 
-from raytracer.colors import Color
 from raytracer.lights import AreaLight, CyclicSequence, PointLight
-from raytracer.tuples import Tuple
+from variants.arrays.rows import rgb, xyz
 from variants.numba import layout as L
-
-
-def _xyz(t: Tuple) -> list[float]:
-    return [float(t.x), float(t.y), float(t.z)]
-
-
-def _rgb(c: Color) -> list[float]:
-    return [float(c.red), float(c.green), float(c.blue)]
-
-
-def _error(message: str) -> Exception:
-    from variants.numba.pack import PackError
-
-    return PackError(message)
+from variants.numba.errors import PackError
 
 
 def _sequence_values(light: AreaLight, where: str, for_one_call: bool) -> tuple[list[float], int]:
     """(the values to pack, the position to start from) of ``light.jitter_by``."""
     sequence = light.jitter_by
     if not isinstance(sequence, CyclicSequence):
-        raise _error(f"numba: {where} jitters by a {type(sequence).__name__}, not a sequence")
+        raise PackError(f"numba: {where} jitters by a {type(sequence).__name__}, not a sequence")
     values = [float(v) for v in sequence.values]
     taken = 2 * light.samples
     if for_one_call:
         start = sequence.position
         return [values[(start + j) % len(values)] for j in range(taken)], 0
     if taken % len(values) != 0:
-        raise _error(
+        raise PackError(
             f"numba: {where} jitters by a sequence of {len(values)} values, which does not "
             f"divide the {taken} values (2 per cell) each shaded point takes from it: the "
             "reference's picture would then depend on the order in which points are shaded, "
@@ -75,11 +61,11 @@ def light_rows(
         where = f"light {k} of the world"
         if isinstance(light, AreaLight):
             row = [0.0] * L.NLIGHT
-            row[L.LIGHT_POSITION : L.LIGHT_POSITION + 3] = _xyz(light.position)
-            row[L.LIGHT_INTENSITY : L.LIGHT_INTENSITY + 3] = _rgb(light.intensity)
-            row[L.LIGHT_CORNER : L.LIGHT_CORNER + 3] = _xyz(light.corner)
-            row[L.LIGHT_UVEC : L.LIGHT_UVEC + 3] = _xyz(light.uvec)
-            row[L.LIGHT_VVEC : L.LIGHT_VVEC + 3] = _xyz(light.vvec)
+            row[L.LIGHT_POSITION : L.LIGHT_POSITION + 3] = xyz(light.position)
+            row[L.LIGHT_INTENSITY : L.LIGHT_INTENSITY + 3] = rgb(light.intensity)
+            row[L.LIGHT_CORNER : L.LIGHT_CORNER + 3] = xyz(light.corner)
+            row[L.LIGHT_UVEC : L.LIGHT_UVEC + 3] = xyz(light.uvec)
+            row[L.LIGHT_VVEC : L.LIGHT_VVEC + 3] = xyz(light.vvec)
             row[L.LIGHT_USTEPS] = float(light.usteps)
             row[L.LIGHT_VSTEPS] = float(light.vsteps)
             if light.jitter and not for_one_call:
@@ -92,9 +78,9 @@ def light_rows(
                 values += own
             rows[k] = row
         elif isinstance(light, PointLight):
-            rows[k, 0:6] = _xyz(light.position) + _rgb(light.intensity)
+            rows[k, 0:6] = xyz(light.position) + rgb(light.intensity)
         else:
-            raise _error(
+            raise PackError(
                 f"numba: {where} is a {type(light).__name__}; the kernels know point lights "
                 "and area lights"
             )

@@ -1,31 +1,19 @@
 """Packing a world, a shape or a camera into the flat arrays the kernels read (``layout``).
 
-A world is packed once per render, from the tree ``variants.flatten`` makes of it (of a scene
-description, with no book shape built, or of the book's shapes for the book's API): every
-leaf becomes one row of ``pf``/``pi`` with its composed transform (chapter 14), its material
-and pattern (chapters 6, 10, 11) and its own parameters (chapters 12, 13, 15); CSG trees
-become a range of rows plus their operations in post-order (chapter 16). How the items are
-arranged is the ``bvh`` option (``variants.numba.bvh``): by default the groups are flattened
-and a bounding-volume hierarchy is built over the items with a box (``sah``); ``groups``
-keeps each group's box as an item the ray can skip (chapter 14); ``off`` none. Every light
-is packed (one row each).
-
-A run of triangles (an OBJ model's group, a group's run of the book's triangles) is packed
-at once with numpy (``_Packer.triangles``): a million triangles in a fraction of a second.
+A world is packed once per render, from the tree ``variants.arrays.flatten`` makes of it
+(of a scene description, with no book shape built, or of the book's shapes for the book's
+API): every leaf becomes one primitive row (``primitives``); CSG trees become a range of
+rows plus their operations in post-order (chapter 16). How the items are arranged is the
+``bvh`` option (``variants.numba.bvh``): by default the groups are flattened and a
+bounding-volume hierarchy is built over the items with a box (``sah``); ``groups`` keeps
+each group's box as an item the ray can skip (chapter 14); ``off`` none. Every light is
+packed (one row each, ``lights``). A run of triangles is packed at once with NumPy: a
+million triangles in a fraction of a second; in a render, compactly (``tg``, ``tn``: a row
+per stretch of one material, an item per triangle).
 
 Only what the kernels know is packed: the kinds of ``scene.kinds`` (the test shape for the
-book's API only) and the reference's pattern classes; anything else is refused with a
+book's API only) and of ``scene.pattern_kinds``; anything else is refused with a
 ``PackError`` naming the object, never approximated.
-
-Two precomputed values let the kernels take shortcuts (see their docstrings for the
-effect on the picture):
-
-- a sphere whose composed transform is a similarity (rotation, uniform scale, translation:
-  the reference scene's and the C++ workload's spheres) also gets its world-space centre,
-  radius squared and 1 / radius (``SPH_*``, ``WORLD_SPHERE``): the kernels intersect it in
-  world space, without the object-space transform; an ellipsoid keeps the transform;
-- ``POW_FLOOR``: the cosine below which the specular factor ``cos ** shininess`` is under
-  1e-9, so the kernels skip ``pow`` and the term (at most 1e-9 of the light's intensity).
 """
 
 from __future__ import annotations
@@ -35,249 +23,30 @@ import itertools
 import math
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
 
 from raytracer.camera import Camera
-from raytracer.colors import Color
 from raytracer.lights import Light
 from raytracer.materials import Material
 from raytracer.matrices import Matrix, identity_matrix
-from raytracer.patterns import (
-    CheckersPattern,
-    GradientPattern,
-    Pattern,
-    RingPattern,
-    StripePattern,
-    TestPattern,
-)
+from raytracer.patterns import Pattern
 from raytracer.shapes.shape import Shape
 from raytracer.shapes.sphere import Sphere
-from raytracer.tuples import Tuple
 from raytracer.world import World
-from scene.kinds import BY_NAME, KINDS, reference_kind
-from variants import flatten as F
+from variants.arrays import flatten as F
+from variants.arrays.rows import rows3x4
 from variants.numba import layout as L
 from variants.numba.bvh import BALLS_MAX, DEFAULT, STRUCTURES, Hierarchy, build_into, outward32
+from variants.numba.errors import PackError, refusal
 from variants.numba.lights import light_rows
-from variants.numba.textures import TextureTable, texture_kind
+from variants.numba.packed import Packed, PackedCamera, flat
+from variants.numba.primitives import Rows, inverse
+from variants.numba.textures import TextureTable
 
-PATTERN_KINDS: tuple[tuple[type[Pattern], int], ...] = (
-    (StripePattern, L.P_STRIPE),
-    (GradientPattern, L.P_GRADIENT),
-    (RingPattern, L.P_RING),
-    (CheckersPattern, L.P_CHECKERS),
-    (TestPattern, L.P_TEST),
-)
-KIND_NAMES = {kind.number: kind.name for kind in KINDS}
-PATTERN_NAMES = {
-    L.P_STRIPE: "stripe",
-    L.P_GRADIENT: "gradient",
-    L.P_RING: "ring",
-    L.P_CHECKERS: "checkers",
-    L.P_TEST: "test_pattern",
-    L.P_MAP: "texture_map",
-    L.P_CUBE_MAP: "cube_map",
-}
 OPERATIONS = {"union": L.OP_UNION, "intersection": L.OP_INTERSECTION, "difference": L.OP_DIFFERENCE}
-TEST_SHAPE = BY_NAME["test_shape"]
-
-
-class PackError(ValueError):
-    """Something the numba kernels cannot compile; the message names the object."""
-
-
-def _refusal(error: F.FlattenError) -> PackError:
-    """A flattening error in the kernels' words."""
-    if isinstance(error, F.UnknownShape):
-        if error.changed is not None:
-            return PackError(
-                f"numba: cannot compile {error.where}, a {type(error.shape).__name__}: it "
-                f"changes how a {error.changed.__name__} intersects or computes normals, and "
-                "the kernels only know the reference's"
-            )
-        known = ", ".join(k.name for k in KINDS) + ", group, csg"
-        return PackError(
-            f"numba: cannot compile {error.where}, a {type(error.shape).__name__}: the "
-            f"kernels know {known}"
-        )
-    return PackError(f"numba: {error}")
-
-
-def shape_kind(shape: Shape, where: str) -> int:
-    """The kernel kind of a leaf shape (its number in ``scene.kinds``); a ``PackError``
-    for anything the kernels do not know."""
-    kind, changed = reference_kind(shape)
-    if kind is None:
-        raise _refusal(F.UnknownShape(where, shape, changed))
-    return kind.number
-
-
-def pattern_kind(pattern: Pattern, where: str) -> int:
-    """The kernel kind of a pattern; a ``PackError`` for anything else."""
-    texture = texture_kind(pattern)
-    if texture is not None:
-        return texture
-    kind = F.pattern_kind(pattern, PATTERN_KINDS)
-    if kind is not None:
-        return kind
-    known = ", ".join(PATTERN_NAMES.values())
-    raise PackError(
-        f"numba: cannot compile the pattern of {where}, a {type(pattern).__name__}: the "
-        f"kernels know the patterns {known}"
-    )
-
-
-def _inverse(m: Matrix, what: str) -> Matrix:
-    """The reference's inverse of an affine ``m``; a ``PackError`` when it has none."""
-    try:
-        return F.inverse_affine(m, what)
-    except F.FlattenError as error:
-        raise _refusal(error) from None
-
-
-SPECULAR_CUTOFF = 1e-9  # the specular factor below which the kernels leave the term out
-
-
-def _pow_floor(shininess: float) -> float:
-    """Chapter 6: the reflect_dot_eye at or below which the specular factor
-    ``reflect_dot_eye ** shininess`` is below ``SPECULAR_CUTOFF`` (-inf: never, for a
-    shininess that is not a positive finite number)."""
-    if not shininess > 0 or not math.isfinite(shininess):
-        return -math.inf
-    return SPECULAR_CUTOFF ** (1.0 / shininess) * (1.0 - 1e-12)
-
-
-def _world_sphere(inv: Matrix) -> list[float] | None:
-    """Chapter 5: a sphere whose world-to-object transform ``inv`` is a similarity (AᵀA is
-    a multiple of the identity, to 1e-12 relative, for its 3x3 part A) is the world-space
-    ball |x - centre| = radius: [centre x, y, z, radius², 1 / radius]; None for an
-    ellipsoid (the kernels then intersect in object space)."""
-    a = [[float(v) for v in row[:3]] for row in inv.rows[:3]]
-    b = [float(row[3]) for row in inv.rows[:3]]
-    gram = [[sum(a[k][i] * a[k][j] for k in range(3)) for j in range(3)] for i in range(3)]
-    k = gram[0][0]  # 1 / s² for inv = (1 / s) R (x - centre)
-    if not (k > 0 and math.isfinite(k)):
-        return None
-    scaled = (abs(gram[i][j] - (k if i == j else 0.0)) for i in range(3) for j in range(3))
-    if max(scaled) > 1e-12 * k:
-        return None
-    # a centre + b = 0, and the inverse of a is aᵀ / k
-    centre = [-sum(a[r][c] * b[r] for r in range(3)) / k for c in range(3)]
-    radius = 1.0 / math.sqrt(k)
-    values = [*centre, radius * radius, 1.0 / radius]
-    if not all(math.isfinite(v) for v in values):
-        return None
-    return values
-
-
-def _rows3x4(m: Matrix) -> list[float]:
-    return [float(v) for row in m.rows[:3] for v in row]
-
-
-def _normal_rows(inv: Matrix) -> list[float]:
-    """Rows 0-2 of the inverse transpose (3x3): element (r, c) is inv[c][r]."""
-    return [float(inv.rows[c][r]) for r in range(3) for c in range(3)]
-
-
-def _xyz(t: Tuple) -> list[float]:
-    return [float(t.x), float(t.y), float(t.z)]
-
-
-def _rgb(c: Color) -> list[float]:
-    return [float(c.red), float(c.green), float(c.blue)]
-
-
-def _stretch(m: Matrix) -> float:
-    """An upper bound of how much the 3x3 part A of ``m`` can lengthen a vector: the square
-    root of the largest row sum of |AᵀA| (Gershgorin; exact for a rotation times a scale
-    along the axes). Plain Python: a numpy call here would wake BLAS threads, which then
-    spin beside the render's threads."""
-    a = [row[:3] for row in m.rows[:3]]
-    gram = [[sum(a[k][i] * a[k][j] for k in range(3)) for j in range(3)] for i in range(3)]
-    return math.sqrt(max(sum(abs(v) for v in row) for row in gram))
-
-
-@dataclass
-class Packed:
-    """A packed world or shape: the arrays (see ``layout``) and what they came from.
-
-    shapes: the leaf shape of each primitive row; capacity: the most intersections a ray
-    can have with everything packed; cs_size, cs_prims: the largest CSG tree's intersection
-    list and primitive count (per-thread scratch sizes, at least 1); hierarchy: how the
-    items are arranged (``bvh``).
-    """
-
-    pf: np.ndarray
-    pi: np.ndarray
-    items: np.ndarray
-    boxes: np.ndarray
-    csg: np.ndarray
-    lights: np.ndarray
-    shapes: list[Shape | None]
-    capacity: int
-    cs_size: int
-    cs_prims: int
-    balls: np.ndarray = field(default_factory=lambda: np.zeros((L.NBALL, 0)), repr=False)
-    hierarchy: Hierarchy = field(default_factory=lambda: Hierarchy("off"))
-    seconds: float = 0.0  # the time packing took, the hierarchy's build included
-    textures: TextureTable = field(default_factory=TextureTable, repr=False)
-    light_values: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)
-    tg: np.ndarray = field(default_factory=lambda: np.zeros((0, L.NTG)), repr=False)
-    tn: np.ndarray = field(default_factory=lambda: np.zeros((0, L.NTN)), repr=False)
-    _rows_by_id: dict[int, int] | None = field(default=None, repr=False)
-    _texture_arrays: tuple[np.ndarray, np.ndarray] | None = field(default=None, repr=False)
-
-    def row_of(self, shape: Shape) -> int:
-        """The primitive row of ``shape`` (by identity), or -1."""
-        if self._rows_by_id is None:
-            self._rows_by_id = {id(shape): row for row, shape in enumerate(self.shapes)}
-        return self._rows_by_id.get(id(shape), -1)
-
-    def arrays(self) -> tuple[np.ndarray, ...]:
-        """(pf, pi, items, boxes, csg): the tables (2-D, one row per primitive, item ...)."""
-        return self.pf, self.pi, self.items, self.boxes, self.csg
-
-    def flat(self) -> tuple[Any, ...]:
-        """(pf, pi, items, n_items, boxes, csg, balls, n_balls): the tables flattened
-        (row-major; ``layout``) and the counts, as the kernels take a world."""
-        return (
-            _flat(self.pf), _flat(self.pi), _flat(self.items), len(self.items),
-            _flat(self.boxes), _flat(self.csg), _flat(self.balls), self.balls.shape[1],
-        )  # fmt: skip
-
-    def light_table(self) -> tuple[np.ndarray, int]:
-        """(lights, n_lights): the lights flattened (``layout``), their sequences' values
-        after them, and their number."""
-        rows = np.ascontiguousarray(self.lights).reshape(-1)
-        table = np.concatenate([rows, self.light_values.astype(rows.dtype, copy=False)])
-        return (table if table.size else np.zeros(1, dtype=rows.dtype)), len(self.lights)
-
-    def triangle_tables(self) -> tuple[np.ndarray, np.ndarray]:
-        """(tg, tn): the compact triangles' corners, edges and normals, and the smooth
-        ones' corner normals, flattened (``layout``)."""
-        return _flat(self.tg), _flat(self.tn)
-
-    def triangles(self) -> int:
-        """How many primitives the rows stand for (a compact run's row, its triangles)."""
-        runs = self.pi[:, L.TRI_FIRST] >= 0
-        return int(np.where(runs, self.pi[:, L.TRI_COUNT], 1).sum())
-
-    def texture_table(self) -> tuple[np.ndarray, np.ndarray]:
-        """(ti, tf): the texture patterns' records (``layout``, ``textures``), in the
-        primitives' precision."""
-        if self._texture_arrays is None:
-            self._texture_arrays = self.textures.arrays(self.pf.dtype)
-        return self._texture_arrays
-
-
-def _flat(table: np.ndarray) -> np.ndarray:
-    """A table as the 1-D, C-contiguous array the kernels index (at least one element, so
-    that a pointer to it is valid)."""
-    flat = np.ascontiguousarray(table).reshape(-1)
-    return flat if flat.size else np.zeros(1, dtype=table.dtype)
 
 
 def _stack(parts: list[Any], width: int, dtype: Any) -> np.ndarray:
@@ -319,26 +88,6 @@ def _outward(boxes: np.ndarray, dtype: Any) -> np.ndarray:
     return rounded
 
 
-def _bounding_sphere(local: np.ndarray | None, kind: int, fwd: Matrix | None) -> list[float]:
-    """A world-space sphere (centre, radius) holding a leaf whose object-space box has the
-    corners ``local``; radius inf when it is unbounded (planes, infinite cylinders and
-    cones) or its transform is unknown."""
-    none = [0.0, 0.0, 0.0, math.inf]
-    if local is None or fwd is None:
-        return none
-    points = [tuple(map(float, p)) for p in local]
-    lo = [min(p[k] for p in points) for k in range(3)]
-    hi = [max(p[k] for p in points) for k in range(3)]
-    centre = [(lo[k] + hi[k]) / 2 for k in range(3)]
-    # a sphere lies in its unit ball, not only in the corners' hull
-    radius = 1.0 if kind == L.K_SPHERE else max(math.dist(centre, p) for p in points)
-    world_centre = F.apply(fwd, np.array(centre)).tolist()
-    world_radius = radius * _stretch(fwd) * (1.0 + 1e-6) + 1e-9
-    if not (math.isfinite(world_radius) and all(math.isfinite(v) for v in world_centre)):
-        return none
-    return [*world_centre, world_radius]
-
-
 NO_BOX = (math.nan,) * 6  # an item's bounds when it has none (unbounded, or not a leaf)
 
 
@@ -346,8 +95,8 @@ def _box(bounds: np.ndarray) -> tuple[float, ...]:
     return NO_BOX if np.isnan(bounds).any() else tuple(float(v) for v in bounds)
 
 
-class _Packer:
-    """Collects rows and items while walking a flattened scene (``variants.flatten``),
+class _Packer(Rows):
+    """Collects rows and items while walking a flattened scene (``variants.arrays.flatten``),
     then builds the arrays.
 
     Rows and items are kept as single rows (lists) or as blocks (arrays: a run of
@@ -360,143 +109,18 @@ class _Packer:
     ) -> None:  # fmt: skip
         if structure not in STRUCTURES:
             raise ValueError(f"numba: unknown bvh structure {structure!r}: {STRUCTURES}")
-        self.dtype = dtype
-        self.allow_test_shape = allow_test_shape
+        super().__init__(dtype, allow_test_shape)
         self.structure = structure
         self.every_box = every_box
         self.compact = compact  # runs of triangles as compact triangles (``tg``)
-        self.tg: list[np.ndarray] = []
-        self.tn: list[np.ndarray] = []
-        self.n_tg = 0
-        self.n_tn = 0
-        self.rows_f: list[Any] = []
-        self.rows_i: list[Any] = []
-        self.n_rows = 0
         self.items: list[Any] = []
         self.bounds: list[Any] = []
         self.n_items = 0
         self.csg: list[list[int]] = []
-        self.shapes: list[Shape | None] = []
-        self.capacity = 0
         self.cs_size = 1
         self.cs_prims = 1
-        self.textures = TextureTable()
 
-    # -- rows
-
-    def row(
-        self,
-        kind: int,
-        inv: Matrix,
-        where: str,
-        m: Any,
-        shadow: bool,
-        params: dict[str, Any] | None = None,
-        local: np.ndarray | None = None,
-        fwd: Matrix | None = None,
-        pattern: Pattern | None = None,
-    ) -> tuple[list[float], list[int]]:
-        """One primitive row (floats, ints): ``kind``, world-to-object ``inv``, material
-        ``m`` (``pattern`` in place of its own), its parameters, and for the bounding sphere
-        its object-space box corners ``local`` and object-to-world ``fwd`` (None: no
-        bounding sphere). A triangle's own numbers are filled in by ``triangles``."""
-        if kind == L.K_TEST and not self.allow_test_shape:
-            raise PackError(
-                f"numba: cannot render {where}, a TestShape: it records rays in Python "
-                "(chapter 9's test double), which compiled kernels cannot do"
-            )
-        if not isinstance(m, Material):
-            raise PackError(f"numba: {where} has no material (got {type(m).__name__})")
-        f = [0.0] * L.NF
-        i = [0] * L.NI
-        f[L.INV : L.INV + 12] = _rows3x4(inv)
-        f[L.NRM : L.NRM + 9] = _normal_rows(inv)
-        f[L.COLOR : L.COLOR + 3] = _rgb(m.color)
-        f[L.AMBIENT] = float(m.ambient)
-        f[L.DIFFUSE] = float(m.diffuse)
-        f[L.SPECULAR] = float(m.specular)
-        f[L.SHININESS] = float(m.shininess)
-        f[L.POW_FLOOR] = _pow_floor(float(m.shininess))
-        f[L.REFLECTIVE] = float(m.reflective)
-        f[L.TRANSPARENCY] = float(m.transparency)
-        f[L.REFRACTIVE_INDEX] = float(m.refractive_index)
-        used = pattern if pattern is not None else m.pattern
-        if used is not None:
-            i[L.PATTERN] = pattern_kind(used, where)
-            pattern_inv = _inverse(used.transform, f"the pattern transform of {where}")
-            f[L.PAT : L.PAT + 12] = _rows3x4(pattern_inv)
-            if i[L.PATTERN] in (L.P_MAP, L.P_CUBE_MAP):
-                i[L.PAT_TEX] = self.textures.pattern(used, where)
-            elif i[L.PATTERN] != L.P_TEST:
-                f[L.PAT_A : L.PAT_A + 3] = _rgb(used.a)  # type: ignore[attr-defined]
-                f[L.PAT_B : L.PAT_B + 3] = _rgb(used.b)  # type: ignore[attr-defined]
-        i[L.KIND] = kind
-        i[L.CASTS_SHADOW] = 1 if shadow else 0
-        i[L.TRI_FIRST] = -1  # a primitive of its own, not a run of compact triangles
-        i[L.TN_FIRST] = -1
-        numbers = [v for v in (params or {}).values() if not isinstance(v, bool)]
-        flags = [v for v in (params or {}).values() if isinstance(v, bool)]
-        f[L.PARAMS : L.PARAMS + len(numbers)] = [float(v) for v in numbers]  # table order
-        if flags:
-            i[L.CLOSED] = 1 if flags[0] else 0
-        f[L.BOUND : L.BOUND + 4] = _bounding_sphere(local, kind, fwd)
-        ball = _world_sphere(inv) if kind == L.K_SPHERE else None
-        if ball is not None:
-            f[L.SPH_CENTER : L.SPH_INV_R + 1] = ball
-            i[L.WORLD_SPHERE] = 1
-        return f, i
-
-    def leaf_rows(
-        self, leaf: F.Leaf, pattern: Pattern | None = None, bound: bool = True
-    ) -> tuple[int, np.ndarray]:
-        """Append a leaf's row; returns (its index, its world box). ``bound=False``: no
-        bounding sphere and no box (a surface packed alone, for the book's API)."""
-        local = leaf.local_corners() if bound else None
-        f, i = self.row(
-            leaf.kind.number, leaf.inv, leaf.where, leaf.material, leaf.shadow, dict(leaf.params),
-            local, leaf.fwd if bound else None, pattern,
-        )  # fmt: skip
-        self.rows_f.append(f)
-        self.rows_i.append(i)
-        self.shapes.append(leaf.source)
-        self.capacity += leaf.kind.max_hits
-        self.n_rows += 1
-        return self.n_rows - 1, F.leaf_box(leaf) if bound else np.full(6, np.nan)
-
-    def triangles(self, run: F.Triangles, pattern: Pattern | None = None) -> np.ndarray:
-        """Chapter 15, at scale: a run of triangles as one block of rows, built with numpy:
-        the same rows ``row`` would make one at a time (``pattern``: in place of their
-        material's). Returns their world boxes (n, 6)."""
-        n = run.count
-        kind = run.kind.number
-        # one template row per (material, casts_shadow)
-        key = run.material_of * 2 + run.shadow.astype(np.int64)
-        _, first, which = np.unique(key, return_index=True, return_inverse=True)
-        rows_f: list[list[float]] = []
-        rows_i: list[list[int]] = []
-        for j in first.tolist():
-            material = run.materials[int(run.material_of[j])]
-            f, i = self.row(kind, run.inv, f"{run.where} (its triangle {j})", material,
-                            bool(run.shadow[j]), pattern=pattern)  # fmt: skip
-            rows_f.append(f)
-            rows_i.append(i)
-        pf = np.array(rows_f, dtype=np.float64)[which.reshape(-1)]
-        pi = np.array(rows_i, dtype=np.int64)[which.reshape(-1)]
-        tg, bounds = run.geometry()
-        pf[:, L.TRI_P1 : L.TRI_P1 + 3] = tg[:, L.TG_P1 : L.TG_P1 + 3]
-        pf[:, L.TRI_E1 : L.TRI_E1 + 3] = tg[:, L.TG_E1 : L.TG_E1 + 3]
-        pf[:, L.TRI_E2 : L.TRI_E2 + 3] = tg[:, L.TG_E2 : L.TG_E2 + 3]
-        pf[:, L.TRI_NORMAL : L.TRI_NORMAL + 3] = tg[:, L.TG_NORMAL : L.TG_NORMAL + 3]
-        normals = run.normals()
-        if normals is not None:
-            pf[:, L.TRI_N1 : L.TRI_N3 + 3] = normals.reshape(n, 9)
-        pf[:, L.BOUND : L.BOUND + 4] = _triangle_spheres(run.corners(), run.fwd)
-        self.rows_f.append(pf)
-        self.rows_i.append(pi)
-        self.shapes.extend(run.sources if run.sources is not None else [None] * n)
-        self.n_rows += n
-        self.capacity += n * run.kind.max_hits
-        return bounds
+    # -- rows of compact triangles, and their items
 
     def compact_triangles(self, run: F.Triangles) -> np.ndarray:
         """Chapter 15 at scale, compactly: the triangles' numbers in ``tg`` (and ``tn``),
@@ -716,21 +340,6 @@ def _hierarchy(
     return out[:count], boxes, replace(hierarchy, outside=len(outside))
 
 
-def _triangle_spheres(points: np.ndarray, fwd: Matrix) -> np.ndarray:
-    """``_bounding_sphere`` of many triangles (points: triangle, corner, axis) at once:
-    n x 4 (world centre, radius; radius inf where not finite)."""
-    a, b, c = points[:, 0], points[:, 1], points[:, 2]
-    lo, hi = np.minimum(np.minimum(a, b), c), np.maximum(np.maximum(a, b), c)
-    centre = (lo + hi) / 2
-    radius = np.sqrt(((points - centre[:, None, :]) ** 2).sum(axis=2)).max(axis=1)
-    out = np.empty((len(points), 4), dtype=np.float64)
-    out[:, 0:3] = F.apply(fwd, centre)
-    out[:, 3] = radius * _stretch(fwd) * (1.0 + 1e-6) + 1e-9
-    bad = ~np.isfinite(out).all(axis=1)
-    out[bad] = (0.0, 0.0, 0.0, math.inf)
-    return out
-
-
 def _pack(
     nodes: Sequence[F.Node], lights: Sequence[Light], dtype: Any, allow_test_shape: bool,
     structure: str, every_box: bool = False, started: float | None = None,
@@ -743,11 +352,11 @@ def _pack(
 
 
 def _flattened(make: Any, *args: Any) -> Any:
-    """``make(*args)`` (a ``variants.flatten`` function), its errors in the kernels' words."""
+    """``make(*args)`` (a ``flatten`` function), its errors in the kernels' words."""
     try:
         return make(*args)
     except F.FlattenError as error:
-        raise _refusal(error) from None
+        raise refusal(error) from None
 
 
 def pack_world(
@@ -803,11 +412,11 @@ def pack_shapes(
 def world_inverse(shape: Shape) -> Matrix:
     """Chapter 14: world space to ``shape``'s object space, through all its parents."""
     where = _label(shape)
-    inv = _inverse(shape.transform, f"the transform of {where}")
+    inv = inverse(shape.transform, f"the transform of {where}")
     parent = shape.parent
     while parent is not None:
         what = f"the transform of {_label(parent)}, a parent of {where}"
-        inv = F.compose(inv, _inverse(parent.transform, what))
+        inv = F.compose(inv, inverse(parent.transform, what))
         parent = parent.parent
     return inv
 
@@ -846,24 +455,15 @@ def pack_surface(
     else:
         raise PackError(f"numba: {where} has no surface of its own")
     built = packer.build([])
-    return _flat(built.pf), _flat(built.pi)
+    return flat(built.pf), flat(built.pi)
 
 
 def _label(shape: object) -> str:
     return f"a {type(shape).__name__}"
 
 
-@dataclass(frozen=True)
-class PackedCamera:
-    """Chapter 7: the camera as the kernels read it (``layout`` CAM_*)."""
-
-    array: np.ndarray
-    hsize: int
-    vsize: int
-
-
 def pack_camera(c: Camera, dtype: Any = np.float64) -> PackedCamera:
     """The inverse view transform (the reference's), half extents and pixel size."""
-    inv = _inverse(c.transform, "the camera transform")
-    row = [*_rows3x4(inv), float(c.half_width), float(c.half_height), float(c.pixel_size)]
+    inv = inverse(c.transform, "the camera transform")
+    row = [*rows3x4(inv), float(c.half_width), float(c.half_height), float(c.pixel_size)]
     return PackedCamera(np.array(row, dtype=dtype), int(c.hsize), int(c.vsize))

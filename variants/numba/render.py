@@ -32,9 +32,10 @@ from raytracer.tracer import Region
 from raytracer.world import World
 from variants.numba import layout as L
 from variants.numba.bvh import DEFAULT
-from variants.numba.features import FeatureSet, analyse
+from variants.numba.features import KIND_NAMES, FeatureSet, analyse
 from variants.numba.lights import describe as describe_lights
-from variants.numba.pack import KIND_NAMES, Packed, PackedCamera, pack_camera, pack_world
+from variants.numba.pack import pack_camera, pack_world
+from variants.numba.packed import Packed, PackedCamera
 from variants.numba.specialize import KernelConfig, Renderer, library_path, load_renderer
 
 PAGE = 4096  # bytes: each thread's scratch starts on a page of its own (no false sharing)

@@ -1,10 +1,10 @@
 """One compiled kernel per (feature set, float type, fastmath): generated, compiled, cached.
 
-The kernel template is the body of five files (``layout``, ``kernels_geometry``,
-``kernels_shading``, ``kernels_trace``, ``kernels_api``: everything below their
-``# ---- kernel template ----`` line). A kernel module is a header setting the
-``kernel_flags`` switches, followed by those bodies, written to
-``<kernel folder>/rtc_numba_<digest>.py``. numba reads module globals as constants, so
+The kernel template is the body of the files ``TEMPLATE_PARTS`` names, in that order
+(``layout``, then the ``kernels_*`` parts: everything below their ``# ---- kernel template
+----`` line; each part's imports above that line are for the linters and mypy). A kernel
+module is a header setting the ``kernel_flags`` switches, followed by those bodies, written
+to ``<kernel folder>/rtc_numba_<digest>.py``. numba reads module globals as constants, so
 switches that are off remove their code. The digest is a hash of the module's text, so
 editing any template file gives new modules (numba's cache only checks the file a function
 is in, not the files its callees come from; here there is only one file).
@@ -19,8 +19,8 @@ Two things are compiled from a kernel module:
   render falls back to the same ``cfunc`` with numba's own disk cache (and pays numba's
   start-up).
 
-The hierarchy's builder (``bvh_kernel``) is built the same way (``load_bvh_builder``). The
-kernel folder, the build and the load are ``compiled.library``'s.
+The kernel folder, the build and the load are ``compiled.library``'s (the hierarchy's
+builder, ``bvh.load_bvh_builder``, is built the same way).
 """
 
 from __future__ import annotations
@@ -40,13 +40,10 @@ from typing import Any
 
 from compiled.library import (
     BuildError,
-    Compiled,
-    Recipe,
     announce,
     compiler,
     kernel_folder,
     link,
-    load,
     load_once,
     on_compile,
     private_numba_cache,
@@ -56,10 +53,14 @@ from compiled.library import (
 )
 from scene.files import read_bytes
 from scene.kinds import KINDS
+from scene.pattern_kinds import PATTERN_KINDS
 from variants.numba.features import ALL_FLAGS, FeatureSet
 
 PACKAGE_DIR = Path(__file__).resolve().parent
-TEMPLATE_PARTS = ("layout", "kernels_geometry", "kernels_shading", "kernels_trace", "kernels_api")
+TEMPLATE_PARTS = (
+    "layout", "kernels_geometry", "kernels_shapes", "kernels_prims", "kernels_shading",
+    "kernels_hits", "kernels_indices", "kernels_trace", "kernels_api",
+)  # fmt: skip
 MARKER = "# ---- kernel template ----"
 PREFIX = "rtc_numba_"
 FAST_FLAGS = '{"afn", "arcp", "contract", "nsz", "reassoc"}'  # (as text: a set's order varies)
@@ -102,7 +103,7 @@ def module_source(config: KernelConfig) -> str:
         "from typing import Any",
         "",
         "import numpy as np",
-        "from numba import njit",
+        "from numba import cfunc, njit, types",
         "",
         f"F = np.{'float32' if config.float32 else 'float64'}",
         # every fast-math flag but nnan and ninf: the kernels use infinity (no bound, no hit)
@@ -110,6 +111,7 @@ def module_source(config: KernelConfig) -> str:
         f"COUNT_RAYS = {config.count_rays}",
         *[f"{flag} = {flag in config.features.flags}" for flag in ALL_FLAGS],
         "# the kind table: " + ", ".join(f"{k.name}={k.number}" for k in KINDS),
+        "# the pattern table: " + ", ".join(f"{k.name}={k.number}" for k in PATTERN_KINDS),
     ]
     parts = [f"# ---- {part}.py{_body(part)}" for part in TEMPLATE_PARTS]
     return "\n".join(header) + "\n\n" + "\n".join(parts)
@@ -257,26 +259,3 @@ def _build_library(config: KernelConfig, path: Path) -> None:
     real = "float" if config.float32 else "double"
     stub = STUB.replace("REAL", real).replace("ENTRY_NAME", ENTRY_NAME)
     link(load_kernels(config).make_render_entry(False), stub, path, "render")
-
-
-# ------------------------------------------------------------- the hierarchy's builder
-
-BVH_BUILDER = Recipe(
-    name="build_bvh",
-    module="variants.numba.bvh_kernel",
-    function="build",
-    parameters=(
-        ("int64_t", "n"), ("float *", "units"), ("int64_t *", "order"),
-        ("int32_t *", "uitems"), ("int32_t *", "items"), ("double *", "boxes"),
-        ("int64_t", "base"), ("int64_t *", "work"), ("double *", "fwork"),
-        ("int64_t", "leaf_max"), ("int64_t", "sah_depth"), ("double", "unit_cost"),
-        ("int64_t *", "stats"),
-    ),
-    what="the hierarchy builder",
-)  # fmt: skip
-
-
-def load_bvh_builder() -> Compiled:
-    """The hierarchy's builder (``bvh_kernel.build``): from its shared library (built first
-    if missing), else numba's ``njit`` function with its disk cache. Once per process."""
-    return load(BVH_BUILDER)

@@ -26,6 +26,7 @@ from raytracer.textures.mappings import cylindrical_map, planar_map, spherical_m
 from raytracer.textures.maps import CubeMap, TextureMap
 from raytracer.textures.uv_patterns import UVAlignCheck, UVCheckers, UVImage, UVPattern
 from variants.numba import layout as L
+from variants.numba.errors import PackError
 
 MAPPINGS = {
     id(spherical_map): L.M_SPHERICAL,
@@ -45,18 +46,6 @@ UV_NAMES = {
 _RGB = operator.attrgetter("red", "green", "blue")
 
 
-def texture_kind(pattern: Pattern) -> int | None:
-    """``P_MAP`` or ``P_CUBE_MAP`` for the reference's texture patterns (not subclasses
-    that change how they color), else None."""
-    if type(pattern).local_pattern_at is TextureMap.local_pattern_at and isinstance(
-        pattern, TextureMap
-    ):
-        return L.P_MAP
-    if type(pattern).local_pattern_at is CubeMap.local_pattern_at and isinstance(pattern, CubeMap):
-        return L.P_CUBE_MAP
-    return None
-
-
 def _rgb(c: Color, what: str) -> list[float]:
     if not isinstance(c, Color):
         raise _error(what, f"is a {type(c).__name__}, not a color")
@@ -64,8 +53,6 @@ def _rgb(c: Color, what: str) -> list[float]:
 
 
 def _error(what: str, problem: str) -> Exception:
-    from variants.numba.pack import PackError
-
     return PackError(f"numba: {what} {problem}")
 
 

@@ -29,6 +29,9 @@ pixel loop is the reference ``Tracer.render_region``.
 
 from __future__ import annotations
 
+from variants.cached import cached_api
+from variants.prealloc.api import API, OVERRIDES
+from variants.prealloc.tracer import PreallocTracer
 from variants.registry import Variant, check_options, reject_inner, tracer_variant
 
 NAME = "prealloc"
@@ -39,10 +42,6 @@ def variant(inner: Variant | None = None, **options: str) -> Variant:
     ``cached``: wrap it instead, e.g. ``pooled:prealloc``)."""
     reject_inner(NAME, inner)
     check_options(NAME, options)
-    from variants.cached import cached_api
-    from variants.prealloc.api import API, OVERRIDES
-    from variants.prealloc.tracer import PreallocTracer
-
     api, constructors = cached_api()
     return tracer_variant(
         NAME,

@@ -36,31 +36,22 @@ from variants.prealloc.buffers import (
     new_ray,
     new_tuple,
     sort_intersections,
+    tuple_buffer,
 )
 from variants.prealloc.context import TraceContext
-from variants.prealloc.geometry import (
-    flat_matrix,
-    normal_to_world_into,
-    position_into,
-    reflect_into,
-    transform_ray_into,
-    world_to_object_into,
-)
+from variants.prealloc.errors import PreallocUnsupported
+from variants.prealloc.geometry import flat_matrix, position_into, reflect_into, transform_ray_into
+from variants.prealloc.groups import CSGRecord, filter_intersections_into
 from variants.prealloc.patterns import pattern_record
-from variants.prealloc.records import PreallocUnsupported
 from variants.prealloc.shapes import (
-    CSGRecord,
-    filter_intersections_into,
     intersect_into,
     normal_at_into,
+    normal_to_world_into,
+    world_to_object_into,
 )
 
 # ------------------------------------------------------------------- values in and out
 # (shared with ``PreallocTracer``)
-
-
-def tuple_in(t: Tuple) -> Vec:
-    return [float(t.x), float(t.y), float(t.z), float(t.w)]
 
 
 def tuple_out(v: Vec) -> Tuple:
@@ -68,7 +59,7 @@ def tuple_out(v: Vec) -> Tuple:
 
 
 def ray_in(r: Ray) -> Vec:
-    return tuple_in(r.origin) + tuple_in(r.direction)
+    return tuple_buffer(r.origin) + tuple_buffer(r.direction)
 
 
 def ray_out(v: Vec) -> Ray:
@@ -96,13 +87,13 @@ def comps_in(ctx: TraceContext, comps: Computations) -> ComputationsBuffer:
     buffer = ComputationsBuffer()
     buffer.t = float(comps.t)
     buffer.object = ctx.record(comps.object)
-    buffer.point = tuple_in(comps.point)
-    buffer.eyev = tuple_in(comps.eyev)
-    buffer.normalv = tuple_in(comps.normalv)
+    buffer.point = tuple_buffer(comps.point)
+    buffer.eyev = tuple_buffer(comps.eyev)
+    buffer.normalv = tuple_buffer(comps.normalv)
     buffer.inside = comps.inside
-    buffer.over_point = tuple_in(comps.over_point)
-    buffer.under_point = tuple_in(comps.under_point)
-    buffer.reflectv = tuple_in(comps.reflectv)
+    buffer.over_point = tuple_buffer(comps.over_point)
+    buffer.under_point = tuple_buffer(comps.under_point)
+    buffer.reflectv = tuple_buffer(comps.reflectv)
     buffer.n1 = float(comps.n1)
     buffer.n2 = float(comps.n2)
     return buffer
@@ -155,7 +146,7 @@ def position(r: Ray, t: float) -> Tuple:
 def reflect(v: Tuple, n: Tuple) -> Tuple:
     """Chapter 6: ``reflect_into`` on a new buffer."""
     out = new_tuple()
-    reflect_into(tuple_in(v), tuple_in(n), out)
+    reflect_into(tuple_buffer(v), tuple_buffer(n), out)
     return tuple_out(out)
 
 
@@ -198,7 +189,7 @@ def normal_at(shape: Shape, world_point: Tuple, hit: Intersection | None = None)
     """Chapters 6, 9, 14: ``normal_at_into`` on a new buffer."""
     out = new_tuple()
     u, v = (None, None) if hit is None else (hit.u, hit.v)
-    normal_at_into(call_context().record(shape), tuple_in(world_point), u, v, out)
+    normal_at_into(call_context().record(shape), tuple_buffer(world_point), u, v, out)
     return tuple_out(out)
 
 
@@ -206,21 +197,21 @@ def local_normal_at(shape: Shape, local_point: Tuple, hit: Intersection | None =
     """Chapter 9: the record's ``local_normal_at_into`` on a new buffer."""
     out = new_tuple()
     u, v = (None, None) if hit is None else (hit.u, hit.v)
-    call_context().record(shape).local_normal_at_into(tuple_in(local_point), u, v, out)
+    call_context().record(shape).local_normal_at_into(tuple_buffer(local_point), u, v, out)
     return tuple_out(out)
 
 
 def world_to_object(shape: Shape, point: Tuple) -> Tuple:
     """Chapter 14: ``world_to_object_into`` on a new buffer."""
     out = new_tuple()
-    world_to_object_into(call_context().record(shape), tuple_in(point), out)
+    world_to_object_into(call_context().record(shape), tuple_buffer(point), out)
     return tuple_out(out)
 
 
 def normal_to_world(shape: Shape, normal: Tuple) -> Tuple:
     """Chapter 14: ``normal_to_world_into`` on a new buffer."""
     out = new_tuple()
-    normal_to_world_into(call_context().record(shape), tuple_in(normal), out)
+    normal_to_world_into(call_context().record(shape), tuple_buffer(normal), out)
     return tuple_out(out)
 
 
@@ -243,7 +234,7 @@ def filter_intersections(c: Shape, xs: Sequence[Intersection]) -> list[Intersect
 def pattern_at(pattern: Pattern, point: Tuple) -> Color:
     """Chapter 10: the pattern record's ``pattern_at_into`` on a new buffer."""
     out = new_color()
-    pattern_record(pattern).pattern_at_into(tuple_in(point), out)
+    pattern_record(pattern).pattern_at_into(tuple_buffer(point), out)
     return color_out(out)
 
 
@@ -252,7 +243,7 @@ def pattern_at_shape(pattern: Pattern, shape: Shape, world_point: Tuple) -> Colo
     ctx = call_context()
     out = new_color()
     shading.pattern_at_shape_into(
-        ctx, pattern_record(pattern), ctx.record(shape), tuple_in(world_point), out
+        ctx, pattern_record(pattern), ctx.record(shape), tuple_buffer(world_point), out
     )
     return color_out(out)
 

@@ -14,6 +14,10 @@ from __future__ import annotations
 
 from typing import Any
 
+from raytracer.colors import Color
+from raytracer.tuples import Tuple
+from variants.prealloc.errors import PreallocUnsupported
+
 Vec = list[float]  # a point or a vector [x, y, z, w], a colour [r, g, b], a ray, a matrix
 
 
@@ -30,6 +34,21 @@ def new_color() -> Vec:
 def new_ray() -> Vec:
     """A ray buffer ``[ox, oy, oz, ow, dx, dy, dz, dw]`` (naive twin: ``raytracer.rays.Ray``)."""
     return [0.0] * 8
+
+
+def color_buffer(c: Color, owner: str) -> Vec:
+    """A ``Color`` as ``[r, g, b]``; ``owner`` names where it came from, for the error."""
+    if not isinstance(c, Color):
+        raise PreallocUnsupported(
+            f"prealloc: {owner} must be a color, got {type(c).__name__} (nested patterns are "
+            "not supported)"
+        )
+    return [float(c.red), float(c.green), float(c.blue)]
+
+
+def tuple_buffer(t: Tuple) -> Vec:
+    """A ``Tuple`` as ``[x, y, z, w]``."""
+    return [float(t.x), float(t.y), float(t.z), float(t.w)]
 
 
 class IntersectionBuffer:

@@ -17,9 +17,18 @@ from collections.abc import Sequence
 
 from raytracer.lights import Light
 from raytracer.materials import Material
+from raytracer.shapes.cone import Cone
 from raytracer.shapes.csg import CSG
+from raytracer.shapes.cube import Cube
+from raytracer.shapes.cylinder import Cylinder
 from raytracer.shapes.group import Group
+from raytracer.shapes.plane import Plane
 from raytracer.shapes.shape import Shape
+from raytracer.shapes.smooth_triangle import SmoothTriangle
+from raytracer.shapes.sphere import Sphere
+from raytracer.shapes.test_shape import TestShape
+from raytracer.shapes.torus import Torus
+from raytracer.shapes.triangle import Triangle
 from raytracer.tracer import NO_SAMPLE, Sample
 from raytracer.world import World
 from variants.prealloc.buffers import (
@@ -30,9 +39,54 @@ from variants.prealloc.buffers import (
     new_ray,
     new_tuple,
 )
+from variants.prealloc.errors import PreallocUnsupported, check_reimplemented
+from variants.prealloc.groups import CSGRecord, GroupRecord
 from variants.prealloc.patterns import pattern_record
 from variants.prealloc.records import LightRecord, MaterialRecord
-from variants.prealloc.shapes import ShapeRecord, record_class
+from variants.prealloc.shapes import ShapeRecord
+from variants.prealloc.solids import (
+    ConeRecord,
+    CubeRecord,
+    CylinderRecord,
+    PlaneRecord,
+    SphereRecord,
+    TestShapeRecord,
+    TorusRecord,
+)
+from variants.prealloc.triangles import SmoothTriangleRecord, TriangleRecord
+
+# reference class -> (record class, the methods the record reimplements)
+SHAPE_RECORDS: dict[type[Shape], tuple[type[ShapeRecord], tuple[str, ...]]] = {
+    Sphere: (SphereRecord, ("local_intersect", "local_normal_at")),
+    Plane: (PlaneRecord, ("local_intersect", "local_normal_at")),
+    TestShape: (TestShapeRecord, ("local_intersect", "local_normal_at")),
+    Cube: (CubeRecord, ("local_intersect", "local_normal_at")),
+    Cylinder: (CylinderRecord, ("local_intersect", "_intersect_caps", "local_normal_at")),
+    Cone: (ConeRecord, ("local_intersect", "_intersect_caps", "local_normal_at")),
+    Torus: (TorusRecord, ("local_intersect", "local_normal_at")),
+    SmoothTriangle: (
+        SmoothTriangleRecord,
+        ("local_intersect", "intersection_at", "local_normal_at"),
+    ),
+    Triangle: (TriangleRecord, ("local_intersect", "intersection_at", "local_normal_at")),
+    Group: (GroupRecord, ("local_intersect", "local_normal_at")),
+    CSG: (CSGRecord, ("local_intersect", "local_normal_at")),
+}
+
+
+def record_class(shape: Shape) -> type[ShapeRecord]:
+    """The record class for a reference shape (or a subclass that only caches, like
+    ``cached``'s); ``PreallocUnsupported`` naming the type for anything else."""
+    for cls in type(shape).__mro__:
+        entry = SHAPE_RECORDS.get(cls)
+        if entry is not None:
+            record, methods = entry
+            check_reimplemented(shape, cls, methods)
+            return record
+    raise PreallocUnsupported(
+        f"prealloc: no implementation for shape type {type(shape).__name__}; it runs "
+        f"{', '.join(cls.__name__ for cls in SHAPE_RECORDS)}"
+    )
 
 
 def material_record(m: Material) -> MaterialRecord:

@@ -1,4 +1,4 @@
-"""Matrix and tuple arithmetic into caller-owned buffers (chapters 1, 3, 5, 6 and 14).
+"""Matrix and tuple arithmetic into caller-owned buffers (chapters 1, 3, 5 and 6).
 
 Every function here computes exactly what its naive twin computes, in the same order of
 floating-point operations (all four components, ``w`` included), so the results are equal
@@ -9,13 +9,9 @@ buffers: inputs are read into locals before anything is written.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
 
 from raytracer.matrices import Matrix
 from variants.prealloc.buffers import Vec
-
-if TYPE_CHECKING:
-    from variants.prealloc.shapes import ShapeRecord
 
 
 def flat_matrix(m: Matrix) -> Vec:
@@ -77,36 +73,3 @@ def reflect_into(v: Vec, n: Vec, out: Vec) -> None:
     out[1] = vy - ny * 2 * d
     out[2] = vz - nz * 2 * d
     out[3] = vw - nw * 2 * d
-
-
-def world_to_object_into(rec: ShapeRecord, point: Vec, out: Vec) -> None:
-    """Chapter 14: ``out = world_to_object(shape, point)``, through every parent (naive
-    twin: ``raytracer.shapes.space.world_to_object``)."""
-    if rec.parent is not None:
-        world_to_object_into(rec.parent, point, out)
-        point = out
-    transform_point_into(rec.inverse, point, out)
-
-
-def normal_to_world_into(rec: ShapeRecord, normal: Vec, out: Vec) -> None:
-    """Chapter 14: ``out = normal_to_world(shape, normal)``: through the inverse transpose,
-    w dropped, normalized (a zero normal stays zero), then through every parent (naive
-    twin: ``raytracer.shapes.space.normal_to_world``)."""
-    m = rec.inverse_transpose
-    x, y, z, w = normal
-    nx = m[0] * x + m[1] * y + m[2] * z + m[3] * w
-    ny = m[4] * x + m[5] * y + m[6] * z + m[7] * w
-    nz = m[8] * x + m[9] * y + m[10] * z + m[11] * w
-    if nx != 0 or ny != 0 or nz != 0:
-        length = math.sqrt(nx * nx + ny * ny + nz * nz + 0.0 * 0.0)
-        out[0] = nx / length
-        out[1] = ny / length
-        out[2] = nz / length
-        out[3] = 0.0 / length
-    else:
-        out[0] = nx
-        out[1] = ny
-        out[2] = nz
-        out[3] = 0.0
-    if rec.parent is not None:
-        normal_to_world_into(rec.parent, out, out)

@@ -33,9 +33,9 @@ from raytracer.textures import (
     planar_map,
     spherical_map,
 )
-from variants.prealloc.buffers import Vec
+from variants.prealloc.buffers import Vec, color_buffer
+from variants.prealloc.errors import PreallocUnsupported, check_reimplemented
 from variants.prealloc.geometry import flat_matrix
-from variants.prealloc.records import PreallocUnsupported, check_reimplemented, color_buffer
 
 
 class PatternRecord:

@@ -1,6 +1,5 @@
 """Flat, per-render copies of the reference's entities that the hot path reads (chapters 6,
-10, and the soft shadows bonus chapter): a light (point or area) and a material, plus the
-check that a shape or pattern really is one the ``prealloc`` variant reimplements.
+10, and the soft shadows bonus chapter): a light (point or area) and a material.
 
 A record is built once per render context (``TraceContext``) from the reference's objects;
 during the render only an area light's ``points`` buffer is written (its cells' points for
@@ -10,44 +9,11 @@ the sample being traced).
 from __future__ import annotations
 
 from collections.abc import Iterable
-from typing import TYPE_CHECKING
 
-from raytracer.colors import Color
 from raytracer.lights import AreaLight, Light
 from raytracer.materials import Material
-from raytracer.tuples import Tuple
-from variants.prealloc.buffers import Vec
-
-if TYPE_CHECKING:
-    from variants.prealloc.patterns import PatternRecord
-
-
-class PreallocUnsupported(TypeError):
-    """A shape or pattern type the ``prealloc`` variant has no implementation of. It never
-    falls back to the reference's code: it says which type it cannot run."""
-
-
-def check_reimplemented(obj: object, reference: type, methods: tuple[str, ...]) -> None:
-    """Refuse ``obj`` if its class replaces one of ``methods`` that ``prealloc`` reimplements
-    from ``reference`` (a learner's subclass with its own ``local_intersect``, say): running
-    ``reference``'s version instead would silently change the picture."""
-    cls = type(obj)
-    for name in methods:
-        if getattr(cls, name) is not getattr(reference, name):
-            raise PreallocUnsupported(
-                f"prealloc: {cls.__name__} overrides {reference.__name__}.{name}, which the "
-                f"prealloc variant reimplements; it cannot run {cls.__name__}'s own version"
-            )
-
-
-def color_buffer(c: Color, owner: str) -> Vec:
-    """A ``Color`` as ``[r, g, b]``; ``owner`` names where it came from, for the error."""
-    if not isinstance(c, Color):
-        raise PreallocUnsupported(
-            f"prealloc: {owner} must be a color, got {type(c).__name__} (nested patterns are "
-            "not supported)"
-        )
-    return [float(c.red), float(c.green), float(c.blue)]
+from variants.prealloc.buffers import Vec, color_buffer, tuple_buffer
+from variants.prealloc.patterns import PatternRecord
 
 
 class LightRecord:
@@ -99,9 +65,9 @@ class LightRecord:
             self.points: list[Vec] = [self.position]
             return
         self.area = True
-        self.corner = _tuple_buffer(light.corner)
-        self.uvec = _tuple_buffer(light.uvec)
-        self.vvec = _tuple_buffer(light.vvec)
+        self.corner = tuple_buffer(light.corner)
+        self.uvec = tuple_buffer(light.uvec)
+        self.vvec = tuple_buffer(light.vvec)
         self.usteps, self.vsteps, self.samples = light.usteps, light.vsteps, light.samples
         self.jitter_by = light.jitter_by
         self.sampled = light.jitter and index is not None
@@ -131,10 +97,6 @@ class LightRecord:
                 out[2] = cz + uz * su + vz * sv
                 out[3] = cw + uw * su + vw * sv
                 cell += 1
-
-
-def _tuple_buffer(t: Tuple) -> Vec:
-    return [float(t.x), float(t.y), float(t.z), float(t.w)]
 
 
 class MaterialRecord:

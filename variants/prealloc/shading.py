@@ -28,14 +28,15 @@ from variants.prealloc.buffers import (
     sort_intersections,
 )
 from variants.prealloc.context import TraceContext
-from variants.prealloc.geometry import (
-    position_into,
-    transform_point_into,
-    world_to_object_into,
-)
+from variants.prealloc.geometry import position_into, transform_point_into
 from variants.prealloc.patterns import PatternRecord
 from variants.prealloc.records import LightRecord, MaterialRecord
-from variants.prealloc.shapes import ShapeRecord, intersect_into, normal_at_into
+from variants.prealloc.shapes import (
+    ShapeRecord,
+    intersect_into,
+    normal_at_into,
+    world_to_object_into,
+)
 
 
 def _black(out: Vec) -> None:

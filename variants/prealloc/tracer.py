@@ -18,8 +18,8 @@ from raytracer.intersections import Computations, Intersection
 from raytracer.lights import Light, describe_lights
 from raytracer.materials import Material, light_fraction
 from raytracer.rays import Ray
-from raytracer.shapes.shape import Shape
-from raytracer.tracer import Tracer, light_and_point
+from raytracer.space import Placed
+from raytracer.tracer import Tracer, light_and_point, shape_lit
 from raytracer.tuples import Tuple
 from raytracer.world import World
 from variants.prealloc import shading
@@ -32,7 +32,6 @@ from variants.prealloc.api import (
     intersections_out,
     ray_in,
     ray_out,
-    tuple_in,
 )
 from variants.prealloc.buffers import (
     ComputationsBuffer,
@@ -40,6 +39,7 @@ from variants.prealloc.buffers import (
     Vec,
     new_color,
     new_ray,
+    tuple_buffer,
 )
 from variants.prealloc.context import TraceContext, material_record
 from variants.prealloc.records import LightRecord
@@ -75,7 +75,7 @@ class PreallocTracer(Tracer):
     def lighting(
         self,
         material: Material,
-        object: Shape | None,
+        object: Placed | None,
         light: Light,
         point: Tuple,
         eyev: Tuple,
@@ -87,16 +87,16 @@ class PreallocTracer(Tracer):
         the book's true or false, or the fraction of the light that arrives)."""
         intensity = light_fraction(in_shadow)
         ctx = call_context()
-        obj = None if object is None else ctx.record(object)
+        obj = None if object is None else ctx.record(shape_lit(object))
         out = new_color()
         shading.lighting_into(
             ctx,
             material_record(material),
             obj,
             LightRecord(light),
-            tuple_in(point),
-            tuple_in(eyev),
-            tuple_in(normalv),
+            tuple_buffer(point),
+            tuple_buffer(eyev),
+            tuple_buffer(normalv),
             intensity,
             out,
             bool(ambient),
@@ -140,12 +140,13 @@ class PreallocTracer(Tracer):
         """Chapter 8: ``is_shadowed`` with the context's shadow buffers (both of the
         reference's forms)."""
         light_position, point = light_and_point(w, first, second, "is_shadowed")
-        return shading.is_shadowed(call_context(w), tuple_in(light_position), tuple_in(point))
+        ctx = call_context(w)
+        return shading.is_shadowed(ctx, tuple_buffer(light_position), tuple_buffer(point))
 
     def intensity_at(self, light: Light, point: Tuple, w: World) -> float:
         """Soft shadows: ``intensity_at`` with the context's shadow buffers; the light as
         given (its own ``jitter_by``, as the reference's)."""
-        return shading.intensity_at(call_context(w), LightRecord(light), tuple_in(point))
+        return shading.intensity_at(call_context(w), LightRecord(light), tuple_buffer(point))
 
     def reflected_color(self, w: World, comps: Computations, remaining: int = 5) -> Color:
         """Chapter 11: ``reflected_color_into`` on a new buffer."""

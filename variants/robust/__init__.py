@@ -22,7 +22,11 @@ the last bits of the quadratics: by at most 0.001 per channel on
 
 from __future__ import annotations
 
+from raytracer.api import naive_api
+from variants.cached import twin_api
 from variants.registry import Variant, check_options, reject_inner, tracer_variant
+from variants.robust.geometry import ROBUST_CLASSES
+from variants.robust.shading import RobustTracer
 
 NAME = "robust"
 TOLERANCE = 1.0 / 255.0
@@ -45,11 +49,6 @@ def variant(inner: Variant | None = None, **options: str) -> Variant:
     """The registry's factory: no options, no inner variant."""
     reject_inner(NAME, inner)
     check_options(NAME, options)
-    from raytracer.api import naive_api
-    from variants.cached import twin_api
-    from variants.robust.geometry import ROBUST_CLASSES
-    from variants.robust.shading import RobustTracer
-
     api, overrides = twin_api(naive_api(), ROBUST_CLASSES)
     return tracer_variant(
         NAME,

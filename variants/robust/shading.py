@@ -42,7 +42,7 @@ from raytracer.materials import Material
 from raytracer.materials import lighting as phong
 from raytracer.rays import Ray, position
 from raytracer.shapes.shape import Shape
-from raytracer.shapes.space import world_to_object
+from raytracer.space import Placed, world_to_object
 from raytracer.tolerance import epsilon
 from raytracer.tracer import Tracer, light_and_point
 from raytracer.tuples import Tuple, dot, magnitude
@@ -138,7 +138,7 @@ class RobustTracer(Tracer):
     def lighting(
         self,
         material: Material,
-        object: Shape | None,
+        object: Placed | None,
         light: Light,
         point: Tuple,
         eyev: Tuple,

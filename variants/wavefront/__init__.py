@@ -38,6 +38,7 @@ from variants.registry import (
     reject_inner,
     tracer_variant,
 )
+from variants.wavefront.tracer import Options, WavefrontTracer
 
 NAME = "wavefront"
 OPTIONS = ("float32", "max_mb", "threads")
@@ -58,8 +59,6 @@ def variant(inner: Variant | None = None, **options: str) -> Variant:
     ``wavefront[float32,threads=2]``."""
     reject_inner(NAME, inner)
     check_options(NAME, options, OPTIONS)
-    from variants.wavefront.tracer import Options, WavefrontTracer
-
     defaults = Options()
     max_mb = parse_int(NAME, "max_mb", options.get("max_mb", str(defaults.max_mb)), 1, 1 << 20)
     float32 = parse_bool(NAME, "float32", options.get("float32", "off"))

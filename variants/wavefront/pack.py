@@ -1,4 +1,4 @@
-"""Packing a world into a ``Scene`` (chapters 5-16), from the tree ``variants.flatten``
+"""Packing a world into a ``Scene`` (chapters 5-16), from the tree ``variants.arrays.flatten``
 makes of it (of a scene description, with no book shape built, or of the book's shapes):
 each leaf a primitive row, each CSG shape a tree over its leaves (chapter 16), materials
 and transforms shared by identity.
@@ -21,24 +21,21 @@ from typing import Any
 
 import numpy as np
 
-from raytracer.colors import Color
 from raytracer.lights import PointLight
 from raytracer.materials import Material
 from raytracer.matrices import Matrix
 from raytracer.patterns import Pattern
-from raytracer.tuples import Tuple
 from raytracer.world import World
-from variants import flatten as F
+from scene.pattern_kinds import NO_PATTERN, PatternKind, names, reference_pattern_kind
+from variants.arrays import flatten as F
+from variants.arrays.rows import normal_rows, rgb, rows3x4, stretch, xyz
 from variants.wavefront.scene import (
     KIND_NAMES,
     MATERIAL_FIELDS,
-    NO_PATTERN,
     OPERATIONS,
     PATTERN_KINDS,
-    PATTERN_NAMES,
     SLOTS,
     SPHERE,
-    TEST_PATTERN,
     Bunch,
     Combine,
     CsgTree,
@@ -79,15 +76,15 @@ def _unknown(where: str, shape: object) -> Unsupported:
     )
 
 
-def pattern_kind(pattern: object, where: str) -> int:
-    """The pattern kind of a material's pattern; ``Unsupported`` for any other (a texture
-    map, a pattern of patterns)."""
-    kind = F.pattern_kind(pattern, PATTERN_KINDS)
+def pattern_kind(pattern: object, where: str) -> PatternKind:
+    """The kind of a material's pattern (``scene.pattern_kinds``); ``Unsupported`` for any
+    other (a texture map, a pattern of patterns)."""
+    kind = reference_pattern_kind(pattern, PATTERN_KINDS)
     if kind is not None:
         return kind
     raise Unsupported(
         f"wavefront: the pattern of {where} is {_a(type(pattern).__name__)}; the passes "
-        f"vectorize {PATTERN_NAMES}"
+        f"vectorize {names(PATTERN_KINDS)}"
     )
 
 
@@ -104,23 +101,6 @@ def _check_material(m: object, where: str) -> Material:
                 "not vectorize"
             )
     return m
-
-
-def _rows3x4(m: Matrix) -> list[float]:
-    return [float(v) for row in m.rows[:3] for v in row[:4]]
-
-
-def _normal_rows(inv: Matrix) -> list[float]:
-    """Rows 0-2 of the inverse's transpose, 3x3: element (r, c) is inv[c][r]."""
-    return [float(inv.rows[c][r]) for r in range(3) for c in range(3)]
-
-
-def _xyz(t: Tuple) -> list[float]:
-    return [float(t.x), float(t.y), float(t.z)]
-
-
-def _rgb(c: Color) -> list[float]:
-    return [float(c.red), float(c.green), float(c.blue)]
 
 
 def _pattern_inverse(pattern: Pattern, where: str) -> Matrix:
@@ -144,11 +124,8 @@ def _sphere_ball(fwd: Matrix) -> list[float]:
     """The world-space ball holding the unit sphere moved by ``fwd``: its centre, and the
     most ``fwd`` can stretch a unit vector (Gershgorin's bound on AᵀA, exact for a rotation
     times a scale along the axes)."""
-    a = [[float(v) for v in row[:3]] for row in fwd.rows[:3]]
-    gram = [[sum(a[k][i] * a[k][j] for k in range(3)) for j in range(3)] for i in range(3)]
-    stretch = math.sqrt(max(sum(abs(v) for v in row) for row in gram))
     centre = [float(fwd.rows[k][3]) for k in range(3)]
-    radius = stretch * (1 + 1e-6) + F.BOX_PAD * (1 + max(map(abs, centre)))
+    radius = stretch(fwd) * (1 + 1e-6) + F.BOX_PAD * (1 + max(map(abs, centre)))
     if not (math.isfinite(radius) and all(map(math.isfinite, centre))):
         return [0.0, 0.0, 0.0, math.inf]
     return [*centre, radius]
@@ -187,7 +164,7 @@ class Column:
 
 
 class _Packer:
-    """Walks a flattened world (``variants.flatten``), collecting rows."""
+    """Walks a flattened world (``variants.arrays.flatten``), collecting rows."""
 
     def __init__(self, shading: bool = True) -> None:
         self.shading = shading  # False: geometry only (materials and patterns not read)
@@ -216,8 +193,8 @@ class _Packer:
         found = self.xform_ids.get(key)
         if found is None:
             found = self.xform_ids[key] = len(self.inv_rows)
-            self.inv_rows.append(_rows3x4(inv))
-            self.nrm_rows.append(_normal_rows(inv))
+            self.inv_rows.append(rows3x4(inv))
+            self.nrm_rows.append(normal_rows(inv))
             self.keep.append(inv)
         return found
 
@@ -230,18 +207,19 @@ class _Packer:
             return found
         _check_material(m, where)
         values = [
-            *_rgb(m.color), float(m.ambient), float(m.diffuse), float(m.specular),
+            *rgb(m.color), float(m.ambient), float(m.diffuse), float(m.specular),
             float(m.shininess), float(m.reflective), float(m.transparency),
             float(m.refractive_index),
         ]  # fmt: skip
         pattern = NO_PATTERN
         pat = [0.0] * 18
         if m.pattern is not None:
-            pattern = pattern_kind(m.pattern, where)
-            pat[0:12] = _rows3x4(_pattern_inverse(m.pattern, where))
-            if pattern != TEST_PATTERN:
-                pat[12:15] = _rgb(m.pattern.a)
-                pat[15:18] = _rgb(m.pattern.b)
+            kind = pattern_kind(m.pattern, where)
+            pattern = kind.number
+            pat[0:12] = rows3x4(_pattern_inverse(m.pattern, where))
+            if kind.two_colors:
+                pat[12:15] = rgb(m.pattern.a)
+                pat[15:18] = rgb(m.pattern.b)
         found = self.mat_ids[key] = len(self.mat_rows)
         self.mat_rows.append(values + pat)
         self.pattern_kinds.append(pattern)
@@ -393,8 +371,8 @@ def _tables(nodes: list[F.Node], lights: list[Any], dtype: Any, shading: bool) -
                 f"wavefront: light {k} of the world is {_a(type(light).__name__)}; the passes "
                 "vectorize point lights only"
             )
-        positions.append(_xyz(light.position))
-        intensities.append(_rgb(light.intensity))
+        positions.append(xyz(light.position))
+        intensities.append(rgb(light.intensity))
     mats = _table(packer.mat_rows, 28)
     boxes = packer.unit_box.array(np.float64)
 

@@ -27,15 +27,8 @@ from typing import Any
 
 import numpy as np
 
-from raytracer.patterns import (
-    CheckersPattern,
-    GradientPattern,
-    Pattern,
-    RingPattern,
-    StripePattern,
-    TestPattern,
-)
 from scene.kinds import BY_NAME, KINDS
+from scene.pattern_kinds import PLAIN, pattern_kind
 from variants.registry import RenderError
 
 # primitive kinds: their numbers in the kind table (``scene.kinds``); every kind but the
@@ -48,16 +41,14 @@ SPHERE, PLANE, CUBE, CYLINDER, CONE, TORUS, TRIANGLE, SMOOTH = (
     )
 )  # fmt: skip
 
-# pattern kinds
-NO_PATTERN, STRIPES, GRADIENT, RINGS, CHECKERS, TEST_PATTERN = range(6)
-PATTERN_KINDS: tuple[tuple[type[Pattern], int], ...] = (
-    (StripePattern, STRIPES),
-    (GradientPattern, GRADIENT),
-    (RingPattern, RINGS),
-    (CheckersPattern, CHECKERS),
-    (TestPattern, TEST_PATTERN),
-)
-PATTERN_NAMES = "stripes, gradient, rings, checkers and the test pattern"
+# pattern kinds: their numbers in the pattern table (``scene.pattern_kinds``); the passes
+# vectorize chapter 10's, not the texture maps
+PATTERN_KINDS = PLAIN
+STRIPES, GRADIENT, RINGS, CHECKERS, TEST_PATTERN = (
+    pattern_kind(name).number
+    for name in ("stripe_pattern", "gradient_pattern", "ring_pattern", "checkers_pattern",
+                 "test_pattern")
+)  # fmt: skip
 
 # CSG operations (chapter 16)
 OPERATIONS = {"union": 0, "intersection": 1, "difference": 2}

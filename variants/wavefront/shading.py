@@ -14,13 +14,13 @@ from typing import Any
 
 import numpy as np
 
+from scene.pattern_kinds import NO_PATTERN
 from variants.wavefront import geometry as G
 from variants.wavefront.hits import Nearest, params, split
 from variants.wavefront.scene import (
     CHECKERS,
     GRADIENT,
     KIND_NAMES,
-    NO_PATTERN,
     PATTERN_KINDS,
     RINGS,
     STRIPES,

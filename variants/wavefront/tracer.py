@@ -12,7 +12,6 @@ the passes too.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Any
@@ -25,10 +24,10 @@ from raytracer.colors import Color
 from raytracer.intersections import Intersection
 from raytracer.rays import Ray
 from raytracer.tolerance import epsilon
-from raytracer.tracer import Progress, Region, Tracer, light_and_point
+from raytracer.tracer import Progress, Region, light_and_point
 from raytracer.tuples import Tuple, magnitude, normalize
 from raytracer.world import World
-from variants.numba.canvas import ArrayCanvas
+from variants.arrays.canvas import ArrayCanvas, ArrayCanvasTracer
 from variants.wavefront.camera import lens
 from variants.wavefront.hits import blocked, index, records
 from variants.wavefront.pack import pack, pack_scene
@@ -62,7 +61,7 @@ class Options:
         return max(MIN_CAP, self.max_mb * MIB // (self.threads * per_ray))
 
 
-class WavefrontTracer(Tracer):
+class WavefrontTracer(ArrayCanvasTracer):
     """The book's tracer as data-oriented passes over NumPy arrays."""
 
     __slots__ = ("options",)
@@ -210,19 +209,10 @@ class WavefrontTracer(Tracer):
         if not direct:
             self.write_region(image, whole, out.ravel().tolist())
 
-    def new_canvas(self, c: Camera) -> ArrayCanvas:
-        """Chapter 2: an array-backed canvas, float32 (8-bit images need no more, and a
-        4000x3000 canvas takes 137 MiB instead of 275)."""
-        return ArrayCanvas(np.zeros((c.vsize, c.hsize, 3), dtype=np.float32))
-
-    def write_region(self, image: Canvas, region: Region, values: Sequence[float]) -> None:
-        """A region's pixels into ``image``: one array assignment on an ``ArrayCanvas``."""
-        if not isinstance(image, ArrayCanvas):
-            super().write_region(image, region, values)
-            return
-        x0, y0, x1, y1 = region
-        block = np.asarray(values, dtype=image.array.dtype).reshape(y1 - y0, x1 - x0, 3)
-        image.array[y0:y1, x0:x1] = block
+    def canvas_dtype(self) -> Any:
+        """float32 whatever the passes compute in: 8-bit images need no more, and a
+        4000x3000 canvas takes 137 MiB instead of 275."""
+        return np.float32
 
     # -- what the harness asks of a tracer
 

@@ -1,12 +1,12 @@
-"""An OBJ model's triangles as the flattening tracers pack them (``variants.flatten``),
+"""An OBJ model's triangles as the flattening tracers pack them (``variants.arrays.flatten``),
 compiled: each triangle's corner p1, edges e1, e2 and face normal (chapter 15, the
 reference's arithmetic operation by operation: ``Triangle.__post_init__``, ``face_normal``)
 and its world-space box (the bonus chapter on bounding boxes, as ``flatten.world_boxes``
 computes it), in one pass over the mesh's arrays, with no temporary arrays.
 
 This file is self-contained (numba's ``cache=True`` checks only the file a function is in):
-it imports no project module. ``variants.flatten`` calls it through a small shared library
-(``compiled.library``), or through numba itself where no C compiler is found.
+it imports no project module. ``variants.arrays.flatten`` calls it through a small shared
+library (``compiled.library``), or through numba itself where no C compiler is found.
 """
 
 import math

@@ -38,24 +38,11 @@ from scene.build import make_material
 from scene.kinds import BY_NAME, SHAPE_METHODS, Kind, reference_kind, unchanged
 from scene.obj_mesh import Mesh
 from scene.shapes import GROUPS, ShapeSpec
+from variants.arrays.rows import rows3x4
 
 BOX_PAD = 1e-9  # a world box grows by this much (relative, plus absolute): no hit is lost
 
 Box = tuple[tuple[float, float, float], tuple[float, float, float]]
-
-
-PATTERN_METHODS = ("local_pattern_at",)
-"""What a subclass of a reference pattern must inherit unchanged to count as its kind."""
-
-
-def pattern_kind(pattern: object, table: Sequence[tuple[type, int]]) -> int | None:
-    """A tracer's number for ``pattern`` from its ``table`` of (reference pattern class,
-    number), most derived first; None for any other pattern (or a subclass that changes
-    how it colors)."""
-    for cls, number in table:
-        if isinstance(pattern, cls):
-            return number if unchanged(type(pattern), cls, PATTERN_METHODS) else None
-    return None
 
 
 class FlattenError(ValueError):
@@ -261,7 +248,7 @@ def union(boxes: Sequence[np.ndarray]) -> np.ndarray:
 
 MESH_PACKER = Recipe(
     name="pack_mesh",
-    module="variants.mesh_kernel",
+    module="variants.arrays.mesh_kernel",
     function="pack_mesh",
     parameters=(
         ("int64_t", "n"), ("double *", "positions"), ("int32_t *", "tri"), ("double *", "fwd"),
@@ -272,15 +259,15 @@ MESH_PACKER = Recipe(
 
 
 def mesh_geometry(mesh: Mesh, rows: slice, fwd: Matrix) -> tuple[np.ndarray, np.ndarray]:
-    """``Triangles.geometry`` of an OBJ model's triangles ``rows`` (``variants.mesh_kernel``):
-    the numbers ``face_normals`` and ``world_boxes`` give, term by term."""
+    """``Triangles.geometry`` of an OBJ model's triangles ``rows`` (``mesh_kernel``): the
+    numbers ``face_normals`` and ``world_boxes`` give, term by term."""
     tri = np.ascontiguousarray(mesh.triangles[rows], dtype=np.int32)
     n = len(tri)
     tg = np.empty((n, 12), dtype=np.float64)
     bounds = np.empty((n, 6), dtype=np.float64)
     if n:
         positions = np.ascontiguousarray(mesh.positions, dtype=np.float64)
-        m = np.array([float(v) for row in fwd.rows[:3] for v in row], dtype=np.float64)
+        m = np.array(rows3x4(fwd), dtype=np.float64)
         load(MESH_PACKER).function(n, positions, tri, m, tg, bounds, BOX_PAD)
     return tg, bounds
 

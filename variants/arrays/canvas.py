@@ -1,20 +1,24 @@
-"""The canvas a numba render returns (chapter 2): the reference's ``Canvas``, backed by the
-kernel's (height, width, 3) float array instead of a list of ``Color`` values.
+"""The canvas the array tracers render into (chapter 2): the reference's ``Canvas``, backed
+by a (height, width, 3) float array instead of a list of ``Color`` values.
 
 ``pixels`` is a list-like view of the array, so the reference's ``pixel_at``, ``write_pixel``
 and ``canvas_to_ppm`` work unchanged (reading and writing the array); ``to_rgb8()`` (used by
 ``harness.images.write_image``) and ``to_array()`` convert the whole image with numpy.
+``ArrayCanvasTracer`` is the two ``Tracer`` steps that make such a canvas and write a
+region into it, for a tracer whose regions come as arrays.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from typing import Any, overload
 
 import numpy as np
 
+from raytracer.camera import Camera
 from raytracer.canvas import Canvas
 from raytracer.colors import Color
+from raytracer.tracer import Region, Tracer
 
 
 class PixelView:
@@ -98,3 +102,27 @@ class ArrayCanvas(Canvas):
 
     def __reduce__(self) -> tuple[Any, ...]:
         return (ArrayCanvas, (self.array,))
+
+
+class ArrayCanvasTracer(Tracer):
+    """A tracer whose canvas is an ``ArrayCanvas`` of ``canvas_dtype()``: ``new_canvas``
+    makes one, ``write_region`` fills a region of it in one array assignment."""
+
+    __slots__ = ()
+
+    def canvas_dtype(self) -> Any:
+        """The float type of the canvases this tracer makes."""
+        return np.float64
+
+    def new_canvas(self, c: Camera) -> ArrayCanvas:
+        """Chapter 2: an array-backed canvas, all black."""
+        return ArrayCanvas(np.zeros((c.vsize, c.hsize, 3), dtype=self.canvas_dtype()))
+
+    def write_region(self, image: Canvas, region: Region, values: Sequence[float]) -> None:
+        """A region's pixels into ``image``: one array assignment on an ``ArrayCanvas``."""
+        if not isinstance(image, ArrayCanvas):
+            super().write_region(image, region, values)
+            return
+        x0, y0, x1, y1 = region
+        block = np.asarray(values, dtype=image.array.dtype).reshape(y1 - y0, x1 - x0, 3)
+        image.array[y0:y1, x0:x1] = block

@@ -1,0 +1,407 @@
+"""Kernel template: what a ray meets in the packed world (chapters 5, 7, 8, 14, 16).
+
+- ``nearest_hit`` tracks the closest non-negative t instead of building a sorted list; ties go
+  to the earlier primitive, as the reference's stable sort does. The items are a flat list,
+  a group's boxes or a bounding-volume hierarchy (``variants.numba.bvh``), all walked by
+  one loop without recursion (a box's item says where to go when the ray misses it). The
+  balls (``layout``) come after the items: one vectorized pass says which ones the ray can
+  reach at all (``ball_reach``), then those get the exact test.
+- ``shadowed`` counts, in one vectorized pass, the shadow-casting balls the ray can reach,
+  and tests them exactly only when there are any; then the items. Its shadow ray is the
+  book's, a unit vector and the distance to the light (along the unnormalized vector the
+  book's EPSILON parallel tests would see a direction |v| times too long).
+- ``csg_collect`` is chapter 16's list of a CSG tree, sorted and filtered in post-order.
+
+A world travels as one tuple ``w`` = (pf, pi, items, n_items, boxes, csg, balls, n_balls,
+lights, n_lights, (ti, tf), (tg, tn)) and a thread's scratch as ``s`` = (sf, si, tb) (see
+``layout``). A compact triangle's hit is (its run's row, its number in ``tg``), which
+sorts ties as the world's order does. The scratch holds one CSG tree's intersection list
+and per primitive of the tree where its entries start and, for n1/n2, how many come before
+the hit; the shadow memos (one per light) and ray counters; the hit ray's stack of item
+ranges; one value per ball.
+
+No function takes more than 30 arguments: Python compiles longer calls through a tuple,
+which numba's inliner refuses.
+"""
+
+# ruff: noqa: E501
+import math
+
+import numpy as np
+from numba import njit
+
+from variants.numba.kernel_flags import (
+    FASTMATH,
+    HAS_BOXES,
+    HAS_CSG,
+    HAS_SPHERE,
+    F,
+)
+from variants.numba.kernels_geometry import (
+    INF,
+    INLINE,
+    ONE,
+    ZERO,
+    ball_first,
+    box_range,
+    nth,
+)
+from variants.numba.kernels_prims import (
+    first_hit_in,
+    intersect_prim,
+)
+from variants.numba.kernels_shapes import (
+    compact_first_hit,
+)
+from variants.numba.layout import (
+    B_PRIM,
+    B_R2,
+    B_SHADOW,
+    B_X,
+    B_Y,
+    B_Z,
+    BV_FROM,
+    BV_TO,
+    CASTS_SHADOW,
+    CS_L,
+    CS_P,
+    CS_START,
+    CS_T,
+    CS_U,
+    CS_V,
+    CSG_END,
+    CSG_MID,
+    CSG_OP,
+    CSG_START,
+    I_BOX,
+    I_CSG,
+    I_PRIM,
+    I_TRI,
+    ITEM_A,
+    ITEM_B,
+    ITEM_C,
+    ITEM_D,
+    ITEM_TYPE,
+    MEMO,
+    MIN_SCRATCH,
+    NCSG,
+    NI,
+    NITEM,
+    NSF,
+    NSI,
+    OP_DIFFERENCE,
+    OP_INTERSECTION,
+    OP_UNION,
+)
+
+# ---- kernel template ----
+
+
+@njit(inline="always", fastmath=FASTMATH, error_model="numpy")
+def scratch(cs_size, cs_prims, n_balls):
+    """One thread's scratch (sf, si, tb) for a book-API call (the render's come from
+    Python): CSG lists, the shadow memo and ray counters, and one t per ball."""
+    size = max(cs_size, cs_prims, MIN_SCRATCH)
+    si = np.zeros(size * NSI, np.int64)
+    for j in range(size):
+        si[j * NSI + MEMO] = -1
+    return np.zeros(size * NSF, F), si, np.zeros(max(n_balls, 1), F)
+
+
+@njit(**INLINE)
+def csg_allowed(op, lhit, inl, inr):
+    """Chapter 16: ``intersection_allowed(op, lhit, inl, inr)``."""
+    if op == OP_UNION:
+        return (lhit and not inr) or (not lhit and not inl)
+    if op == OP_INTERSECTION:
+        return (lhit and inr) or (not lhit and inl)
+    if op == OP_DIFFERENCE:
+        return (lhit and not inr) or (not lhit and inl)
+    return False
+
+
+@njit(**INLINE)
+def move_entry(sf, si, source, target):
+    """Copy entry ``source`` of a CSG list to ``target`` (t, u, v, primitive, index)."""
+    sf[target * NSF + CS_T] = sf[source * NSF + CS_T]
+    sf[target * NSF + CS_U] = sf[source * NSF + CS_U]
+    sf[target * NSF + CS_V] = sf[source * NSF + CS_V]
+    si[target * NSI + CS_P] = si[source * NSI + CS_P]
+    si[target * NSI + CS_L] = si[source * NSI + CS_L]
+
+
+@njit(**INLINE)
+def csg_collect(w, s, i, ox, oy, oz, dx, dy, dz, eps):
+    """Chapter 16: the intersection list of CSG item i, sorted and filtered, in cs_*; returns
+    its length. Operations are applied in post-order, each to the stretch of the list its
+    primitives occupy, so nested CSG trees need no recursion."""
+    pf, pi, items, _, _, csg, _, _, _, _, _, _ = w
+    sf, si, _ = s
+    node = items[i * NITEM + ITEM_A]
+    last_node = items[i * NITEM + ITEM_B]
+    first = items[i * NITEM + ITEM_C]
+    n = 0
+    for q in range(first, items[i * NITEM + ITEM_D]):
+        si[(q - first) * NSI + CS_START] = n
+        m, t0, t1, t2, t3, u, v = intersect_prim(pf, pi, q, ox, oy, oz, dx, dy, dz, eps, INF)
+        for local in range(m):
+            sf[n * NSF + CS_T] = nth(t0, t1, t2, t3, local)
+            sf[n * NSF + CS_U] = u
+            sf[n * NSF + CS_V] = v
+            si[n * NSI + CS_P] = q
+            si[n * NSI + CS_L] = local
+            n += 1
+        while node < last_node and csg[node * NCSG + CSG_END] == q + 1:
+            start = si[(csg[node * NCSG + CSG_START] - first) * NSI + CS_START]
+            for j in range(start + 1, n):  # stable insertion sort by t
+                t = sf[j * NSF + CS_T]
+                u = sf[j * NSF + CS_U]
+                v = sf[j * NSF + CS_V]
+                p = si[j * NSI + CS_P]
+                local = si[j * NSI + CS_L]
+                k = j - 1
+                while k >= start and sf[k * NSF + CS_T] > t:
+                    move_entry(sf, si, k, k + 1)
+                    k -= 1
+                sf[(k + 1) * NSF + CS_T] = t
+                sf[(k + 1) * NSF + CS_U] = u
+                sf[(k + 1) * NSF + CS_V] = v
+                si[(k + 1) * NSI + CS_P] = p
+                si[(k + 1) * NSI + CS_L] = local
+            mid = csg[node * NCSG + CSG_MID]
+            op = csg[node * NCSG + CSG_OP]
+            inl = False
+            inr = False
+            kept = start
+            for j in range(start, n):
+                lhit = si[j * NSI + CS_P] < mid
+                if csg_allowed(op, lhit, inl, inr):
+                    move_entry(sf, si, j, kept)
+                    kept += 1
+                if lhit:
+                    inl = not inl
+                else:
+                    inr = not inr
+            n = kept
+            node += 1
+    return n
+
+
+@njit(**INLINE)
+def ball_soa_terms(balls, n_balls, j, ox, oy, oz, dx, dy, dz):
+    """``ball_terms`` (hb, cc) of ball j of the ball list."""
+    cx = ox - balls[B_X * n_balls + j]
+    cy = oy - balls[B_Y * n_balls + j]
+    cz = oz - balls[B_Z * n_balls + j]
+    return cx * dx + cy * dy + cz * dz, cx * cx + cy * cy + cz * cz - balls[B_R2 * n_balls + j]
+
+
+@njit(**INLINE)
+def ball_reach(balls, n_balls, j, ox, oy, oz, dx, dy, dz, a):
+    """Chapter 5: can the ray meet ball j at some t >= 0? Returns the discriminant
+    (hb² - a cc, see ``ball_terms``) when it can, else -1: the line misses the ball, or its
+    origin is outside and the ball behind. Written without branches (selects), so that a
+    loop over the balls becomes vector instructions; most balls stop here."""
+    hb, cc = ball_soa_terms(balls, n_balls, j, ox, oy, oz, dx, dy, dz)
+    discriminant = hb * hb - a * cc
+    ahead = discriminant >= ZERO and (cc <= ZERO or hb < ZERO)
+    return discriminant if ahead else -ONE
+
+
+@njit(**INLINE)
+def nearest_hit(w, s, ox, oy, oz, dx, dy, dz, eps):
+    """Chapters 5 and 7: the hit: (t, primitive, index in its list, u, v); primitive -1
+    when the ray hits nothing. Items first, then the balls: every ball's ``ball_reach``
+    at once (in ``tb``), then the exact test of those the ray can reach; ties go to the
+    earlier primitive, as in the reference's stable sort, in whatever order the items
+    come. A box the ray misses, or enters only beyond the nearest hit so far, sends it
+    past its contents; at a hierarchy's node split along an axis the ray travels down,
+    the second child is visited first (the first child and what follows the node wait
+    on the range stack in ``si``), so that near hits come early and cut boxes short."""
+    # long: one loop over every kind of item, each branch updating the hit so far and the
+    # range stack (numba passes no scalar by reference: a branch of its own would hand the
+    # hit's five values and the stack's top back and forth)
+    pf, pi, items, n_items, boxes, _, balls, n_balls, _, _, _, geo = w
+    sf, si, tb = s
+    a = dx * dx + dy * dy + dz * dz
+    ix = ONE / dx
+    iy = ONE / dy
+    iz = ONE / dz
+    best_t = INF
+    best_p = -1
+    best_l = 0
+    best_u = ZERO
+    best_v = ZERO
+    i = 0
+    end = n_items  # the items [i, end) come next; then the ranges on the stack
+    top = 0
+    while True:
+        if i >= end:
+            if not HAS_BOXES or top == 0:
+                break
+            top -= 1
+            i = si[top * NSI + BV_FROM]
+            end = si[top * NSI + BV_TO]
+            continue
+        kind = items[i * NITEM + ITEM_TYPE]
+        if kind == I_PRIM:
+            p = items[i * NITEM + ITEM_A]
+            found, t, local, u, v = first_hit_in(pf, pi, p, ox, oy, oz, dx, dy, dz, a, eps, best_t)
+            # a tie goes to the earlier primitive, whatever order the items are in
+            if found or (t == best_t and p < best_p):
+                best_t, best_p, best_l, best_u, best_v = t, p, local, u, v
+            i += 1
+        elif kind == I_TRI:
+            p = items[i * NITEM + ITEM_A]
+            q = items[i * NITEM + ITEM_B]
+            found, t, u, v = compact_first_hit(pf, p, geo[0], q, ox, oy, oz, dx, dy, dz, eps, best_t)
+            # a tie: the earlier run's row, then the earlier triangle of the run
+            if found or (t == best_t and (p < best_p or (p == best_p and q < best_l))):
+                best_t, best_p, best_l, best_u, best_v = t, p, q, u, v
+            i += 1
+        elif HAS_BOXES and kind == I_BOX:
+            if box_range(boxes, items[i * NITEM + ITEM_D], ox, oy, oz, ix, iy, iz, ZERO, best_t):
+                axis = items[i * NITEM + ITEM_C]
+                if axis != 0 and (dx if axis == 1 else (dy if axis == 2 else dz)) < ZERO:
+                    # a hierarchy's node split along an axis the ray goes down: its second
+                    # child first, then its first, then what follows the node
+                    skip = items[i * NITEM + ITEM_A]
+                    second = items[i * NITEM + ITEM_B]
+                    if skip < end:
+                        si[top * NSI + BV_FROM] = skip
+                        si[top * NSI + BV_TO] = end
+                        top += 1
+                    si[top * NSI + BV_FROM] = i + 1
+                    si[top * NSI + BV_TO] = second
+                    top += 1
+                    i = second
+                    end = skip
+                else:
+                    i += 1
+            else:
+                i = items[i * NITEM + ITEM_A]
+        elif HAS_CSG and kind == I_CSG:
+            m = csg_collect(w, s, i, ox, oy, oz, dx, dy, dz, eps)
+            for j in range(m):
+                t = sf[j * NSF + CS_T]
+                if t >= ZERO:
+                    if t < best_t or (t == best_t and si[j * NSI + CS_P] < best_p):
+                        best_t = t
+                        best_p = si[j * NSI + CS_P]
+                        best_l = si[j * NSI + CS_L]
+                        best_u = sf[j * NSF + CS_U]
+                        best_v = sf[j * NSF + CS_V]
+                    break  # the list is sorted: its first non-negative t is its hit
+            i += 1
+        else:
+            i += 1
+    if HAS_SPHERE and n_balls > 0:
+        return nearest_ball(balls, n_balls, tb, ox, oy, oz, dx, dy, dz, a,
+                            best_t, best_p, best_l, best_u, best_v)  # fmt: skip
+    return best_t, best_p, best_l, best_u, best_v
+
+
+@njit(**INLINE)
+def nearest_ball(balls, n_balls, tb, ox, oy, oz, dx, dy, dz, a, best_t, best_p, best_l, best_u,
+                 best_v):  # fmt: skip
+    """``nearest_hit``'s last pass: the hit (t, primitive, index, u, v) after the balls,
+    given the nearest so far. Every ball's ``ball_reach`` at once (in ``tb``), then the
+    exact test of those the ray can reach."""
+    reached = 0
+    for j in range(n_balls):
+        reach = ball_reach(balls, n_balls, j, ox, oy, oz, dx, dy, dz, a)
+        tb[j] = reach
+        reached += 1 if reach >= ZERO else 0
+    nearest = -1
+    for j in range(n_balls if reached > 0 else 0):
+        if tb[j] >= ZERO:
+            hb, cc = ball_soa_terms(balls, n_balls, j, ox, oy, oz, dx, dy, dz)
+            found, t, local = ball_first(hb, cc, a, best_t)
+            # a tie goes to the earlier primitive: best_p follows every ball taken, so a
+            # ball ties with the nearest so far, not with the item found before the balls
+            if found or (t == best_t and t != INF and int(balls[B_PRIM * n_balls + j]) < best_p):
+                best_t = t
+                best_l = local
+                best_p = int(balls[B_PRIM * n_balls + j])
+                nearest = j
+    if nearest >= 0:
+        best_u = ZERO
+        best_v = ZERO
+    return best_t, best_p, best_l, best_u, best_v
+
+
+@njit(**INLINE)
+def occludes(pf, pi, items, geo, i, ox, oy, oz, dx, dy, dz, a, eps, distance):
+    """Does item i (a primitive or a compact triangle) meet the ray before ``distance``?"""
+    p = items[i * NITEM + ITEM_A]
+    if items[i * NITEM + ITEM_TYPE] == I_TRI:
+        q = items[i * NITEM + ITEM_B]
+        found, _, _, _ = compact_first_hit(pf, p, geo[0], q, ox, oy, oz, dx, dy, dz, eps, distance)
+        return found
+    found, _, _, _, _ = first_hit_in(pf, pi, p, ox, oy, oz, dx, dy, dz, a, eps, distance)
+    return found
+
+
+@njit(**INLINE)
+def shadowed(w, s, ox, oy, oz, vx, vy, vz, eps, slot):
+    """Chapter 8 (``is_shadowed``): does a shadow-casting object lie between (ox, oy, oz)
+    and the light at the end of (vx, vy, vz)? The shadow ray is the book's: the unit
+    vector and the distance (the EPSILON parallel tests of planes, cubes, cylinders and
+    cones assume a unit direction: along the unnormalized vector they would meet a plane
+    |v| times sooner). Every ball at once first; then the primitive that answered yes last
+    time (on this thread, for this light: memo ``slot``), since neighbouring pixels usually
+    share their occluder; then the items. (Any occluder gives the same answer.)"""
+    pf, pi, items, n_items, boxes, _, balls, n_balls, _, _, _, geo = w
+    sf, si, _ = s
+    distance = math.sqrt(vx * vx + vy * vy + vz * vz)
+    if distance == ZERO:
+        return False
+    dx = vx / distance
+    dy = vy / distance
+    dz = vz / distance
+    a = dx * dx + dy * dy + dz * dz
+    ix = ONE / dx
+    iy = ONE / dy
+    iz = ONE / dz
+    if HAS_SPHERE and n_balls > 0:
+        reached = 0
+        for j in range(n_balls):  # counts only: no stores, so no overlap checks
+            reach = ball_reach(balls, n_balls, j, ox, oy, oz, dx, dy, dz, a)
+            reached += 1 if reach >= ZERO and balls[B_SHADOW * n_balls + j] != ZERO else 0
+        for j in range(n_balls if reached > 0 else 0):
+            if balls[B_SHADOW * n_balls + j] != ZERO:
+                hb, cc = ball_soa_terms(balls, n_balls, j, ox, oy, oz, dx, dy, dz)
+                found, _, _ = ball_first(hb, cc, a, distance)
+                if found:
+                    return True
+    last = si[slot * NSI + MEMO]
+    if last >= 0 and occludes(pf, pi, items, geo, last, ox, oy, oz, dx, dy, dz, a, eps, distance):
+        return True
+    i = 0
+    while i < n_items:
+        kind = items[i * NITEM + ITEM_TYPE]
+        if kind in (I_PRIM, I_TRI):
+            p = items[i * NITEM + ITEM_A]
+            if (
+                pi[p * NI + CASTS_SHADOW] != 0
+                and i != last
+                and occludes(pf, pi, items, geo, i, ox, oy, oz, dx, dy, dz, a, eps, distance)
+            ):
+                si[slot * NSI + MEMO] = i
+                return True
+            i += 1
+        elif HAS_BOXES and kind == I_BOX:
+            if box_range(boxes, items[i * NITEM + ITEM_D], ox, oy, oz, ix, iy, iz, ZERO, distance):
+                i += 1
+            else:
+                i = items[i * NITEM + ITEM_A]
+        elif HAS_CSG and kind == I_CSG:
+            m = csg_collect(w, s, i, ox, oy, oz, dx, dy, dz, eps)
+            for j in range(m):
+                t = sf[j * NSF + CS_T]
+                if t >= ZERO and t < distance and pi[si[j * NSI + CS_P] * NI + CASTS_SHADOW] != 0:
+                    return True
+            i += 1
+        else:
+            i += 1
+    return False

@@ -1,0 +1,475 @@
+"""Kernel template: each shape kind's intersection and normal in object space (chapters 5,
+9, 12, 13, 15, and the torus's quartic), repeating the reference's arithmetic operation by
+operation; a kind's code is compiled in only for a scene that has the kind
+(``kernel_flags``). Triangles come one per row or as compact runs (``layout``: ``tg``,
+``tn``).
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from variants.numba.kernel_flags import (
+    F,
+)
+from variants.numba.kernels_geometry import (
+    INF,
+    INLINE,
+    ONE,
+    TWO,
+    ZERO,
+    to_object_point,
+    to_object_vector,
+)
+from variants.numba.layout import (
+    CLOSED,
+    MAXIMUM,
+    MINIMUM,
+    NF,
+    NI,
+    NTG,
+    TG_E1,
+    TG_E2,
+    TG_P1,
+    TORUS_MAJOR,
+    TORUS_MINOR,
+    TRI_E1,
+    TRI_E2,
+    TRI_P1,
+)
+
+# ---- kernel template ----
+
+# the torus's quartic is solved in float64 whatever F is (``torus_intersect``)
+EQN_EPS = 1e-9  # ``raytracer.quartic.EQN_EPS``
+D_INF, D_ZERO, D_ONE, D_TWO, D_THIRD, D_PI = np.inf, 0.0, 1.0, 2.0, 1.0 / 3.0, math.pi
+
+
+@njit(**INLINE)
+def sphere_intersect(ox, oy, oz, dx, dy, dz):
+    """Chapter 5: the unit sphere: (count, t1, t2)."""
+    a = dx * dx + dy * dy + dz * dz
+    b = TWO * (dx * ox + dy * oy + dz * oz)
+    c = (ox * ox + oy * oy + oz * oz) - ONE
+    discriminant = b * b - F(4.0) * a * c
+    if discriminant < ZERO:
+        return 0, INF, INF
+    root = math.sqrt(discriminant)
+    return 2, (-b - root) / (TWO * a), (-b + root) / (TWO * a)
+
+
+@njit(**INLINE)
+def plane_intersect(oy, dy, eps):
+    """Chapter 9: the xz plane: (count, t)."""
+    if abs(dy) < eps:
+        return 0, INF
+    return 1, -oy / dy
+
+
+@njit(**INLINE)
+def check_axis(origin, direction, eps):
+    """Chapter 12: where the ray crosses the faces at -1 and 1 on one axis, nearest first."""
+    tmin_numerator = -ONE - origin
+    tmax_numerator = ONE - origin
+    if abs(direction) >= eps:
+        tmin = tmin_numerator / direction
+        tmax = tmax_numerator / direction
+    else:
+        tmin = math.copysign(INF, tmin_numerator)
+        tmax = math.copysign(INF, tmax_numerator)
+    if tmin > tmax:
+        return tmax, tmin
+    return tmin, tmax
+
+
+@njit(**INLINE)
+def cube_intersect(ox, oy, oz, dx, dy, dz, eps):
+    """Chapter 12: the slab test on the cube from -1 to 1: (count, tmin, tmax)."""
+    xtmin, xtmax = check_axis(ox, dx, eps)
+    ytmin, ytmax = check_axis(oy, dy, eps)
+    ztmin, ztmax = check_axis(oz, dz, eps)
+    tmin = max(xtmin, ytmin, ztmin)
+    tmax = min(xtmax, ytmax, ztmax)
+    if tmin > tmax:
+        return 0, INF, INF
+    return 2, tmin, tmax
+
+
+@njit(**INLINE)
+def cube_normal(x, y, z):
+    """Chapter 12: along the axis of the largest coordinate (x, then y, wins a tie)."""
+    ax = abs(x)
+    ay = abs(y)
+    az = abs(z)
+    largest = max(ax, ay, az)
+    if largest == ax:
+        return x, ZERO, ZERO
+    if largest == ay:
+        return ZERO, y, ZERO
+    return ZERO, ZERO, z
+
+
+@njit(**INLINE)
+def check_cap(ox, oz, dx, dz, t, radius):
+    """Chapter 13: is the point at t within ``radius`` of the y axis?"""
+    x = ox + t * dx
+    z = oz + t * dz
+    return x * x + z * z <= radius * radius
+
+
+@njit(**INLINE)
+def cylinder_intersect(pf, pi, p, ox, oy, oz, dx, dy, dz, eps):
+    """Chapter 13: the sides between minimum and maximum, then the caps when closed:
+    (count, t0, t1, t2, t3)."""
+    lo = pf[p * NF + MINIMUM]
+    hi = pf[p * NF + MAXIMUM]
+    n = 0
+    t0 = INF
+    t1 = INF
+    t2 = INF
+    t3 = INF
+    a = dx * dx + dz * dz
+    if not abs(a) < eps:
+        b = TWO * ox * dx + TWO * oz * dz
+        c = ox * ox + oz * oz - ONE
+        discriminant = b * b - F(4.0) * a * c
+        if discriminant < ZERO:
+            return 0, t0, t1, t2, t3
+        root = math.sqrt(discriminant)
+        s0 = (-b - root) / (TWO * a)
+        s1 = (-b + root) / (TWO * a)
+        if s0 > s1:
+            s0, s1 = s1, s0
+        y0 = oy + s0 * dy
+        if lo < y0 and y0 < hi:
+            t0 = s0
+            n = 1
+        y1 = oy + s1 * dy
+        if lo < y1 and y1 < hi:
+            if n == 0:
+                t0 = s1
+            else:
+                t1 = s1
+            n += 1
+    if pi[p * NI + CLOSED] != 0 and not abs(dy) < eps:
+        for cap in (lo, hi):
+            t = (cap - oy) / dy
+            if check_cap(ox, oz, dx, dz, t, ONE):
+                if n == 0:
+                    t0 = t
+                elif n == 1:
+                    t1 = t
+                elif n == 2:
+                    t2 = t
+                else:
+                    t3 = t
+                n += 1
+    return n, t0, t1, t2, t3
+
+
+@njit(**INLINE)
+def cylinder_normal(pf, p, x, y, z, eps):
+    """Chapter 13: the caps' normals point along y, the side's away from the axis."""
+    distance = x * x + z * z
+    if distance < ONE and y >= pf[p * NF + MAXIMUM] - eps:
+        return ZERO, ONE, ZERO
+    if distance < ONE and y <= pf[p * NF + MINIMUM] + eps:
+        return ZERO, -ONE, ZERO
+    return x, ZERO, z
+
+
+@njit(**INLINE)
+def cone_intersect(pf, pi, p, ox, oy, oz, dx, dy, dz, eps):
+    """Chapter 13: the double cone x² + z² = y² between minimum and maximum (one crossing
+    when the ray runs parallel to one half), then the caps: (count, t0, t1, t2, t3)."""
+    lo = pf[p * NF + MINIMUM]
+    hi = pf[p * NF + MAXIMUM]
+    n = 0
+    t0 = INF
+    t1 = INF
+    t2 = INF
+    t3 = INF
+    a = dx * dx - dy * dy + dz * dz
+    b = TWO * (ox * dx - oy * dy + oz * dz)
+    c = ox * ox - oy * oy + oz * oz
+    sides = 0
+    s0 = INF
+    s1 = INF
+    if abs(a) < eps:
+        if abs(b) >= eps:
+            s0 = -c / (TWO * b)
+            sides = 1
+    else:
+        discriminant = b * b - F(4.0) * a * c
+        if discriminant >= ZERO:
+            root = math.sqrt(discriminant)
+            s0 = (-b - root) / (TWO * a)
+            s1 = (-b + root) / (TWO * a)
+            if s0 > s1:
+                s0, s1 = s1, s0
+            sides = 2
+    for side in range(sides):
+        s = s0 if side == 0 else s1
+        y = oy + s * dy
+        if lo < y and y < hi:
+            if n == 0:
+                t0 = s
+            else:
+                t1 = s
+            n += 1
+    if pi[p * NI + CLOSED] != 0 and not abs(dy) < eps:
+        for cap in (lo, hi):
+            t = (cap - oy) / dy
+            if check_cap(ox, oz, dx, dz, t, abs(cap)):
+                if n == 0:
+                    t0 = t
+                elif n == 1:
+                    t1 = t
+                elif n == 2:
+                    t2 = t
+                else:
+                    t3 = t
+                n += 1
+    return n, t0, t1, t2, t3
+
+
+@njit(**INLINE)
+def cone_normal(pf, p, x, y, z, eps):
+    """Chapter 13: the caps' normals point along y; the sides' slope outwards (zero at the
+    tip)."""
+    distance = x * x + z * z
+    hi = pf[p * NF + MAXIMUM]
+    lo = pf[p * NF + MINIMUM]
+    if distance < hi * hi and y >= hi - eps:
+        return ZERO, ONE, ZERO
+    if distance < lo * lo and y <= lo + eps:
+        return ZERO, -ONE, ZERO
+    side = math.sqrt(distance)
+    if y > ZERO:
+        side = -side
+    return x, side, z
+
+
+@njit(**INLINE)
+def triangle_intersect(pf, p, ox, oy, oz, dx, dy, dz, eps):
+    """Chapter 15: Möller-Trumbore for a triangle of its own row: (count, t, u, v)."""
+    m = p * NF
+    return moller_trumbore(pf, m + TRI_P1, m + TRI_E1, m + TRI_E2, ox, oy, oz, dx, dy, dz, eps)
+
+
+@njit(**INLINE)
+def compact_intersect(tg, t, ox, oy, oz, dx, dy, dz, eps):
+    """Chapter 15: Möller-Trumbore for compact triangle t (``tg``): (count, t, u, v)."""
+    m = t * NTG
+    return moller_trumbore(tg, m + TG_P1, m + TG_E1, m + TG_E2, ox, oy, oz, dx, dy, dz, eps)
+
+
+@njit(**INLINE)
+def moller_trumbore(table, at_p1, at_e1, at_e2, ox, oy, oz, dx, dy, dz, eps):
+    """Chapter 15's intersection of a triangle whose p1, e1 and e2 are in ``table`` at
+    those offsets: (count, t, u, v), the reference's arithmetic step by step."""
+    e1x = table[at_e1]
+    e1y = table[at_e1 + 1]
+    e1z = table[at_e1 + 2]
+    e2x = table[at_e2]
+    e2y = table[at_e2 + 1]
+    e2z = table[at_e2 + 2]
+    cx = dy * e2z - dz * e2y
+    cy = dz * e2x - dx * e2z
+    cz = dx * e2y - dy * e2x
+    det = e1x * cx + e1y * cy + e1z * cz
+    if abs(det) < eps:
+        return 0, INF, ZERO, ZERO
+    f = ONE / det
+    px = ox - table[at_p1]
+    py = oy - table[at_p1 + 1]
+    pz = oz - table[at_p1 + 2]
+    u = f * (px * cx + py * cy + pz * cz)
+    if u < ZERO or u > ONE:
+        return 0, INF, ZERO, ZERO
+    qx = py * e1z - pz * e1y
+    qy = pz * e1x - px * e1z
+    qz = px * e1y - py * e1x
+    v = f * (dx * qx + dy * qy + dz * qz)
+    if v < ZERO or u + v > ONE:
+        return 0, INF, ZERO, ZERO
+    return 1, f * (e2x * qx + e2y * qy + e2z * qz), u, v
+
+
+@njit(**INLINE)
+def smooth_normal(table, n1, n2, n3, u, v):
+    """Chapter 15: the corner normals (in ``table`` at offsets n1, n2, n3) blended by the
+    hit's u and v."""
+    w = ONE - u - v
+    return (
+        table[n2] * u + table[n3] * v + table[n1] * w,
+        table[n2 + 1] * u + table[n3 + 1] * v + table[n1 + 1] * w,
+        table[n2 + 2] * u + table[n3 + 2] * v + table[n1 + 2] * w,
+    )
+
+
+@njit(**INLINE)
+def compact_first_hit(pf, p, tg, t, ox, oy, oz, dx, dy, dz, eps, tmax):
+    """``first_hit_in`` for compact triangle t of run row p: (found, t, u, v)."""
+    lox, loy, loz = to_object_point(pf, p, ox, oy, oz)
+    ldx, ldy, ldz = to_object_vector(pf, p, dx, dy, dz)
+    n, hit, u, v = compact_intersect(tg, t, lox, loy, loz, ldx, ldy, ldz, eps)
+    best = hit if n > 0 and hit >= ZERO else INF
+    return best < tmax, best, u, v
+
+
+@njit(**INLINE)
+def compact_all(pf, p, tg, t, ox, oy, oz, dx, dy, dz, eps):
+    """``intersect_prim`` (every t) for compact triangle t of run row p: (count, t)."""
+    lox, loy, loz = to_object_point(pf, p, ox, oy, oz)
+    ldx, ldy, ldz = to_object_vector(pf, p, dx, dy, dz)
+    n, hit, _, _ = compact_intersect(tg, t, lox, loy, loz, ldx, ldy, ldz, eps)
+    return n, hit
+
+
+@njit(**INLINE)
+def is_zero(x):
+    """``raytracer.quartic.is_zero``: within EQN_EPS of zero."""
+    return -EQN_EPS < x < EQN_EPS
+
+
+@njit(**INLINE)
+def cube_root(x):
+    """The real cube root, sign kept (``raytracer.quartic.cube_root``)."""
+    return math.copysign(abs(x) ** D_THIRD, x)
+
+
+@njit(**INLINE)
+def sort4(n, a, b, c, d):
+    """The first n of (a, b, c, d) in increasing order (the rest infinite)."""
+    if n < 4:
+        d = D_INF
+    if n < 3:
+        c = D_INF
+    if n < 2:
+        b = D_INF
+    if n < 1:
+        a = D_INF
+    if a > b:
+        a, b = b, a
+    if c > d:
+        c, d = d, c
+    if a > c:
+        a, c = c, a
+    if b > d:
+        b, d = d, b
+    if b > c:
+        b, c = c, b
+    return a, b, c, d
+
+
+@njit(**INLINE)
+def quadratic_roots(b, c):
+    """``raytracer.quartic.solve_quadratic(1, b, c)``: (count, r0, r1)."""
+    p = b / D_TWO
+    discriminant = p * p - c
+    if is_zero(discriminant):
+        return 1, -p, D_INF
+    if discriminant < D_ZERO:
+        return 0, D_INF, D_INF
+    root = math.sqrt(discriminant)
+    return 2, -root - p, root - p
+
+
+@njit(**INLINE)
+def cubic_roots(big_a, big_b, big_c):
+    """``raytracer.quartic.solve_cubic(1, A, B, C)`` step by step: (count, r0, r1, r2),
+    increasing."""
+    square_a = big_a * big_a
+    p = D_THIRD * (-D_THIRD * square_a + big_b)
+    q = 0.5 * (2.0 / 27.0 * big_a * square_a - D_THIRD * big_a * big_b + big_c)
+    cube_p = p * p * p
+    discriminant = q * q + cube_p
+    shift = D_THIRD * big_a
+    if is_zero(discriminant):
+        if is_zero(q):
+            return 1, D_ZERO - shift, D_INF, D_INF
+        u = cube_root(-q)
+        r0, r1, _, _ = sort4(2, D_TWO * u - shift, -u - shift, D_INF, D_INF)
+        return 2, r0, r1, D_INF
+    if discriminant < D_ZERO:
+        phi = D_THIRD * math.acos(max(-D_ONE, min(D_ONE, -q / math.sqrt(-cube_p))))
+        t = D_TWO * math.sqrt(-p)
+        r0, r1, r2, _ = sort4(
+            3, t * math.cos(phi) - shift, -t * math.cos(phi + D_PI / 3.0) - shift,
+            -t * math.cos(phi - D_PI / 3.0) - shift, D_INF,
+        )  # fmt: skip
+        return 3, r0, r1, r2
+    root = math.sqrt(discriminant)
+    return 1, cube_root(root - q) - cube_root(root + q) - shift, D_INF, D_INF
+
+
+@njit(**INLINE)
+def quartic_roots(a, b, c, d, e):
+    """``raytracer.quartic.solve_quartic`` step by step (Ferrari's method): (count, r0, r1,
+    r2, r3), increasing."""
+    big_a = b / a
+    big_b = c / a
+    big_c = d / a
+    big_d = e / a
+    square_a = big_a * big_a
+    p = -3.0 / 8.0 * square_a + big_b
+    q = 1.0 / 8.0 * square_a * big_a - 0.5 * big_a * big_b + big_c
+    r = (
+        -3.0 / 256.0 * square_a * square_a + 1.0 / 16.0 * square_a * big_b
+        - 0.25 * big_a * big_c + big_d
+    )  # fmt: skip
+    shift = 0.25 * big_a
+    if is_zero(r):
+        n, c0, c1, c2 = cubic_roots(D_ZERO, p, q)
+        r0, r1, r2, r3 = sort4(4, D_ZERO - shift, c0 - shift, c1 - shift, c2 - shift)
+        return n + 1, r0, r1, r2, r3
+    n, z0, z1, z2 = cubic_roots(-0.5 * p, -r, 0.5 * r * p - 1.0 / 8.0 * q * q)
+    z = z0 if n == 1 else (z1 if n == 2 else z2)  # the largest
+    u = z * z - r
+    v = D_TWO * z - p
+    if (u < D_ZERO and not is_zero(u)) or (v < D_ZERO and not is_zero(v)):
+        return 0, D_INF, D_INF, D_INF, D_INF
+    u = D_ZERO if is_zero(u) else math.sqrt(u)
+    v = D_ZERO if is_zero(v) else math.sqrt(v)
+    n1, a0, a1 = quadratic_roots(-v if q < D_ZERO else v, z - u)
+    n2, b0, b1 = quadratic_roots(v if q < D_ZERO else -v, z + u)
+    # a missing root is D_INF (D_INF - shift too): sorted, they come last
+    r0, r1, r2, r3 = sort4(4, a0 - shift, a1 - shift, b0 - shift, b1 - shift)
+    return n1 + n2, r0, r1, r2, r3
+
+
+@njit(**INLINE)
+def torus_intersect(pf, p, ox, oy, oz, dx, dy, dz):
+    """Chapter 20: the quartic's real roots (``raytracer.shapes.torus``): (count, t0, t1,
+    t2, t3), increasing. Solved in float64 under the float32 option too: in float32 the
+    closed form loses whole stretches of tube (``rtc stability``'s torus rows)."""
+    big = np.float64(pf[p * NF + TORUS_MAJOR])
+    small = np.float64(pf[p * NF + TORUS_MINOR])
+    ox, oy, oz = np.float64(ox), np.float64(oy), np.float64(oz)
+    dx, dy, dz = np.float64(dx), np.float64(dy), np.float64(dz)
+    dd = dx * dx + dy * dy + dz * dz
+    od = ox * dx + oy * dy + oz * dz
+    oo = ox * ox + oy * oy + oz * oz
+    k = oo + big * big - small * small
+    four_r2 = 4.0 * big * big
+    a = dd * dd
+    if a == 0.0:
+        return 0, INF, INF, INF, INF
+    b = 4.0 * dd * od
+    c = 2.0 * dd * k + 4.0 * od * od - four_r2 * (dx * dx + dz * dz)
+    d = 4.0 * od * k - 2.0 * four_r2 * (ox * dx + oz * dz)
+    e = k * k - four_r2 * (ox * ox + oz * oz)
+    n, t0, t1, t2, t3 = quartic_roots(a, b, c, d, e)
+    return n, F(t0), F(t1), F(t2), F(t3)
+
+
+@njit(**INLINE)
+def torus_normal(pf, p, x, y, z):
+    """Chapter 20: from the tube's centre circle (``Torus.local_normal_at``)."""
+    across = math.sqrt(x * x + z * z)
+    if across == ZERO:
+        return ZERO, ONE if y >= ZERO else -ONE, ZERO
+    scale = pf[p * NF + TORUS_MAJOR] / across
+    return x - x * scale, y, z - z * scale
