@@ -29,14 +29,15 @@ from typing import Any
 
 import numpy as np
 
+from groundwork.sizes import Size
 from harness import figures, imagediff, sections
+from harness.budget import scaled
 from harness.jobs import JobOutcome, run_job
 from harness.machine import describe_machine
 from harness.plan import BASELINE, BenchSettings
 from harness.presets import SceneRef
 from harness.results import RunWriter, pyperf_document
 from harness.sharing import Watch
-from harness.sizes import Size, scaled
 from harness.usage import available_cores
 
 BASELINE_BUDGET_FACTOR = 3.0  # naive's rows get three budgets: every speed-up depends on them

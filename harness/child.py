@@ -11,7 +11,7 @@ A job names a variant, a scene and the settings, and a list of tasks:
 - ``row``: the table's measurement. A first tiny render warms the variant up (its time, which
   includes any JIT compilation, is reported apart); probes of growing size estimate a
   render's time as a fixed cost plus a cost per pixel; the budget rule picks the size
-  (``harness.sizes.fit_to_budget``) for the ``repeat`` timed renders (wall time, CPU time of
+  (``harness.budget.fit_to_budget``) for the ``repeat`` timed renders (wall time, CPU time of
   the process tree, peak memory). Then, untimed, at the comparison size (the same for every
   row of a table, so the figures compare): one render counting allocations, whose picture is
   the one compared with naive's, and one counting rays (when the variant can be counted).
@@ -35,10 +35,11 @@ from typing import Any
 
 import numpy as np
 
+from groundwork.sizes import Size
 from harness import alloccount, figures, jobs, raycount, usage
+from harness.budget import Estimate, fit_to_budget, scaled
 from harness.imagediff import canvas_array
 from harness.presets import SceneRef, build_scene
-from harness.sizes import Estimate, Size, fit_to_budget, scaled
 
 PROBE_SECONDS = 0.25  # a probe this long is a good enough estimate
 WARM_PIXELS = 12  # the warm-up renders' size (the second is the first probe)
@@ -302,7 +303,7 @@ def _announce_compiles(log: Callable[[str], None]) -> None:
     kind of scene compiles for tens of seconds, which would otherwise pass in silence)."""
     if "variants.numba" not in sys.modules:
         return
-    from rtc.progress import compile_ticker
+    from groundwork.progress import compile_ticker
     from variants.numba.specialize import on_compile
 
     def told(what: str, seconds: float | None) -> None:

@@ -33,8 +33,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from groundwork.sizes import Size
 from harness.presets import SceneRef
-from harness.sizes import Size
 
 if TYPE_CHECKING:
     from harness.bench import Bench

@@ -455,8 +455,8 @@ def parse_percent(text: str) -> float:
 def resolve_run(spec: str, results: Path) -> Path:
     """A run file from ``spec``: a path, a run's stem (``bench-2026...``, in
     ``results/runs/``), ``latest`` or ``previous`` (the newest and the one before it)."""
+    from groundwork.files import describe
     from harness.results import list_runs, runs_dir
-    from scene.files import describe
 
     if spec in ALIASES:
         runs = list_runs(results)

@@ -14,7 +14,7 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from scene.files import read_bytes
+from groundwork.files import read_bytes
 
 
 @dataclass

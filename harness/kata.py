@@ -15,7 +15,7 @@ SECTION = "kata"
 
 
 def measure(bench: Bench) -> None:
-    """Its progress (``rtc.progress``: a bar on a terminal, else a line every few seconds)
+    """Its progress (``groundwork.progress``: a bar on a terminal, else a line every few seconds)
     goes to our stderr."""
     bench.log(f"{SECTION}: rtc kata --variant all --json")
     try:

@@ -34,9 +34,9 @@ import statistics
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
+from groundwork.sizes import Size
 from harness import figures, imagediff
 from harness.presets import SCENES_DIR
-from harness.sizes import Size
 
 if TYPE_CHECKING:
     import numpy as np

@@ -35,7 +35,7 @@ from typing import TYPE_CHECKING, Any
 
 import yaml
 
-from harness.sizes import Size
+from groundwork.sizes import Size
 
 if TYPE_CHECKING:
     from harness.bench import Bench

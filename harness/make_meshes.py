@@ -36,13 +36,13 @@ from __future__ import annotations
 
 import argparse
 import math
-import os
 import random
 import sys
-import tempfile
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
+
+from groundwork import files
 
 SCENES = Path(__file__).resolve().parent / "scenes"
 GENERATED = SCENES / "meshes"  # ignored by git (.gitignore): written when first needed
@@ -336,15 +336,7 @@ def write_atomically(path: Path, lines: Iterator[str]) -> Path:
     """Write ``lines`` to ``path`` through a temporary file in the same folder, renamed
     into place: a reader sees the whole file or none (an interrupted write leaves nothing)."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="ascii", newline="\n") as out:
-            out.writelines(f"{line}\n" for line in lines)
-        os.chmod(temporary, 0o644)
-        os.replace(temporary, path)
-    finally:
-        Path(temporary).unlink(missing_ok=True)
-    return path
+    return files.write_atomically(path, "".join(f"{line}\n" for line in lines).encode("ascii"))
 
 
 def is_current(path: Path, spec: MeshSpec) -> bool:

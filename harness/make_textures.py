@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from harness.images import write_image
+from groundwork.images import write_image
 from raytracer.canvas import Canvas, write_pixel
 from raytracer.colors import Color
 

@@ -210,7 +210,7 @@ def balance(runs: int) -> None:
 STARTUP = """
 import time
 t0 = time.perf_counter()
-from harness.images import write_image
+from groundwork.images import write_image
 from scene import load_scene
 from raytracer.camera import RenderSettings
 from variants.registry import load_variant
@@ -575,7 +575,7 @@ def settings(args: argparse.Namespace) -> tuple[int, tuple[int, int], int, set[s
     runs = 5 if args.runs is None else args.runs
     if runs < 1:
         raise ValueError("--runs must be at least 1")
-    from harness.sizes import parse_size
+    from groundwork.sizes import parse_size
 
     try:
         size = parse_size(args.naive_size or "160x120")

@@ -12,10 +12,11 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
+from groundwork.sizes import Size
+from harness.budget import smaller_sizes
 from harness.make_meshes import SCALE_MESHES
 from harness.presets import PRESETS, SceneRef
 from harness.sections import DEFAULTS, NAMES, measuring_order
-from harness.sizes import Size, smaller_sizes
 
 BASELINE = "naive"
 SECTIONS = NAMES  # every section, in the report's order (harness.sections.SECTIONS)

@@ -3,13 +3,14 @@ time against pixel count, throughput against worker or thread count, speed-ups."
 
 from __future__ import annotations
 
-import os
-import tempfile
+import io
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
 import matplotlib
+
+from groundwork.files import write_atomically
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
@@ -20,16 +21,12 @@ from harness import figures, summary
 
 def _save(figure: Figure, path: Path) -> Path:
     """Write ``figure`` as a PNG atomically."""
-    fd, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(fd)
+    buffer = io.BytesIO()
     try:
-        figure.savefig(temporary, format="png", dpi=110, bbox_inches="tight")
-        os.chmod(temporary, 0o644)
-        os.replace(temporary, path)
+        figure.savefig(buffer, format="png", dpi=110, bbox_inches="tight")
     finally:
         plt.close(figure)
-        Path(temporary).unlink(missing_ok=True)
-    return path
+    return write_atomically(path, buffer.getvalue())
 
 
 def _caption(run: Mapping[str, Any]) -> str:

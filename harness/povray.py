@@ -34,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-from harness.sizes import Size
+from groundwork.sizes import Size
 from harness.usage import ProcessTimeout, wait_with_usage
 
 ENVIRONMENT = "RTC_POVRAY"

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from harness.sizes import Size
+from groundwork.sizes import Size
 
 SCENES_DIR = Path(__file__).resolve().parent / "scenes"
 BUILTIN_DEFAULT_WORLD = "default-world"

@@ -47,8 +47,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from groundwork.sizes import Size
+from harness.budget import scaled
 from harness.figures import seconds_text
-from harness.sizes import Size, scaled
 
 if TYPE_CHECKING:
     from harness.bench import Bench
@@ -342,7 +343,7 @@ def _kernel_files() -> set[str]:
 def stages_job(job: Mapping[str, Any]) -> dict[str, Any]:
     """The render timed stage by stage (see the module), then repeated (untimed) until the
     flame graph has ``flame_seconds`` of rendering to sample."""
-    from harness.images import write_image
+    from groundwork.images import write_image
     from variants.registry import load_variant
 
     variant = load_variant(job["variant"])

@@ -6,12 +6,11 @@ over naive, with the machine and the run they come from.
 
 from __future__ import annotations
 
-import os
-import tempfile
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+from groundwork.files import write_atomically
 from harness import figures, ladder_report
 
 START = "<!-- figures: written by `rtc report` from results/runs/; do not edit -->"
@@ -63,15 +62,7 @@ def rewrite(readme: Path, runs: Sequence[Run]) -> bool:
     new = text[: start + len(START)] + "\n" + block(runs) + "\n" + text[end:]
     if new == text:
         return False
-    handle, temporary = tempfile.mkstemp(dir=readme.parent, prefix=".README.", suffix=".tmp")
-    try:
-        with os.fdopen(handle, "w", encoding="utf-8") as out:
-            out.write(new)
-        os.chmod(temporary, readme.stat().st_mode & 0o777)
-        os.replace(temporary, readme)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
+    write_atomically(readme, new, mode=readme.stat().st_mode & 0o777)
     return True
 
 

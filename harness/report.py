@@ -11,12 +11,11 @@ images inlined.
 from __future__ import annotations
 
 import math
-import os
-import tempfile
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+from groundwork.files import write_atomically
 from harness import figures, ladder_report, plots, sections
 from harness.document import (
     Block,
@@ -217,17 +216,6 @@ def build_blocks(
     return blocks
 
 
-def _write_text(path: Path, text: str) -> None:
-    fd, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as out:
-            out.write(text)
-        os.chmod(temporary, 0o644)
-        os.replace(temporary, path)
-    finally:
-        Path(temporary).unlink(missing_ok=True)
-
-
 def _remove_stale(folder: Path, drawn: Sequence[Path]) -> None:
     """Remove the plots of ``folder`` (the report's) that this report did not draw: a
     section that has no plot any more, or whose plot was renamed, leaves none behind."""
@@ -312,8 +300,8 @@ def build_report(
     if problems:
         blocks += [Heading(2, "Unreadable result files"), Bullets(problems)]
     readme, page = results / "README.md", results / "report.html"
-    _write_text(readme, to_markdown(blocks, results))
-    _write_text(page, to_html(blocks, results, "Benchmark results"))
+    write_atomically(readme, to_markdown(blocks, results))
+    write_atomically(page, to_html(blocks, results, "Benchmark results"))
     return readme, page, problems
 
 

@@ -30,13 +30,12 @@ import math
 import os
 import secrets
 import shutil
-import tempfile
 from collections.abc import Callable
 from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
-from scene.files import read_text
+from groundwork.files import read_text, write_new
 
 SCHEMA_VERSION = 2
 MAX_RUN_FILE_BYTES = 64 << 20  # a run file is a few hundred kB; more is no run file of ours
@@ -168,25 +167,8 @@ class RunWriter:
 
 def write_new_file(path: Path, text: str) -> None:
     """Write ``text`` to ``path`` atomically; a ``FileExistsError`` if ``path`` exists."""
-    fd, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as out:
-            out.write(text)
-            out.flush()
-            os.fsync(out.fileno())
-        os.chmod(temporary, 0o644)
-        try:
-            os.link(temporary, path)  # atomic, and never replaces an existing file
-        except FileExistsError:
-            raise FileExistsError(f"{path} already exists; results are never replaced") from None
-        except OSError:  # a file system without hard links: check, then rename
-            if path.exists():
-                raise FileExistsError(
-                    f"{path} already exists; results are never replaced"
-                ) from None
-            os.replace(temporary, path)
-    finally:
-        Path(temporary).unlink(missing_ok=True)
+    if not write_new(path, text, sync=True):
+        raise FileExistsError(f"{path} already exists; results are never replaced")
 
 
 def pyperf_document(benchmarks: list[dict[str, Any]], rtc: dict[str, Any]) -> dict[str, Any]:

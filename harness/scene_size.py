@@ -52,8 +52,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from groundwork.sizes import Size
 from harness.make_meshes import CATALOGUE, GENERATED, SCALE_MESHES, mesh_path
-from harness.sizes import Size
 
 SECTION = "scene-size"
 PARSE_SECTION = "obj-parse"

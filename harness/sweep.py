@@ -11,10 +11,10 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING, Any
 
+from groundwork.sizes import Size
 from harness import figures, imagediff
 from harness.jobs import JobOutcome
 from harness.plan import BASELINE, default_names
-from harness.sizes import Size
 from variants.registry import RenderError
 
 if TYPE_CHECKING:

@@ -98,7 +98,7 @@ def check_output(text: str) -> Path:
     """``-o``'s path, checked before anything is rendered: a known image extension, not a
     folder (nor spelled as one, ``out.png/``), in a folder that exists and takes new files,
     and, when the file exists, one that can be written."""
-    from harness.images import FORMATS
+    from groundwork.images import FORMATS
 
     output = Path(text)
     what = f"cannot write {text!r}"
@@ -113,7 +113,7 @@ def check_output(text: str) -> Path:
     if exists and output.is_dir():
         raise UserError(f"{what}: it is a folder")
     if exists:  # a named pipe would block the writer until something reads it
-        from scene.files import describe
+        from groundwork.files import describe
 
         odd = describe(output)
         if odd is not None:
@@ -135,8 +135,7 @@ def check_output(text: str) -> Path:
 def check_memory(variant: str, width: int, height: int) -> None:
     """A ``UserError`` naming the size, the memory it needs and the memory left, when a
     ``width`` x ``height`` render with ``variant`` would not fit (before it starts)."""
-    from harness.sizes import render_bytes
-    from scene.memory import NotEnoughMemory, check
+    from groundwork.memory import NotEnoughMemory, check, render_bytes
 
     try:
         check(render_bytes(variant, width, height), f"a {width}x{height} picture with {variant}")

@@ -139,10 +139,10 @@ NUMBA_TARGET_OPTIONS = ("runs", "naive_size", "naive_pixels", "skip")
 
 def settings_from(args: argparse.Namespace) -> BenchSettings:
     """The run's settings from the command line; ``UserError`` for a bad value."""
+    from groundwork.sizes import parse_size
     from harness.plan import BASELINE, FULL, QUICK, SECTIONS, BenchSettings, expand_variants
     from harness.presets import resolve_scene
     from harness.sections import measuring_order
-    from harness.sizes import parse_size
 
     mode = FULL if args.full else QUICK
     try:

@@ -7,8 +7,8 @@ import argparse
 import sys
 from pathlib import Path
 
+from groundwork.progress import MODES, Progress
 from rtc.cli import UserError
-from rtc.progress import MODES, Progress
 
 NAME = "kata"
 HELP = "run .feature files (default: the project's features/) and show progress by chapter"
@@ -64,7 +64,7 @@ MAX_FEATURE_BYTES = 16 << 20  # the book's longest feature file is some 20 kB
 def check_features(path: Path) -> None:
     """A ``UserError`` naming the first feature file under ``path`` that pytest-bdd could not
     read: not a regular file (a named pipe would block it), too large, or not UTF-8 text."""
-    from scene.files import describe, read_bytes
+    from groundwork.files import describe, read_bytes
 
     odd = describe(path)
     if odd is not None and not path.is_dir():

@@ -62,10 +62,10 @@ def _folder(path: Path) -> Path:
 
 
 def run(args: argparse.Namespace) -> int:
+    from groundwork.sizes import Size
     from harness.make_meshes import provide
     from harness.profiling import Request, is_compiled, profile, profile_size, slug
     from harness.profiling_report import text
-    from harness.sizes import Size
     from scene import SceneError, load_scene
     from variants.registry import load_variant
 

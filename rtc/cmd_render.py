@@ -10,12 +10,12 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from harness.images import write_image
+from groundwork.images import write_image
+from groundwork.progress import MODES, Progress, compile_ticker, duration
 from harness.make_meshes import provide
 from raytracer.camera import RenderSettings
 from rtc.cli import UserError, check_memory, check_output
 from rtc.cmd_demo import parse_size
-from rtc.progress import MODES, Progress, compile_ticker, duration
 from scene import SceneError, load_scene
 
 NAME = "render"
@@ -147,7 +147,7 @@ def _clock() -> float:
 
 
 def _progress(args: argparse.Namespace, rows: int, name: str) -> Progress:
-    """The render's progress on stderr, counting rows (``rtc.progress``)."""
+    """The render's progress on stderr, counting rows (``groundwork.progress``)."""
     return Progress(
         "rtc render", rows, "row", mode=args.progress, clock=_clock, advice=_advice(name)
     )

@@ -10,9 +10,9 @@ from typing import Any, Literal
 
 from yaml.nodes import Node
 
+from groundwork.progress import LoadProgress
 from raytracer.api import BOOK_API
 from scene.limits import Limits
-from scene.progress import LoadProgress
 from scene.reader import Reader
 
 Kind = Literal["material", "transform", "shape"]

@@ -19,12 +19,12 @@ from typing import Any, overload
 
 from yaml.nodes import Node
 
+from groundwork.files import describe, read_bytes
+from groundwork.memory import NotEnoughMemory, check
 from raytracer.canvas import Canvas
 from raytracer.colors import Color
 from scene.context import Context
 from scene.errors import SceneError
-from scene.files import describe, read_bytes
-from scene.memory import NotEnoughMemory, check
 
 PLAIN_PPM_SUFFIXES = (".ppm", ".pnm")
 MAX_IMAGE_BYTES = 64 * 1024 * 1024  # a larger texture file is almost certainly a mistake

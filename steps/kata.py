@@ -104,7 +104,7 @@ def item_chapter(item: pytest.Item) -> int | None:
 
 
 class KataProgress(Protocol):
-    """What ``run_kata`` reports its progress to (``rtc.progress.Progress``): the number of
+    """What ``run_kata`` reports its progress to (``groundwork.progress.Progress``): the number of
     scenario tests once they are collected, then each one as it ends."""
 
     def set_total(self, total: int) -> None: ...

@@ -307,7 +307,7 @@ def test_an_empty_size_is_an_error_not_the_default(
     line, out = one_line(
         capsys, "render", str(SCENE), "--size", "", "-o", str(tmp_path / "out.png")
     )
-    assert line == "rtc render: bad --size '': expected WIDTHxHEIGHT, e.g. 200x100"
+    assert line == "rtc render: bad --size '': expected WIDTHxHEIGHT, e.g. 160x120"
     assert out == "" and list(tmp_path.iterdir()) == []
 
 

@@ -10,12 +10,12 @@ from typing import Any
 
 import pytest
 
+from groundwork.sizes import Size
 from harness import cluster, cluster_report
 from harness.bench import series_task
 from harness.cluster_jobs import cluster_jobs, cluster_options
 from harness.document import Para, Table
 from harness.presets import resolve_scene
-from harness.sizes import Size
 from rtc.cli import main
 
 pytest.importorskip("distributed")  # a declared dependency: always there in CI

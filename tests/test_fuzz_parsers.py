@@ -695,7 +695,7 @@ def tiny_library(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path, 
     library file, and the bytes of both it and its record."""
     from test_hostile import TINY
 
-    from compiled import library
+    from compiled import library, records
 
     base = tmp_path_factory.mktemp("kernels")
     with pytest.MonkeyPatch.context() as patch:
@@ -706,10 +706,10 @@ def tiny_library(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path, 
         library._loaded.pop(str(built), None)
     shutil.copytree(base / "built", base / "copy", ignore=shutil.ignore_patterns("numba-*"))
     path = base / "copy" / built.name
-    library._keys[str(path)] = library._keys[str(built)]
-    found, why = library.verify(path)
+    records._keys[str(path)] = records._keys[str(built)]
+    found, why = records.verify(path)
     assert found is not None and found.parent == base / "copy", why
-    return path, found, found.read_bytes(), library.record_path(path).read_bytes()
+    return path, found, found.read_bytes(), records.record_path(path).read_bytes()
 
 
 @st.composite
@@ -736,13 +736,13 @@ def test_a_damaged_library_is_never_taken_for_the_one_built(
 ) -> None:
     """Any damage to the library's bytes is found before it is loaded (its digest), and
     said in one line; only the bytes built pass."""
-    from compiled import library
+    from compiled import records
 
     path, file, original, _record = tiny_library
     bytes_now = data.draw(damaged(original))
     file.write_bytes(bytes_now)
     try:
-        found, why = library.verify(path)
+        found, why = records.verify(path)
     finally:
         file.write_bytes(original)
     if bytes_now == original:
@@ -760,7 +760,7 @@ def test_a_damaged_record_is_never_trusted(
 ) -> None:
     """Any record but the one written names no library to load; verifying it never raises.
     (``st.data``: the record with one of its fields changed.)"""
-    from compiled import library
+    from compiled import records
 
     path, file, _original, written = tiny_library
     if isinstance(record, st.DataObject):
@@ -769,10 +769,10 @@ def test_a_damaged_record_is_never_trusted(
         entry[field] = record.draw(JSON_VALUES)
         record = json.dumps(entry)
     text = record if isinstance(record, bytes) else record.encode("utf-8")
-    place = library.record_path(path)
+    place = records.record_path(path)
     place.write_bytes(text)
     try:
-        found, why = library.verify(path)
+        found, why = records.verify(path)
     finally:
         place.write_bytes(written)
     if text == written or (found is not None and json.loads(text) == json.loads(written)):

@@ -218,13 +218,13 @@ def _fake_bench(tmp_path: Path, shares: list[float], monkeypatch) -> tuple[Any, 
     for 2 cores); the tasks it was given are kept in the list returned."""
     import numpy as np
 
+    from groundwork.sizes import Size
     from harness import sharing
     from harness.bench import Bench
     from harness.jobs import JobOutcome
     from harness.plan import QUICK, BenchSettings
     from harness.presets import SceneRef
     from harness.results import RunWriter
-    from harness.sizes import Size
 
     monkeypatch.setattr(sharing, "wait_for_quiet", lambda cores, longest, **_: "quiet")
     settings = BenchSettings(

@@ -9,12 +9,13 @@ import numpy as np
 import pytest
 
 import raytracer
+from groundwork.sizes import Size, parse_size
 from harness import figures
+from harness.budget import Estimate, fit_to_budget, scaled, smaller_sizes
 from harness.imagediff import image_error
 from harness.plan import BENCH_CONFIGS, bench_configs, split_names
 from harness.presets import BUILTIN_DEFAULT_WORLD, SceneRef, build_scene
 from harness.raycount import HOOK, INSTRUMENTED, count_rays, counting_method
-from harness.sizes import Estimate, Size, fit_to_budget, parse_size, scaled, smaller_sizes
 from raytracer.camera import RenderSettings
 from raytracer.tracer import TRACER
 from variants.registry import load_variant

@@ -42,10 +42,11 @@ import pytest
 from PIL import Image
 from report_checks import check_html, check_markdown
 
-from compiled import KernelFolderError, library
+from compiled import KernelFolderError, library, notices, records
+from compiled import folder as compiled_folder
+from groundwork.images import read_png
 from harness import summary
 from harness.document import to_markdown
-from harness.images import read_png
 from harness.report import build_blocks
 from harness.results import load_run
 from rtc.cli import main
@@ -485,7 +486,7 @@ def test_an_unreadable_library_is_built_again_or_read_as_it_is(
     right, so it is loaded as it is, in silence)."""
     _record, file = the_library(kernels)
     file.chmod(0)
-    library._said.clear()
+    notices._said.clear()
     compiled = library.load(TINY)
     assert scaled(compiled) == RIGHT
     err = capsys.readouterr().err
@@ -520,13 +521,13 @@ def test_a_damaged_library_or_record_is_built_again_with_one_line(
 ) -> None:
     record, file = the_library(kernels)
     damage(file if damaged == "library" else record)
-    library._said.clear()
+    notices._said.clear()
     compiled = library.load(TINY)
     assert scaled(compiled) == RIGHT and compiled.origin.startswith("shared library")
     err = capsys.readouterr().err
     (said,) = said_lines(err)
     assert words in said and "building it again" in said, err
-    assert library.verify(TINY.path())[0] is not None  # sound again
+    assert records.verify(TINY.path())[0] is not None  # sound again
 
 
 def test_a_half_cut_render_library_is_rebuilt_and_the_render_is_right(tmp_path: Path) -> None:
@@ -555,12 +556,13 @@ def test_a_half_cut_render_library_is_rebuilt_and_the_render_is_right(tmp_path: 
 def test_the_kernel_folder_is_private(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.delenv("RTC_NUMBA_KERNELS", raising=False)
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
-    folder = library.kernel_folder()
+    folder = compiled_folder.kernel_folder()
     assert folder == tmp_path / "cache" / "rtc-workbook" / "numba-kernels"
     assert stat.S_IMODE(folder.stat().st_mode) == 0o700
     os.chmod(folder, 0o755)  # an older version's: made private
-    library._folders.clear()
-    assert library.kernel_folder() == folder and stat.S_IMODE(folder.stat().st_mode) == 0o700
+    compiled_folder._folders.clear()
+    assert compiled_folder.kernel_folder() == folder
+    assert stat.S_IMODE(folder.stat().st_mode) == 0o700
 
 
 def test_a_kernel_folder_others_could_write_in_is_emptied_and_made_private(
@@ -574,9 +576,9 @@ def test_a_kernel_folder_others_could_write_in_is_emptied_and_made_private(
     (folder / "rtc_numba_0123456789abcdef.json").write_text("{}", encoding="utf-8")
     (folder / "mine.txt").write_text("not ours to remove", encoding="utf-8")
     os.chmod(folder, 0o777)
-    library._folders.clear()
-    library._said.clear()
-    assert library.kernel_folder() == folder
+    compiled_folder._folders.clear()
+    notices._said.clear()
+    assert compiled_folder.kernel_folder() == folder
     assert stat.S_IMODE(folder.stat().st_mode) == 0o700
     assert sorted(p.name for p in folder.iterdir()) == ["mine.txt"]
     err = capsys.readouterr().err
@@ -596,20 +598,21 @@ def test_a_shared_folder_another_user_made_first_is_never_used(
     monkeypatch.setenv("XDG_CACHE_HOME", str(blocked))
     temporary = tmp_path / "tmp"
     temporary.mkdir()
-    monkeypatch.setattr(library.tempfile, "tempdir", str(temporary))
+    monkeypatch.setattr(compiled_folder.tempfile, "tempdir", str(temporary))
     me = os.geteuid()
-    monkeypatch.setattr(library.os, "geteuid", lambda: me + 4242)  # the folder is not "ours"
+    # the folder is not "ours"
+    monkeypatch.setattr(compiled_folder.os, "geteuid", lambda: me + 4242)
     planted = temporary / f"rtc-numba-kernels-{me + 4242}"
     planted.mkdir(mode=0o777)
     (planted / "rtc_numba_0123456789abcdef.so").write_bytes(b"planted")
-    library._folders.clear()
-    library._said.clear()
-    folder = library.kernel_folder()
+    compiled_folder._folders.clear()
+    notices._said.clear()
+    folder = compiled_folder.kernel_folder()
     assert folder != planted and folder.parent == temporary
     assert stat.S_IMODE(folder.stat().st_mode) == 0o700
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "it belongs to another user" in err and str(folder) in err
-    library._folders.clear()
+    compiled_folder._folders.clear()
 
 
 def test_a_kernel_folder_others_can_write_in_is_refused_in_one_line(
@@ -619,14 +622,14 @@ def test_a_kernel_folder_others_can_write_in_is_refused_in_one_line(
     shared.mkdir()
     os.chmod(shared, 0o1777)
     monkeypatch.setenv("RTC_NUMBA_KERNELS", str(shared))
-    library._folders.clear()
+    compiled_folder._folders.clear()
     with pytest.raises(KernelFolderError, match=r"other users can write in it \(mode 1777\)"):
-        library.kernel_folder()
+        compiled_folder.kernel_folder()
     path = scene(tmp_path, "- add: sphere\n")
     done = rtc("render", str(path), "--variant", "numba", "-o", str(tmp_path / "o.png"),
                env={"RTC_NUMBA_KERNELS": str(shared)})  # fmt: skip
     clear(done, "other users can write in it")
-    library._folders.clear()
+    compiled_folder._folders.clear()
 
 
 def test_a_damaged_file_in_numbas_cache_is_a_miss(
@@ -644,7 +647,7 @@ def test_a_damaged_file_in_numbas_cache_is_a_miss(
     )
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(Path(__file__).parent), str(ROOT)])}
     env.pop("NUMBA_CACHE_DIR", None)
-    env.pop(library.NUMBA_CACHE_SET, None)
+    env.pop(compiled_folder.NUMBA_CACHE_SET, None)
 
     def run() -> subprocess.CompletedProcess[str]:
         return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
@@ -676,7 +679,7 @@ def test_a_size_that_does_not_fit_in_memory_is_refused_before_rendering(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch,
     variant: str,
 ) -> None:  # fmt: skip
-    from scene import memory
+    from groundwork import memory
 
     monkeypatch.setattr(memory, "available", lambda: memory.Room(2 << 30, "left (a test)"))
     path = scene(tmp_path, "- add: sphere\n")
@@ -698,7 +701,7 @@ def test_under_a_memory_limit_a_real_process_says_so_in_one_line(tmp_path: Path)
 def test_a_texture_that_does_not_fit_in_memory_is_refused_before_it_is_decoded(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    from scene import memory
+    from groundwork import memory
 
     monkeypatch.setattr(memory, "available", lambda: memory.Room(1 << 20, "left (a test)"))
     ppm = tmp_path / "big.ppm"
@@ -783,7 +786,7 @@ def test_a_full_disk_in_rtc_stability_and_rtc_report_is_one_line(
     folder = tmp_path / "results" / "runs"
     folder.mkdir(parents=True)
     shutil.copy(SCHEMA1, folder / "bench-20250101T000000000Z-aaaaaa.json")
-    _full_disk(monkeypatch, report, "_write_text")
+    _full_disk(monkeypatch, report, "write_atomically")
     line = one_line(capsys, "report", "--results-dir", str(tmp_path / "results"))
     assert "No space left on device" in line
     assert not (tmp_path / "results" / "README.md").exists()

@@ -9,10 +9,10 @@ from typing import Any
 import pytest
 import yaml
 
+from groundwork.sizes import Size
 from harness import light_samples, light_samples_report, plots
 from harness.document import Gallery, Table
 from harness.light_samples import Config, Plan, configured
-from harness.sizes import Size
 
 SCENE = """\
 - add: camera

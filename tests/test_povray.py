@@ -12,9 +12,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from groundwork.sizes import Size
 from harness import povray
 from harness.imagediff import image_error
-from harness.sizes import Size
 
 STATISTICS = """\
 Parser Time

@@ -14,10 +14,10 @@ from typing import Any
 
 import pytest
 
+from groundwork.sizes import Size
 from harness import profiling, profiling_report
 from harness.document import Table, to_html, to_markdown
 from harness.plan import DEFAULT_SECTIONS, SECTIONS
-from harness.sizes import Size
 from rtc.cli import main
 
 REFERENCE = Path(__file__).resolve().parent.parent / "harness" / "scenes" / "reference.yml"

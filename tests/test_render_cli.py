@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from harness.images import read_png
+from groundwork.images import read_png
 from raytracer.camera import RenderSettings
 from raytracer.canvas import canvas_to_rgb8
 from rtc.cli import main

@@ -9,6 +9,7 @@ from typing import Any
 
 import pytest
 
+from groundwork.sizes import Size
 from harness import plots, scene_size_report
 from harness.document import Picture, Table, to_markdown
 from harness.plan import DEFAULT_SECTIONS, SECTIONS
@@ -23,7 +24,6 @@ from harness.scene_size import (
     scene_text,
     slope,
 )
-from harness.sizes import Size
 from rtc.cli import UserError, build_parser
 from rtc.cmd_bench import settings_from
 

@@ -20,10 +20,10 @@ from typing import Any
 import numpy as np
 import pytest
 
+from groundwork.sizes import Size
 from harness import pass_size, pass_size_report, plots
 from harness.document import Table
 from harness.presets import SceneRef
-from harness.sizes import Size
 from raytracer.camera import RenderSettings, ray_for_pixel
 from raytracer.intersections import intersection, prepare_computations
 from raytracer.materials import material

@@ -17,6 +17,7 @@ from datetime import datetime
 from pathlib import Path
 from typing import Any
 
+from groundwork.files import read_text
 from harness.results import (
     MAX_RUN_FILE_BYTES,
     ResultFileError,
@@ -26,7 +27,6 @@ from harness.results import (
 )
 from harness.stability.model import Case, Verdict
 from harness.stability.suite import Cell
-from scene.files import read_text
 
 SCHEMA_VERSION = 1
 KIND = "stability"

@@ -1,45 +1,19 @@
-"""Canvas sizes for benchmarks: parsing ``WxH`` and the budget rule (smaller, same aspect).
+"""The bench's budget rule: a render whose estimated time exceeds the budget at the requested
+size is measured at the largest smaller size with the same aspect ratio that fits.
 
-The budget rule: a render whose estimated time exceeds the budget at the requested size is
-measured at the largest smaller size with the same aspect ratio that fits. Sizes keep the
-aspect exactly when the width and height share a factor (640x480 steps by 4x3, 8x6 by 4x3);
-otherwise the height is rounded to the nearest pixel and the row records the size used.
+Sizes keep the aspect exactly when the width and height share a factor (640x480 steps by
+4x3, 8x6 by 4x3); otherwise the height is rounded to the nearest pixel and the row records
+the size used.
 """
 
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass
 
-MAX_SIDE = 16384  # the canvas's own limit
+from groundwork.sizes import Size
+
 SMALLEST_PIXELS = 12  # never shrink below this many pixels (4x3)
-
-
-@dataclass(frozen=True, order=True)
-class Size:
-    """A canvas size in pixels."""
-
-    width: int
-    height: int
-
-    @property
-    def pixels(self) -> int:
-        return self.width * self.height
-
-    def __str__(self) -> str:
-        return f"{self.width}x{self.height}"
-
-
-def parse_size(text: str) -> Size:
-    """``"160x120"`` -> ``Size(160, 120)``; a ``ValueError`` naming the text otherwise."""
-    match = re.fullmatch(r"\s*(\d+)\s*[xX×]\s*(\d+)\s*", text)
-    if not match:
-        raise ValueError(f"bad size {text!r}: expected WIDTHxHEIGHT, e.g. 160x120")
-    size = Size(int(match.group(1)), int(match.group(2)))
-    if not (1 <= size.width <= MAX_SIDE and 1 <= size.height <= MAX_SIDE):
-        raise ValueError(f"bad size {text!r}: width and height must be 1 to {MAX_SIDE}")
-    return size
 
 
 def scaled(size: Size, factor: float) -> Size:
@@ -144,18 +118,3 @@ def fit_to_budget(
         note += f" (even {size}, the smallest size tried, is estimated over it)"
     return BudgetChoice(size, total, True, note)
 
-
-# What one pixel of a render costs at the peak (the canvas, and the image written from it),
-# measured: a canvas of ``Color`` values (the book's tracer and the variants built on it,
-# a learner's) about 140 bytes a pixel once every pixel holds its own color; numba's arrays
-# about 60; wavefront's passes about 175. Rounded up.
-BYTES_PER_PIXEL = {"numba": 80, "wavefront": 200}
-DEFAULT_BYTES_PER_PIXEL = 160
-
-
-def render_bytes(variant: str, width: int, height: int) -> int:
-    """About how much memory a ``width`` x ``height`` render with ``variant`` (a registry
-    name, wrappers included: the costliest part counts) needs."""
-    names = re.findall(r"[A-Za-z_][A-Za-z0-9_]*(?=\[|:|$)", variant) or [variant]
-    per_pixel = max(BYTES_PER_PIXEL.get(name, DEFAULT_BYTES_PER_PIXEL) for name in names)
-    return per_pixel * width * height

@@ -1,4 +1,5 @@
-"""Reading a file a user names: only a regular file, and never more than a bound.
+"""Reading a file a user names (only a regular file, never more than a bound), and writing
+a file atomically (a reader sees the whole file or none).
 
 A scene, an OBJ model, a texture, a run file or a feature file is read whole. A named pipe
 (FIFO) would block the reader until something writes to it, ``/dev/zero`` never ends, and a
@@ -8,6 +9,10 @@ most ``limit`` bytes. Its refusals are ``OSError``s whose ``strerror`` is one li
 what is wrong (``a named pipe (FIFO), not a regular file``; ``the file is 70 MB; files up to
 64 MB are read``), so a caller's ``except OSError`` names the file and prints it as it prints
 "No such file or directory".
+
+``write_atomically`` writes to a temporary file in the same folder and renames it over the
+target; ``write_new`` does the same but never replaces a file that exists (results, a
+learner's files).
 """
 
 from __future__ import annotations
@@ -15,6 +20,7 @@ from __future__ import annotations
 import errno
 import os
 import stat
+import tempfile
 from pathlib import Path
 
 _KINDS = (
@@ -105,3 +111,57 @@ def describe(path: Path) -> str | None:
         return None
     problem = not_regular(mode)
     return None if problem is None else problem.strerror
+
+
+def _temporary_beside(path: Path, data: bytes, mode: int, sync: bool) -> str:
+    """A temporary file in ``path``'s folder holding ``data`` with permissions ``mode``."""
+    fd, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "wb") as out:
+            out.write(data)
+            if sync:
+                out.flush()
+                os.fsync(out.fileno())
+        os.chmod(temporary, mode)
+    except BaseException:
+        Path(temporary).unlink(missing_ok=True)
+        raise
+    return temporary
+
+
+def _data(data: bytes | str) -> bytes:
+    return data.encode("utf-8") if isinstance(data, str) else data
+
+
+def write_atomically(path: str | os.PathLike[str], data: bytes | str, mode: int = 0o644) -> Path:
+    """Write ``data`` (text as UTF-8) to ``path`` through a temporary file in the same folder,
+    renamed over it: a reader sees the old file or the new one, whole; returns the path."""
+    target = Path(path)
+    temporary = _temporary_beside(target, _data(data), mode, sync=False)
+    try:
+        os.replace(temporary, target)
+    finally:
+        Path(temporary).unlink(missing_ok=True)
+    return target
+
+
+def write_new(path: str | os.PathLike[str], data: bytes | str, *, sync: bool = False) -> bool:
+    """Write ``data`` to ``path`` atomically unless a file is there: True if written, False
+    when ``path`` exists (or appears meanwhile; it is never replaced). ``sync``: on disk
+    before it is named."""
+    target = Path(path)
+    if target.exists():
+        return False
+    temporary = _temporary_beside(target, _data(data), 0o644, sync)
+    try:
+        try:
+            os.link(temporary, target)  # atomic, and never replaces a file
+        except FileExistsError:
+            return False
+        except OSError:  # a file system without hard links: check, then rename
+            if target.exists():
+                return False
+            os.replace(temporary, target)
+    finally:
+        Path(temporary).unlink(missing_ok=True)
+    return True

@@ -6,16 +6,18 @@ huge texture is as bad: without a check the process runs until Python raises ``M
 this process: the machine's available memory and free swap (``psutil``), this process's
 address-space limit (``ulimit -v``, less what it already maps), and its control group's
 memory limit (less what the group already uses). ``check`` compares an estimate with it and
-raises ``NotEnoughMemory``, one line naming what was asked, the estimate and what is left.
+raises ``NotEnoughMemory``, one line naming what was asked, the estimate and what is left;
+``render_bytes`` estimates what a render of a size needs.
 """
 
 from __future__ import annotations
 
+import re
 import resource
 from dataclasses import dataclass
 from pathlib import Path
 
-from scene.files import size_text
+from groundwork.files import size_text
 
 _CGROUP_V2 = ("/sys/fs/cgroup", "memory.max", "memory.current")
 _CGROUP_V1 = ("/sys/fs/cgroup/memory", "memory.limit_in_bytes", "memory.usage_in_bytes")
@@ -97,3 +99,19 @@ def check(needed: float, what: str) -> None:
     room = available()
     if needed > room.left:
         raise NotEnoughMemory(f"{what} needs about {size_text(needed)} of memory; {room.text()}")
+
+
+# What one pixel of a render costs at the peak (the canvas, and the image written from it),
+# measured: a canvas of ``Color`` values (the book's tracer and the variants built on it,
+# a learner's) about 140 bytes a pixel once every pixel holds its own color; numba's arrays
+# about 60; wavefront's passes about 175. Rounded up.
+BYTES_PER_PIXEL = {"numba": 80, "wavefront": 200}
+DEFAULT_BYTES_PER_PIXEL = 160
+
+
+def render_bytes(variant: str, width: int, height: int) -> int:
+    """About how much memory a ``width`` x ``height`` render with ``variant`` (a registry
+    name, wrappers included: the costliest part counts) needs."""
+    names = re.findall(r"[A-Za-z_][A-Za-z0-9_]*(?=\[|:|$)", variant) or [variant]
+    per_pixel = max(BYTES_PER_PIXEL.get(name, DEFAULT_BYTES_PER_PIXEL) for name in names)
+    return per_pixel * width * height

@@ -3,19 +3,19 @@
 PNG goes through Pillow, from the canvas's own ``to_rgb8()`` when it has one (so a variant
 with an array-backed canvas skips the per-pixel path), else from
 ``raytracer.canvas_to_rgb8``. PPM is the book's plain text (``canvas_to_ppm``). Files are
-written atomically: to a temporary file in the same folder, then renamed over the target.
+written atomically (``groundwork.files.write_atomically``).
 """
 
 from __future__ import annotations
 
 import io
 import os
-import tempfile
 from pathlib import Path
 from typing import Any
 
 from PIL import Image
 
+from groundwork.files import write_atomically
 from raytracer.canvas import canvas_to_ppm, canvas_to_rgb8
 
 FORMATS = (".png", ".ppm")
@@ -58,18 +58,7 @@ def write_image(canvas: Any, path: str | os.PathLike[str]) -> Path:
             f"write_image({str(target)!r}): unknown image extension {shown}; "
             f"use {' or '.join(FORMATS)}"
         )
-    data = _encode(canvas, suffix)
-    folder = target.parent
-    fd, temporary = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=folder)
-    try:
-        with os.fdopen(fd, "wb") as out:
-            out.write(data)
-        os.chmod(temporary, 0o644)
-        os.replace(temporary, target)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
-    return target
+    return write_atomically(target, _encode(canvas, suffix))
 
 
 def read_png(path: str | os.PathLike[str]) -> tuple[int, int, bytes]:
