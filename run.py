@@ -7,7 +7,7 @@
     python3 run.py rtc ARGS...   # any rtc command inside the environment
 
 Needs only Python 3.11 or newer. The environment is (re)built when pyproject.toml or the
-C extension's sources (setup.py, harness/_alloccount.c) change.
+C extension's sources (setup.py, harness/instruments/_alloccount.c) change.
 """
 
 from __future__ import annotations
@@ -29,7 +29,9 @@ ROOT = Path(__file__).resolve().parent
 VENV = ROOT / ".venv"
 BIN = VENV / ("Scripts" if os.name == "nt" else "bin")
 STAMP = VENV / "installed-from.sha256"
-BUILD_INPUTS = ("pyproject.toml", "setup.py", "harness/_alloccount.c")  # a change reinstalls
+BUILD_INPUTS = (  # a change reinstalls
+    "pyproject.toml", "setup.py", "harness/instruments/_alloccount.c",
+)
 STATUS_EVERY = 5.0  # seconds: while pip works, its latest line is shown at most this often
 SILENT_EVERY = 10.0  # seconds between two lines saying that a quiet step (mypy) still runs
 

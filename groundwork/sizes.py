@@ -2,7 +2,7 @@
 
 The largest side is the book canvas's own limit (``raytracer.canvas.MAX_SIDE``); the bench's
 budget rule, which shrinks a size to fit a time budget, is the harness's
-(``harness.budget``).
+(``harness.engine.budget``).
 """
 
 from __future__ import annotations

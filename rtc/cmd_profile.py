@@ -1,7 +1,7 @@
 """``rtc profile SCENE.yml --variant NAME``: where a render's time goes (issue 18): the
 stages timed, the top functions by own and cumulative time (cProfile), a flame graph
 (py-spy); for a compiled variant (numba), the stages: load, pack, compile or cache load,
-trace, encode. The render of chapter 7, through ``harness.profiling``."""
+trace, encode. The render of chapter 7, through ``harness.sections.profile.measure``."""
 
 from __future__ import annotations
 
@@ -63,9 +63,9 @@ def _folder(path: Path) -> Path:
 
 def run(args: argparse.Namespace) -> int:
     from groundwork.sizes import Size
-    from harness.make_meshes import provide
-    from harness.profiling import Request, is_compiled, profile, profile_size, slug
-    from harness.profiling_report import text
+    from harness.scenery.make_meshes import provide
+    from harness.sections.profile.profiler import Request, is_compiled, profile, profile_size, slug
+    from harness.sections.profile.report import text
     from scene import SceneError, load_scene
     from variants.registry import load_variant
 

@@ -12,7 +12,7 @@ from typing import Any
 
 from groundwork.images import write_image
 from groundwork.progress import MODES, Progress, compile_ticker, duration
-from harness.make_meshes import provide
+from harness.scenery.make_meshes import provide
 from raytracer.camera import RenderSettings
 from rtc.cli import UserError, check_memory, check_output
 from rtc.cmd_demo import parse_size

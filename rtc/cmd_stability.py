@@ -53,7 +53,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from groundwork.sizes import parse_size
-    from harness.machine import describe_machine
+    from harness.engine.machine import describe_machine
     from harness.stability import runfile, table
     from harness.stability.suite import run_suite, select_cases, select_variants
 

@@ -44,7 +44,7 @@ class Context:
     (``limits``); shapes: the shapes the world will hold so far, counted before they are
     built (OBJ triangles included); meshes: each OBJ model, once read (``scene.obj_mesh``);
     progress: the load's progress bar (None: no bar); provide_mesh: writes a missing OBJ
-    file that the project generates (``harness.make_meshes.provide``), saying whether it
+    file that the project generates (``harness.scenery.make_meshes.provide``), saying whether it
     exists now (None: never).
     """
 

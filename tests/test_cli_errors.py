@@ -19,7 +19,7 @@ from typing import Any
 
 import pytest
 
-from harness.results import ResultFileError, check_run, load_run
+from harness.engine.results import ResultFileError, check_run, load_run
 from rtc.cli import main
 
 ROOT = Path(__file__).resolve().parent.parent

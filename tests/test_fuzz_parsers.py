@@ -27,8 +27,8 @@ import yaml
 from hypothesis import event, given
 from hypothesis import strategies as st
 
-from harness import make_meshes
-from harness.results import ResultFileError, check_run, load_run
+from harness.engine.results import ResultFileError, check_run, load_run
+from harness.scenery import make_meshes
 from raytracer.canvas import Canvas, canvas, canvas_to_ppm, pixel_at, write_pixel
 from raytracer.colors import color
 from raytracer.obj_file import ObjFileError, ObjParser, parse_obj_file
@@ -617,7 +617,7 @@ PICTURE_PATHS = st.sampled_from(
 
 @st.composite
 def report_blocks(draw: st.DrawFn) -> list[Any]:
-    from harness.document import Bullets, Gallery, Heading, Para, Picture, Table
+    from harness.document.model import Bullets, Gallery, Heading, Para, Picture, Table
 
     def picture() -> Picture:
         width = draw(st.none() | st.integers(1, 500))
@@ -672,7 +672,7 @@ def test_any_text_in_a_report_is_escaped_and_no_file_outside_is_embedded(
     wait), and no heading made by a line break in a name."""
     from report_checks import check_html, check_markdown
 
-    from harness.document import Heading, to_html, to_markdown
+    from harness.document.model import Heading, to_html, to_markdown
 
     page = to_html(blocks, results_folder, "title <script>")
     markdown = to_markdown(blocks, results_folder)

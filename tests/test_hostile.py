@@ -45,10 +45,10 @@ from report_checks import check_html, check_markdown
 from compiled import KernelFolderError, library, notices, records
 from compiled import folder as compiled_folder
 from groundwork.images import read_png
-from harness import summary
-from harness.document import to_markdown
-from harness.report import build_blocks
-from harness.results import load_run
+from harness.document import summary
+from harness.document.model import to_markdown
+from harness.engine.results import load_run
+from harness.report.build import build_blocks
 from rtc.cli import main
 from scene.obj_mesh import read_mesh
 
@@ -725,7 +725,7 @@ BENCH = ["bench", "--scene", "default-world", "--variants", "naive", "--sections
 def test_a_full_disk_stops_the_bench_in_one_line_with_no_run_and_no_lock(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    from harness import results
+    from harness.engine import results
 
     monkeypatch.setenv("RTC_BENCH_LOCK_DIR", str(tmp_path / "locks"))
     _full_disk(monkeypatch, results, "write_new_file")  # the run file: the last write
@@ -744,7 +744,7 @@ def test_a_full_disk_stops_the_bench_in_one_line_with_no_run_and_no_lock(
 def test_a_measuring_process_that_cannot_write_stops_the_bench(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    from harness import jobs
+    from harness.engine import jobs
 
     monkeypatch.setenv("RTC_BENCH_LOCK_DIR", str(tmp_path / "locks"))
     monkeypatch.setattr(jobs, "wait_child", lambda process: (process.kill(), process.wait(),
@@ -758,7 +758,7 @@ def test_a_measuring_process_that_cannot_write_stops_the_bench(
 def test_a_result_the_disk_refuses_is_one_line_and_a_status(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    from harness import jobs
+    from harness.engine import jobs
 
     _full_disk(monkeypatch, Path, "write_text")
     assert jobs.write_result(tmp_path, {"x": 1}) == jobs.CANNOT_WRITE
@@ -770,7 +770,7 @@ def test_a_result_the_disk_refuses_is_one_line_and_a_status(
 def test_a_full_disk_in_rtc_stability_and_rtc_report_is_one_line(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    from harness import report
+    from harness.report import build as report
     from harness.stability import runfile
 
     _full_disk(monkeypatch, runfile, "write_new_file")

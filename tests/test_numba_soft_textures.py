@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from harness.raycount import count_rays
+from harness.instruments.raycount import count_rays
 from raytracer.camera import RenderSettings
 from raytracer.colors import Color
 from raytracer.materials import material

@@ -1,4 +1,4 @@
-"""The generated meshes (``harness.make_meshes``): their counts, closed and consistently
+"""The generated meshes (``harness.scenery.make_meshes``): their counts, closed and consistently
 wound surfaces, the same bytes on every run, atomic writes, and scene files that name them."""
 
 from __future__ import annotations
@@ -12,8 +12,8 @@ from pathlib import Path
 
 import pytest
 
-from harness import make_meshes
-from harness.make_meshes import (
+from harness.scenery import make_meshes
+from harness.scenery.make_meshes import (
     CATALOGUE,
     GENERATED,
     SCALE_MESHES,
@@ -109,7 +109,7 @@ def test_the_smallest_triangles_of_the_largest_ring_are_big_enough_for_the_books
 def test_the_same_mesh_is_the_same_bytes_in_another_process(tmp_path: Path) -> None:
     here = "\n".join(mesh_lines(CATALOGUE["ring-1k.obj"])) + "\n"
     code = (
-        "import sys; from pathlib import Path; from harness.make_meshes import mesh_path; "
+        "import sys; from pathlib import Path; from harness.scenery.make_meshes import mesh_path; "
         "sys.stdout.write(mesh_path('ring-1k.obj', Path(sys.argv[1])).read_text())"
     )
     env = {**os.environ, "PYTHONHASHSEED": "12345"}

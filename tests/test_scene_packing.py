@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from harness.make_meshes import provide
+from harness.scenery.make_meshes import provide
 from scene import load_scene
 from variants.numba.pack import pack_scene as numba_scene
 from variants.numba.pack import pack_world as numba_world

@@ -11,7 +11,7 @@ from typing import Any
 
 import pytest
 
-from harness import make_meshes
+from harness.scenery import make_meshes
 from scene import Scene, SceneError, load_scene, load_scene_text
 from variants.registry import load_variant
 

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 import yaml
 
-from harness.imagediff import canvas_array
+from harness.instruments.imagediff import canvas_array
 from scene import load_scene_text
 
 REFERENCE_SCENE = Path(__file__).resolve().parent.parent / "scenes" / "reference.yml"

@@ -13,7 +13,7 @@ import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
-from harness.plan import bench_configs, split_names
+from harness.engine.plan import bench_configs, split_names
 from harness.stability import (
     cases_degenerate,
     cases_rays,
