@@ -261,7 +261,7 @@ def test_a_report_into_a_read_only_results_dir_is_one_line(open_tmp: Path) -> No
 
 # ------------------------------------------------------------------ rtc render: the output
 
-SCENE = ROOT / "harness" / "scenes" / "reference.yml"
+SCENE = ROOT / "scenes" / "reference.yml"
 
 
 def render_error(capsys: pytest.CaptureFixture[str], output: str, *extra: str) -> str:

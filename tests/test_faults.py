@@ -29,7 +29,7 @@ from harness.engine.results import list_runs, load_run
 from variants.pooled import HEARTBEAT_SECONDS, RenderWorkerError, _Link, _Pool, _Worker
 
 ROOT = Path(__file__).resolve().parent.parent
-REFERENCE = ROOT / "harness" / "scenes" / "reference.yml"
+REFERENCE = ROOT / "scenes" / "reference.yml"
 # a bench of the held variant (``tests/holding.py``; naive, the baseline, is measured first):
 # its measuring process waits in its first render until the test lets it go
 HELD_BENCH = ["bench", "--scene", "default-world", "--variants", "held", "--sections", "table",

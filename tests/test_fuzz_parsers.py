@@ -6,7 +6,7 @@ and never a hang (the suite's hang guards: ``tests/conftest.py``).
 The scene inputs are random structures in the scene format's vocabulary (YAML aliases
 included: a value repeated in the structure is written once with an anchor), random text,
 random nesting depths, and random mutations (lines deleted, moved, re-indented, words
-replaced) of the project's own scenes in ``harness/scenes`` and of their OBJ and image files.
+replaced) of the project's own scenes in ``scenes`` and of their OBJ and image files.
 Scenes that load are checked against the limits they were loaded under. ``hypothesis.event``
 labels each outcome: ``--hypothesis-show-statistics`` shows how many parsed and how many
 were clear errors.
@@ -27,8 +27,8 @@ import yaml
 from hypothesis import event, given
 from hypothesis import strategies as st
 
+import scenes
 from harness.engine.results import ResultFileError, check_run, load_run
-from harness.scenery import make_meshes
 from raytracer.canvas import Canvas, canvas, canvas_to_ppm, pixel_at, write_pixel
 from raytracer.colors import color
 from raytracer.obj_file import ObjFileError, ObjParser, parse_obj_file
@@ -42,7 +42,7 @@ from scene.textures import FACES, MAP_KEYS, MAPPINGS, UV_KEYS
 from scene.transforms import TRANSFORMS
 from variants.registry import VariantError, VariantSpec, load_variant, parse_variant_name
 
-SCENES = make_meshes.SCENES  # harness/scenes/
+SCENES = scenes.FOLDER
 API = load_variant("naive").api
 # every scene of the project but the one whose meshes take seconds to load (six-knots.yml)
 FAST_SCENES = sorted(p for p in SCENES.glob("*.yml") if "meshes/" not in p.read_text())
@@ -58,7 +58,7 @@ def one_line(error: BaseException, starts: str) -> None:
 
 @pytest.fixture(scope="module")
 def workdir(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """A copy of harness/scenes (scenes, OBJ models, textures) that mutations may change."""
+    """A copy of scenes (scenes, OBJ models, textures) that mutations may change."""
     folder = tmp_path_factory.mktemp("fuzz") / "scenes"
     shutil.copytree(SCENES, folder, ignore=shutil.ignore_patterns("meshes"))
     return folder

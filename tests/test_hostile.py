@@ -271,7 +271,7 @@ def hostile_results(tmp_path: Path) -> Path:
     (pictures / "link.png").symlink_to(outside)
     os.mkfifo(pictures / "pipe.png")
     (pictures / "text.png").write_text("not a picture", encoding="utf-8")
-    shutil.copy(ROOT / "harness" / "scenes" / "textures" / "planet.png", pictures / "ok.png")
+    shutil.copy(ROOT / "scenes" / "textures" / "planet.png", pictures / "ok.png")
     images = ["../../../secret.png", str(outside), f"{stem}/link.png", f"{stem}/pipe.png",
               f"{stem}/text.png", f"{stem}/ok.png"]  # fmt: skip
     naive, other = rtc_part["rows"]

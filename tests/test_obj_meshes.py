@@ -36,7 +36,7 @@ def test_the_catalogue_has_the_counts_the_benchmarks_name() -> None:
     assert [CATALOGUE[n].triangles for n in SCALE_MESHES] == [1_000, 10_000, 100_000, 1_000_000]
     assert CATALOGUE["knot-23k.obj"].triangles == 23_000
     assert all(spec.vertices * 2 == spec.triangles for spec in CATALOGUE.values())
-    assert GENERATED == ROOT / "harness" / "scenes" / "meshes"
+    assert GENERATED == ROOT / "scenes" / "meshes"
 
 
 @pytest.mark.parametrize("name", ["ring-1k.obj", "knot-23k.obj"])
@@ -176,7 +176,7 @@ def test_the_command_line_writes_the_generated_meshes_asked_for(tmp_path: Path) 
 
 def test_the_generated_folder_is_ignored_by_git() -> None:
     done = subprocess.run(
-        ["git", "check-ignore", "-q", "harness/scenes/meshes/ring-1m.obj"], cwd=ROOT
+        ["git", "check-ignore", "-q", "scenes/meshes/ring-1m.obj"], cwd=ROOT
     )
     assert done.returncode == 0
 

@@ -104,7 +104,7 @@ def test_not_installed_is_said_cleanly(tmp_path, monkeypatch):
 
 
 REAL = povray.find()
-SCENES = Path(__file__).resolve().parent.parent / "harness" / "scenes"
+SCENES = Path(__file__).resolve().parent.parent / "scenes"
 
 
 @pytest.mark.skipif(REAL is None, reason=povray.NOT_INSTALLED)

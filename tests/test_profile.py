@@ -24,7 +24,7 @@ from harness.sections.profile import report as profiling_report
 from harness.sections.profile import stats as profile_stats
 from rtc.cli import main
 
-REFERENCE = Path(__file__).resolve().parent.parent / "harness" / "scenes" / "reference.yml"
+REFERENCE = Path(__file__).resolve().parent.parent / "scenes" / "reference.yml"
 
 
 # --- the command ----------------------------------------------------------------------------

@@ -43,7 +43,7 @@ from variants.wavefront.pack import pack
 from variants.wavefront.scene import SLOTS, Unsupported
 from variants.wavefront.tracer import WavefrontTracer
 
-SCENES = Path(__file__).resolve().parents[1] / "harness" / "scenes"
+SCENES = Path(__file__).resolve().parents[1] / "scenes"
 FLOAT64_WORST = 1e-6  # float32 canvas rounding is about 6e-8
 NAIVE = load_variant("naive").api
 

@@ -10,9 +10,9 @@ fans into triangles (22 in all), in two named groups. Both are tiny on purpose (
 tracer has no bounding boxes, so every ray tests every triangle) and kept in git.
 
 The generated meshes (``CATALOGUE``) are large, so they are not kept in git: they are written
-into ``harness/scenes/meshes/`` (ignored by git) when first needed, atomically (a temporary
+into ``scenes/meshes/`` (ignored by git) when first needed, atomically (a temporary
 file renamed into place), and are the same bytes every time. A scene file names one like any
-OBJ file, relative to itself (``file: meshes/knot-23k.obj`` from ``harness/scenes/``); the
+OBJ file, relative to itself (``file: meshes/knot-23k.obj`` from ``scenes/``); the
 scene loader asks ``provide`` for an OBJ file it cannot find, which writes it when its name is
 in the catalogue. ``mesh_path(name)`` does the same for the benchmarks.
 
@@ -383,7 +383,7 @@ def main(argv: list[str] | None = None) -> int:
     )  # fmt: skip
     parser.add_argument(
         "--folder", type=Path, default=GENERATED, metavar="DIR",
-        help="where --generated writes (default: harness/scenes/meshes)",
+        help="where --generated writes (default: scenes/meshes)",
     )  # fmt: skip
     args = parser.parse_args(argv)
     if args.generated is None:

@@ -1,4 +1,4 @@
-"""The image textures of ``harness/scenes/textures.yml`` (the bonus chapter "Texture
+"""The image textures of ``scenes/textures.yml`` (the bonus chapter "Texture
 mapping"), drawn here pixel by pixel so the project owns them:
 
 - ``planet.png``, 64x32 (2:1, for a spherical map): an ocean darker towards the poles, white

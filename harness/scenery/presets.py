@@ -1,11 +1,11 @@
 """The scenes the harness renders: scene files, named presets, and one built-in test scene
-(the scene files themselves live in ``harness/scenes/``).
+(the scene files themselves live in ``scenes/``).
 
 A preset is a scene file plus the size, samples and depth it is meant to be measured at:
 
-- ``reference``: the Go write-up's reference image (``harness/scenes/reference.yml``),
+- ``reference``: the Go write-up's reference image (``scenes/reference.yml``),
   640x480, 1 sample per pixel, depth 5.
-- ``cpp-spheres``: the C++ report's workload (``harness/scenes/cpp-spheres.yml``): eight
+- ``cpp-spheres``: the C++ report's workload (``scenes/cpp-spheres.yml``): eight
   spheres and one light, 500x500, 8 samples per pixel, depth 5, reported in MRay/s.
 - ``default-world``: the book's chapter 7 test world seen by its chapter 7 camera, built in
   code (no scene file), for fast tests of the harness itself.

@@ -20,7 +20,7 @@ the picture at the comparison size), and:
   both rendered (``error_vs_over``; compiled steps compare at ``LARGE``).
 
 The anchors, in the same run: POV-Ray 3.7 (``harness.instruments.povray``) renders the reference
-scene's ``.pov`` version (``harness/scenes/reference.pov``) at ``LARGE`` on one thread and on every
+scene's ``.pov`` version (``scenes/reference.pov``) at ``LARGE`` on one thread and on every
 core, ``repeat`` times each, timed as a whole process (and by its own trace time); its picture is
 compared with the project's at the same size. Without POV-Ray the entry says so (``status:
 unavailable``) and the report prints the note instead of the rows.

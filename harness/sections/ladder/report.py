@@ -406,7 +406,7 @@ def _anchor_notes(run: Run) -> list[Block]:
                 "both as 8-bit PNGs: "
                 f"PSNR {summary.psnr_text(difference)}, {where['pixels_off']:,} of "
                 f"{where['pixels']:,} pixels off by more than 1/255{place}. The `.pov` file "
-                f"(`harness/scenes/{found.get('file', 'reference.pov')}`) names where the two "
+                f"(`scenes/{found.get('file', 'reference.pov')}`) names where the two "
                 "models differ: the glass sphere's own colour and its Fresnel reflection."
             )
         )

@@ -1,4 +1,4 @@
-// The reference scene (harness/scenes/reference.yml) for POV-Ray 3.7, written by hand: the
+// The reference scene (scenes/reference.yml) for POV-Ray 3.7, written by hand: the
 // anchor of the report's "Step by step" (rtc bench --sections ladder). Every number is the
 // YAML scene's; the book's lighting is Phong's, as POV-Ray's classic finish:
 //   ambient * colour + diffuse * colour * (N.L) + phong * light * (R.V)^phong_size
