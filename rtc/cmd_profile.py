@@ -11,8 +11,12 @@ import sys
 import tempfile
 from pathlib import Path
 
+from groundwork.sizes import Size
+from harness.scenery.make_meshes import provide
 from rtc.cli import UserError, check_memory
 from rtc.cmd_demo import parse_size
+from scene import SceneError, load_scene
+from variants.registry import load_variant
 
 NAME = "profile"
 HELP = (
@@ -62,12 +66,11 @@ def _folder(path: Path) -> Path:
 
 
 def run(args: argparse.Namespace) -> int:
-    from groundwork.sizes import Size
-    from harness.scenery.make_meshes import provide
+    # deferred: saves ~40 ms of rtc --help (the profiler)
     from harness.sections.profile.profiler import Request, is_compiled, profile, profile_size, slug
+
+    # deferred: saves ~75 ms of rtc --help (the profile's report)
     from harness.sections.profile.report import text
-    from scene import SceneError, load_scene
-    from variants.registry import load_variant
 
     size = Size(*parse_size(args.size)) if args.size is not None else None
     if args.spp < 1:

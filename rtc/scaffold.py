@@ -16,6 +16,7 @@ from __future__ import annotations
 import ast
 import inspect
 import re
+import tomllib
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -258,8 +259,6 @@ def entry_point_line(variant: str) -> str:
 
 def registers(pyproject: Path, variant: str) -> bool:
     """True if ``pyproject`` registers ``variant`` in the ``rtc.variants`` group."""
-    import tomllib
-
     try:
         data = tomllib.loads(pyproject.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):

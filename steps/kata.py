@@ -23,6 +23,7 @@ from pathlib import Path
 from typing import Any, Protocol
 
 import pytest
+from pytest_bdd import feature as bdd_feature
 from pytest_bdd.exceptions import StepDefinitionNotFoundError
 from pytest_bdd.scenario import scenario_wrapper_template_registry
 
@@ -324,8 +325,6 @@ def duplicate_titles(path: Path) -> list[str]:
 
 def _forget_parsed_features(folder: Path) -> None:
     """Drop pytest-bdd's cached parses of these files, so edits between runs are seen."""
-    from pytest_bdd import feature as bdd_feature
-
     for filename in list(bdd_feature.features):
         if Path(filename).is_relative_to(folder):
             del bdd_feature.features[filename]

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 import re
+import shutil
 import signal
 import time
 from collections.abc import Callable, Iterator, Sequence
@@ -30,7 +31,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from groundwork.sizes import Size
-from harness.engine import figures
+from harness.engine import figures, sharing
 from harness.engine.budget import scaled
 from harness.engine.jobs import JobOutcome, run_job
 from harness.engine.machine import describe_machine
@@ -40,6 +41,8 @@ from harness.engine.sharing import Watch
 from harness.instruments import imagediff
 from harness.instruments.usage import available_cores
 from harness.scenery.presets import SceneRef
+from scene import load_scene
+from variants.registry import load_variant
 
 BASELINE_BUDGET_FACTOR = 3.0  # naive's rows get three budgets: every speed-up depends on them
 QUIET_WAIT = 20.0  # seconds to wait for a quieter machine before measuring a busy row again
@@ -270,8 +273,6 @@ class Bench:
         self, row: dict[str, Any], scene: SceneRef, task: dict[str, Any], depth: int | None
     ) -> None:
         """Time a busy row again (see ``measure_row``), in place."""
-        from harness.engine.sharing import wait_for_quiet
-
         name = str(row["name"])
         asked = figures.cores_asked(name, int(row.get("cores") or available_cores()))
         timing = {**task, "allocations": False, "rays": False, "compare_size": None}
@@ -282,7 +283,7 @@ class Bench:
                 f"{row['section']}: {name} got {figures.cpu_share(best):.2f} of {asked} cores: "
                 f"waiting up to {QUIET_WAIT:.0f} s for a quieter machine to time it again"
             )
-            quiet = wait_for_quiet(
+            quiet = sharing.wait_for_quiet(
                 asked, QUIET_WAIT, report=lambda text: self.log(f"{row['section']}: {name}: {text}")
             )
             self.log(
@@ -475,8 +476,6 @@ def check_scene(settings: BenchSettings) -> None:
     a ``SceneError`` (naming the file and line) when it does not load."""
     if settings.scene.path is None:  # built in code
         return
-    from scene import load_scene
-    from variants.registry import load_variant
 
     load_scene(settings.scene.path, load_variant(BASELINE).api, variant=BASELINE)
 
@@ -492,7 +491,6 @@ def run_bench(settings: BenchSettings, log: Log, sections: Sequence[Section]) ->
         with _terminate_as_interrupt():
             watch = Watch(settings.results, settings.threads or available_cores())
             document = Bench(settings, writer, log, watch).run(sections)
-            import shutil
 
             shutil.rmtree(writer.staging / "jobs", ignore_errors=True)
             return writer.publish(document)

@@ -33,6 +33,7 @@ from typing import Any
 
 import numpy as np
 
+from groundwork.progress import compile_ticker
 from groundwork.sizes import Size
 from harness.engine import figures, jobs
 from harness.engine.budget import Estimate, fit_to_budget, scaled
@@ -40,6 +41,8 @@ from harness.engine.lifeline import watch_parent
 from harness.instruments import alloccount, raycount, usage
 from harness.instruments.imagediff import canvas_array
 from harness.scenery.presets import SceneRef, build_scene
+from raytracer.camera import RenderSettings
+from variants.registry import load_variant
 
 PROBE_SECONDS = 0.25  # a probe this long is a good enough estimate
 WARM_PIXELS = 12  # the warm-up renders' size (the second is the first probe)
@@ -60,9 +63,6 @@ class Renderer:
     """A variant, a scene and the settings, ready to render at any size."""
 
     def __init__(self, job: Mapping[str, Any]) -> None:
-        from raytracer.camera import RenderSettings
-        from variants.registry import load_variant
-
         self.variant = load_variant(job["variant"])
         self.api = self.variant.api
         self.scene = SceneRef.from_dict(job["scene"])
@@ -290,7 +290,7 @@ def _announce_compiles(log: Callable[[str], None]) -> None:
     kind of scene compiles for tens of seconds, which would otherwise pass in silence)."""
     if "variants.numba" not in sys.modules:
         return
-    from groundwork.progress import compile_ticker
+    # deferred: saves ~120 ms (numba's loader) of a measuring process of another variant
     from variants.numba.specialize import on_compile
 
     def told(what: str, seconds: float | None) -> None:

@@ -19,6 +19,7 @@ import shutil
 import signal
 import subprocess
 import sys
+import traceback
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -161,8 +162,6 @@ def job_main(run: Callable[[dict[str, Any], Path], dict[str, Any]], argv: list[s
     try:
         result = run(job, job_path.parent)
     except Exception as error:
-        import traceback
-
         result = {"error": f"{type(error).__name__}: {error}", "traceback": traceback.format_exc()}
         if disk_error(error):
             result["disk"] = f"{getattr(error, 'strerror', None) or error}"

@@ -17,6 +17,7 @@ from harness.engine.budget import smaller_sizes
 from harness.engine.figures import PARALLEL_OPTIONS
 from harness.scenery.make_meshes import SCALE_MESHES
 from harness.scenery.presets import PRESETS, SceneRef
+from variants.registry import load_variant, parse_variant_name, registry
 
 BASELINE = "naive"
 AGAIN = 2  # a busy row is timed again up to this many times (``--again``)
@@ -152,8 +153,6 @@ def split_names(text: str) -> list[str]:
 
 def bench_configs(variant: Any) -> tuple[str, ...]:
     """``BENCH_CONFIGS`` of a variant's registry entry (a name, or a ``Variant``)."""
-    from variants.registry import parse_variant_name
-
     name = variant if isinstance(variant, str) else variant.name
     return BENCH_CONFIGS.get(parse_variant_name(name).name, ())
 
@@ -163,8 +162,6 @@ def expand_variants(text: str) -> tuple[list[str], dict[str, str]]:
 
     Raises ``LookupError`` (the registry's ``VariantError``) for a bad or unknown name.
     """
-    from variants.registry import load_variant, registry
-
     wanted: list[str] = []
     unavailable: dict[str, str] = {}
     for token in split_names(text):
@@ -187,8 +184,6 @@ def expand_variants(text: str) -> tuple[list[str], dict[str, str]]:
 
 def default_names(names: list[str]) -> list[str]:
     """Of ``names``, those that are a registry entry's default (no options): one per variant."""
-    from variants.registry import registry
-
     defaults = {entry.variant.name for entry in registry() if entry.variant is not None}
     return [name for name in names if name in defaults]
 
@@ -196,8 +191,6 @@ def default_names(names: list[str]) -> list[str]:
 def parallel_configs(names: list[str], counts: list[int]) -> dict[str, list[tuple[int, str]]]:
     """For each variant whose advertised configs set a worker or thread count: the count
     option spelled with each of ``counts`` -> {label: [(count, canonical name), ...]}."""
-    from variants.registry import load_variant, parse_variant_name, registry
-
     found: dict[str, list[tuple[int, str]]] = {}
     for entry in registry():
         if entry.variant is None or entry.variant.name not in names:

@@ -33,6 +33,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from PIL import Image
 
 from groundwork.sizes import Size
 from harness.instruments.usage import ProcessTimeout, wait_with_usage
@@ -232,8 +233,6 @@ def render(
 
 def read_png(path: Path) -> np.ndarray:
     """An 8-bit PNG as float RGB in [0, 1] (height, width, 3)."""
-    from PIL import Image
-
     with Image.open(path) as picture:
         rgb = np.asarray(picture.convert("RGB"), dtype=np.float64)
     return rgb / 255.0

@@ -36,8 +36,10 @@ from __future__ import annotations
 
 import argparse
 import os
+from importlib.metadata import version
 from typing import Any
 
+from groundwork.sizes import parse_size
 from harness.numba_targets.accuracy import against_naive, allocations
 from harness.numba_targets.timings import balance, cold_start, reference_render, whole_command
 from harness.numba_targets.workloads import cpp_workload, options, pooled, regions, specialization
@@ -73,7 +75,6 @@ def settings(args: argparse.Namespace) -> tuple[int, tuple[int, int], int, set[s
     runs = 5 if args.runs is None else args.runs
     if runs < 1:
         raise ValueError("--runs must be at least 1")
-    from groundwork.sizes import parse_size
 
     try:
         size = parse_size(args.naive_size or "160x120")
@@ -88,7 +89,6 @@ def settings(args: argparse.Namespace) -> tuple[int, tuple[int, int], int, set[s
 def run(args: argparse.Namespace) -> int:
     """Print every section not skipped (``settings(args)`` must have been checked)."""
     runs, size, pixels, skip = settings(args)
-    from importlib.metadata import version
 
     print(
         f"machine: {os.cpu_count()} CPUs, affinity {sorted(os.sched_getaffinity(0))}, load "

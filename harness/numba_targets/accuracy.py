@@ -8,7 +8,9 @@ import os
 import random
 import subprocess
 import sys
-from typing import TYPE_CHECKING, Any
+from typing import Any
+
+import numpy as np
 
 from harness.numba_targets.common import (
     REFERENCE,
@@ -20,11 +22,8 @@ from harness.numba_targets.common import (
     timed,
     verdict,
 )
-
-if TYPE_CHECKING:  # numpy is imported where it is used: ``rtc bench``'s parser needs none
-    import numpy as np
-
-
+from raytracer.tolerance import using_epsilon
+from raytracer.tracer import pixel_color
 
 
 def against_naive(
@@ -32,10 +31,6 @@ def against_naive(
 ) -> None:
     """naive and numba at ``size`` in this run: time per pixel and the picture's
     difference; then naive's colors of ``samples`` random pixels of the 640x480 picture."""
-    import numpy as np
-
-    from raytracer.tolerance import using_epsilon
-    from raytracer.tracer import pixel_color
 
     settings = render_settings()
     naive, c, w = load("naive", REFERENCE, size)
@@ -78,8 +73,6 @@ def against_naive(
 
 
 def _array(variant: Any, image: Any) -> np.ndarray:
-    import numpy as np
-
     pixel_at = variant.api["pixel_at"]
     rows = [
         [(p.red, p.green, p.blue) for p in (pixel_at(image, x, y) for x in range(image.width))]

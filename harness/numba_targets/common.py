@@ -7,12 +7,15 @@ import statistics
 import time
 from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
-if TYPE_CHECKING:  # numpy is imported where it is used: ``rtc bench``'s parser needs none
-    import numpy as np
+import numpy as np
 
 from harness.scenery import SCENES
+from harness.scenery.make_meshes import provide
+from raytracer.camera import RenderSettings
+from scene import load_scene
+from variants.registry import load_variant
 
 ROOT = Path(__file__).resolve().parents[2]
 REFERENCE = SCENES / "reference.yml"
@@ -24,10 +27,6 @@ EPSILONS = (0.0001, 0.001)  # the project's (the book's) and the Go renderer's
 def load(
     variant_name: str, path: Path, size: tuple[int, int] | None = None
 ) -> tuple[Any, Any, Any]:
-    from harness.scenery.make_meshes import provide
-    from scene import load_scene
-    from variants.registry import load_variant
-
     variant = load_variant(variant_name)
     scene = load_scene(path, variant.api, variant=variant.name, provide_mesh=provide)
     if size is not None:
@@ -63,15 +62,11 @@ def verdict(ok: bool) -> str:
 
 
 def render_settings(**changes: Any) -> Any:
-    from raytracer.camera import RenderSettings
-
     return RenderSettings(**changes)
 
 
 def difference(got: np.ndarray, expected: np.ndarray) -> str:
     """Max and mean difference per channel, and pixels beyond 1/255, of clamped colors."""
-    import numpy as np
-
     a = np.clip(got, 0.0, 1.0)
     b = np.clip(expected, 0.0, 1.0)
     difference = np.abs(a - b)

@@ -15,6 +15,8 @@ import time
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+import numpy as np
+
 from harness.numba_targets.common import (
     EPSILONS,
     REFERENCE,
@@ -27,7 +29,7 @@ from harness.numba_targets.common import (
     verdict,
 )
 
-if TYPE_CHECKING:  # numpy is imported where it is used: ``rtc bench``'s parser needs none
+if TYPE_CHECKING:
     pass
 
 
@@ -83,8 +85,7 @@ def balance(runs: int) -> None:
     """How evenly interleaved rows split the reference scene between 2 threads: each
     thread's rows rendered alone, on this thread (CPU seconds, so the machine's load does
     not matter much). 2 threads cannot beat the slower half."""
-    import numpy as np
-
+    # deferred: saves ~200 ms (numba's render) of rtc bench --help
     from variants.numba.render import Options, Scratch, prepare_frame
 
     _, c, w = load("numba[threads=1]", REFERENCE)
@@ -156,6 +157,7 @@ def whole_command(runs: int) -> None:
             cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
             samples.append((wall, cpu / wall))
         median = statistics.median(w for w, _ in samples)
+        # deferred: saves ~200 ms (numba's render) of rtc bench --help
         from variants.numba.render import max_threads
 
         print(

@@ -7,8 +7,11 @@ import functools
 import statistics
 import time
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
+import numpy as np
+
+from harness.instruments.usage import TreeCpuClock
 from harness.numba_targets.common import (
     CPP,
     REFERENCE,
@@ -21,11 +24,6 @@ from harness.numba_targets.common import (
     timed,
     verdict,
 )
-
-if TYPE_CHECKING:  # numpy is imported where it is used: ``rtc bench``'s parser needs none
-    import numpy as np
-
-
 
 
 def cpp_workload(runs: int) -> None:
@@ -100,8 +98,6 @@ def regions(runs: int) -> None:
     """The reference scene at 640x480, 1 thread: one ``render`` against one
     ``render_region`` call per row of the same frame (a pooled worker's jobs), the frame
     prepared by a first call; the pictures must be equal."""
-    import numpy as np
-
     variant, c, w = load("numba[threads=1]", REFERENCE)
     tracer = variant.tracer
     settings = render_settings()
@@ -144,8 +140,6 @@ START_UP_SIZE = (8, 6)  # a render this small costs what a render costs besides 
 def _timed_with_children(action: Callable[[], Any]) -> tuple[float, float]:
     """(wall seconds, CPU share) of one call, the CPU of its worker processes included
     (``harness.instruments.usage.TreeCpuClock``)."""
-    from harness.instruments.usage import TreeCpuClock
-
     clock = TreeCpuClock()
     clock.start()
     start = time.perf_counter()

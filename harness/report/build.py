@@ -31,9 +31,11 @@ from harness.document.model import (
 from harness.document.runinfo import HEAT_SCALE_PNG, REPORT_DIR, context_line, git_text, rows
 from harness.engine import figures
 from harness.engine.results import ResultFileError, check_run, list_runs, load_run
-from harness.report import plots
+from harness.report import compare, plots
 from harness.sections.ladder import report as ladder_report
 from harness.sections.table.report import heat_visible
+from harness.stability import runfile as stability_runs
+from harness.stability import table as stability_table
 
 __all__ = ["build_report", "console_table", "heat_visible", "load_history", "pick_runs"]
 
@@ -50,8 +52,6 @@ INTRO = (
 def _changes_by_run(runs: list[Run]) -> dict[int, list[Any]]:
     """Per run index, the variants whose time changed significantly from their previous run
     (``harness.report.compare.history``)."""
-    from harness.report import compare
-
     found: dict[int, list[compare.HistoryPoint]] = {}
     for series in compare.history(runs):
         for point in series.points:
@@ -62,8 +62,6 @@ def _changes_by_run(runs: list[Run]) -> dict[int, list[Any]]:
 
 def _history_blocks(runs: list[Run], plot: Path | None = None) -> list[Block]:
     """Every run kept, newest first, with the significant changes between them."""
-    from harness.report import compare
-
     changes = _changes_by_run(runs)
     body = []
     for index in reversed(range(len(runs))):
@@ -265,9 +263,6 @@ def build_report(
 ) -> tuple[Path, Path, list[str]]:
     """Write README.md, report.html and the plots; returns their paths and any problems
     (each also passed to ``warn`` as soon as it is found, before the report is built)."""
-    from harness.stability import runfile as stability_runs
-    from harness.stability import table as stability_table
-
     runs, problems = load_history(results)
     stability, stability_problems = stability_runs.latest_run(results)
     problems += stability_problems

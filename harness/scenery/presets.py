@@ -23,6 +23,9 @@ from typing import Any
 
 from groundwork.sizes import Size
 from harness.scenery import SCENES
+from harness.scenery.make_meshes import provide
+from scene import load_scene
+from scene.context import updated
 
 BUILTIN_DEFAULT_WORLD = "default-world"
 
@@ -109,8 +112,6 @@ def build_scene(ref: SceneRef, variant: Any, size: Size) -> Any:
         if ref.name != BUILTIN_DEFAULT_WORLD:
             raise ValueError(f"scene {ref.name!r} has no file and is not built in")
         return _default_world_scene(variant.api, size)
-    from harness.scenery.make_meshes import provide
-    from scene import load_scene
 
     scene = load_scene(ref.path, variant.api, variant=variant.name, provide_mesh=provide)
     scene = scene.resized(size.width, size.height)
@@ -123,6 +124,5 @@ def _default_world_scene(api: Mapping[str, Any], size: Size) -> Any:
         api["point"](0, 0, -5), api["point"](0, 0, 0), api["vector"](0, 1, 0)
     )
     cam = api["camera"](size.width, size.height, math.pi / 2)
-    from scene.context import updated
 
     return updated(cam, transform=view), api["default_world"]()

@@ -24,6 +24,7 @@ from harness.stability import (
 )
 from harness.stability.model import Case, Outcome, Probe, crashed
 from variants.registry import Variant, VariantError, load_variant, parse_variant_name, registry
+from variants.robust import variant as robust_variant
 
 CASES: list[Case] = [
     *cases_scale.CASES,
@@ -49,9 +50,7 @@ class Cell:
 
 def _robust_directly() -> Variant:
     """``robust`` from its factory (until pyproject registers its entry point)."""
-    from variants.robust import variant
-
-    return variant()
+    return robust_variant()
 
 
 def load(name: str) -> Variant:

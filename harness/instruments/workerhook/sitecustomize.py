@@ -14,6 +14,11 @@ Any other ``sitecustomize`` on the path is imported afterwards, as if this one w
 
 from __future__ import annotations
 
+import atexit
+import importlib
+import importlib.machinery
+import importlib.util
+import json
 import os
 import sys
 
@@ -22,9 +27,6 @@ def _install() -> None:
     folder = os.environ.get("RTC_ALLOCCOUNT_DIR")
     if not folder:
         return
-    import atexit
-    import importlib
-    import json
 
     try:
         _alloccount = importlib.import_module("harness.instruments._alloccount")
@@ -48,8 +50,6 @@ def _chain() -> None:
     """Import the next ``sitecustomize`` on the path, if there is one."""
     here = os.path.dirname(os.path.abspath(__file__))
     rest = [p for p in sys.path if os.path.abspath(p or ".") != here]
-    import importlib.machinery
-    import importlib.util
 
     spec = importlib.machinery.PathFinder.find_spec("sitecustomize", rest)
     if spec is None or spec.loader is None:

@@ -33,8 +33,17 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+import numpy as np
+
 from groundwork.sizes import Size
-from harness.scenery.presets import SceneRef
+from harness.engine.jobs import job_main, run_in_child
+from harness.instruments.imagediff import canvas_array, image_error
+from harness.instruments.usage import Timings
+from harness.scenery.presets import SceneRef, build_scene
+from raytracer.camera import RenderSettings
+from variants.dask_cluster import DaskTracer
+from variants.pooled import make_jobs
+from variants.registry import load_variant
 
 if TYPE_CHECKING:
     from harness.engine.bench import Bench
@@ -92,11 +101,6 @@ def run(
     """Measure ``plan``: one ``cluster`` entry with a point per configuration. jobs: a
     folder for the jobs' files; save_image(array, file name) -> the picture's path in the
     run (None: pictures are not kept)."""
-    import numpy as np
-
-    from harness.engine.jobs import run_in_child
-    from harness.instruments.imagediff import image_error
-    from variants.registry import load_variant
 
     entry: dict[str, Any] = {"section": SECTION, "name": SECTION, "points": []}
     entry.update(scene=plan.scene.name, size=[plan.size.width, plan.size.height])
@@ -153,16 +157,6 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
     """One configuration: load it (a dask variant opens its cluster session), a warm-up
     render at ``WARM``, the samples chosen when asked (``calibrate``), then the timed
     renders; the picture of the last one."""
-    import numpy as np
-
-    from harness.instruments.imagediff import canvas_array
-    from harness.instruments.usage import Timings
-    from harness.scenery.presets import build_scene
-    from raytracer.camera import RenderSettings
-    from variants.dask_cluster import DaskTracer
-    from variants.pooled import make_jobs
-    from variants.registry import load_variant
-
     def settings_with(samples: int) -> RenderSettings:
         extra = {} if job.get("epsilon") is None else {"epsilon": job["epsilon"]}
         return RenderSettings(depth=job["depth"], samples=samples, seed=job["seed"], **extra)
@@ -218,8 +212,6 @@ def measure(bench: Bench) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     """``python -m harness.sections.cluster.measure JOB.json``: one configuration's job."""
-    from harness.engine.jobs import job_main
-
     return job_main(render_job, sys.argv[1:] if argv is None else argv)
 
 

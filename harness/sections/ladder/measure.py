@@ -36,9 +36,12 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from groundwork.sizes import Size
-from harness.engine import figures
-from harness.instruments import imagediff
+from harness.engine import figures, sharing
+from harness.engine.bench import QUIET_WAIT
+from harness.instruments import imagediff, povray
+from harness.instruments.usage import available_cores
 from harness.scenery import SCENES
+from variants.registry import load_variant
 
 if TYPE_CHECKING:
     import numpy as np
@@ -85,8 +88,6 @@ STEPS = (
 def canonical(spelled: str) -> str | None:
     """The registry's canonical name of ``spelled`` (``pooled:prealloc`` ->
     ``pooled[workers=2]:prealloc`` on 2 cores), None where it is not available here."""
-    from variants.registry import load_variant
-
     try:
         return load_variant(spelled).name
     except LookupError:
@@ -94,8 +95,6 @@ def canonical(spelled: str) -> str | None:
 
 
 def _unavailable(spelled: str) -> str:
-    from variants.registry import load_variant
-
     try:
         load_variant(spelled)
     except LookupError as error:
@@ -242,9 +241,6 @@ def _exact_picture(bench: Bench, size: Size) -> tuple[str, np.ndarray] | None:
 def anchor(bench: Bench) -> dict[str, Any]:
     """POV-Ray's entry (see the module): a point per thread count, its picture against the
     project's, or ``status: unavailable`` and why."""
-    from harness.instruments import povray
-    from harness.instruments.usage import available_cores
-
     s = bench.settings
     entry: dict[str, Any] = {"section": SECTION, "part": "anchor", "name": "POV-Ray",
                              "anchor": "povray", "scene": s.scene.name}  # fmt: skip
@@ -283,10 +279,6 @@ def _povray_point(
 ) -> tuple[dict[str, Any], np.ndarray]:
     """``repeat`` renders by POV-Ray on ``threads`` threads; timed again (as a busy row is,
     ``Bench.measure_row``) while its trace threads did not get their cores."""
-    from harness.engine.bench import QUIET_WAIT
-    from harness.engine.sharing import wait_for_quiet
-    from harness.instruments import povray
-
     attempts: list[dict[str, Any]] = []
     best: dict[str, Any] | None = None
     picture = None
@@ -296,7 +288,7 @@ def _povray_point(
                 f"{SECTION}: POV-Ray was busy: waiting up to {QUIET_WAIT:.0f} s for a quieter "
                 "machine to time it again"
             )
-            quiet = wait_for_quiet(
+            quiet = sharing.wait_for_quiet(
                 threads, QUIET_WAIT, report=lambda text: bench.log(f"{SECTION}: POV-Ray: {text}")
             )
             bench.log(f"{SECTION}: POV-Ray on {threads} thread(s) again: it was busy ({quiet})")
@@ -346,8 +338,6 @@ def _anchor_picture(
     """POV-Ray's picture kept, and compared with the project's exact picture at its size (or
     naive's at the comparison size, rendered by POV-Ray there too), both in bytes as their
     PNGs hold them (so that rounding to bytes is no difference)."""
-    from harness.instruments import povray
-
     entry["image"] = bench.save_image(picture, f"{SECTION}-povray.png")
     ours = _exact_picture(bench, size)
     if ours is None:

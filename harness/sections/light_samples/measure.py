@@ -33,10 +33,17 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+import numpy as np
 import yaml
 
 from groundwork.sizes import Size
+from harness.engine.jobs import job_main, run_in_child
+from harness.instruments.imagediff import canvas_array, image_error
+from harness.instruments.usage import Timings
 from harness.scenery import SCENES
+from raytracer.camera import RenderSettings
+from scene import load_scene_text
+from variants.registry import load_variant
 
 if TYPE_CHECKING:
     from harness.engine.bench import Bench
@@ -135,8 +142,6 @@ def _job(
 
 
 def _run_job(folder: Path, job: dict[str, Any], threads: int | None) -> dict[str, Any]:
-    from harness.engine.jobs import run_in_child
-
     result = run_in_child("harness.sections.light_samples.measure", folder, job, threads)
     if isinstance(result, int):
         return {"error": f"the measuring process exited with {result}"}
@@ -150,10 +155,6 @@ def run(
 
     jobs: a folder for the jobs' files; save_image(array, file name) -> the picture's path
     in the run (None: pictures are not kept)."""
-    import numpy as np
-
-    from harness.instruments.imagediff import image_error
-    from variants.registry import load_variant
 
     base = {"scene": plan.scene.stem, "variant": plan.variant}
     try:
@@ -226,13 +227,6 @@ def run(
 def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
     """One configuration: load the scene with its area lights rewritten, a warm-up render at
     ``WARM``, then one timed render per samples count (CPU share beside each)."""
-    import numpy as np
-
-    from harness.instruments.imagediff import canvas_array
-    from harness.instruments.usage import Timings
-    from raytracer.camera import RenderSettings
-    from scene import load_scene_text
-    from variants.registry import load_variant
 
     variant = load_variant(job["variant"])
     tracer = variant.tracer
@@ -292,8 +286,6 @@ def measure(bench: Bench) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     """``python -m harness.sections.light_samples.measure JOB.json``: one configuration's job."""
-    from harness.engine.jobs import job_main
-
     return job_main(render_job, sys.argv[1:] if argv is None else argv)
 
 

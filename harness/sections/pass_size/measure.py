@@ -24,15 +24,25 @@ Everything lands in the run file's ``series`` (section ``pass-size``);
 
 from __future__ import annotations
 
+import gc
+import math
 import sys
 import time
+import tracemalloc
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+import numpy as np
+
 from groundwork.sizes import Size
-from harness.scenery.presets import SceneRef
+from harness.engine.jobs import job_main, run_in_child
+from harness.instruments.imagediff import canvas_array, image_error
+from harness.instruments.usage import Timings, current_rss, peak_memory, reset_peak_rss
+from harness.scenery.presets import SceneRef, build_scene
+from raytracer.camera import RenderSettings
+from variants.registry import VariantSpec, load_variant, parse_variant_name
 
 if TYPE_CHECKING:
     from harness.engine.bench import Bench
@@ -49,8 +59,6 @@ Log = Callable[[str], None]
 
 def with_max_mb(variant: str, max_mb: int) -> str:
     """``variant`` (the registry's grammar) with its ``max_mb`` option set to ``max_mb``."""
-    from variants.registry import VariantSpec, parse_variant_name
-
     spec = parse_variant_name(variant)
     options = (*((k, v) for k, v in spec.options if k != "max_mb"), ("max_mb", str(max_mb)))
     return str(VariantSpec(spec.name, options, spec.inner))
@@ -79,8 +87,6 @@ class Plan:
 
 
 def _run_job(folder: Path, job: dict[str, Any], threads: int | None) -> dict[str, Any]:
-    from harness.engine.jobs import run_in_child
-
     result = run_in_child("harness.sections.pass_size.measure", folder, job, threads)
     if isinstance(result, int):
         return {"error": f"the measuring process exited with {result}"}
@@ -112,10 +118,6 @@ def run(
     """Measure ``plan``: one ``pass-size`` entry with a point per ``max_mb`` and the big
     point. jobs: a folder for the jobs' files; save_image(array, file name) -> the
     picture's path in the run (None: pictures are not kept)."""
-    import numpy as np
-
-    from harness.instruments.imagediff import image_error
-    from variants.registry import load_variant
 
     entry: dict[str, Any] = {"section": SECTION, "name": plan.variant, "points": []}
     entry.update(scene=plan.scene.name, size=[plan.size.width, plan.size.height])
@@ -181,17 +183,6 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
     """One ``max_mb``: load the scene, a warm-up render at ``WARM``, the timed renders (RSS
     high-water mark over them), one render under ``tracemalloc``; the big point: one render
     under ``tracemalloc``, RSS measured over it."""
-    import gc
-    import math
-    import tracemalloc
-
-    import numpy as np
-
-    from harness.instruments.imagediff import canvas_array
-    from harness.instruments.usage import Timings, current_rss, peak_memory, reset_peak_rss
-    from harness.scenery.presets import build_scene
-    from raytracer.camera import RenderSettings
-    from variants.registry import load_variant
 
     variant = load_variant(job["variant"])
     tracer = variant.tracer
@@ -258,8 +249,6 @@ def measure(bench: Bench) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     """``python -m harness.sections.pass_size.measure JOB.json``: one point's job."""
-    from harness.engine.jobs import job_main
-
     return job_main(render_job, sys.argv[1:] if argv is None else argv)
 
 

@@ -13,27 +13,29 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from groundwork.images import write_image
+from harness.engine.jobs import job_main
+from harness.scenery.make_meshes import provide
 from harness.sections.profile.profiler import is_compiled
 from harness.sections.profile.stats import collect, summarize
+from raytracer.camera import RenderSettings
+from scene import load_scene
+from variants.registry import load_variant
 
 # ---------------------------------------------------------------------------- the jobs
 
 
 def _load(job: Mapping[str, Any], variant: Any) -> Any:
-    from harness.scenery.make_meshes import provide
-    from scene import load_scene
-
     scene = load_scene(job["scene"], variant.api, variant=variant.name, provide_mesh=provide)
     return scene.resized(*job["size"])
 
 
 def _settings(job: Mapping[str, Any]) -> Any:
-    from raytracer.camera import RenderSettings
-
     return RenderSettings(depth=job["depth"], samples=job["samples"], seed=job["seed"])
 
 
 def _kernel_files() -> set[str]:
+    # deferred: keeps ~85 ms (numba's loader) out of other variants' flame graphs
     from variants.numba.specialize import kernel_folder
 
     return {p.name for p in kernel_folder().glob("*.so")}
@@ -42,9 +44,6 @@ def _kernel_files() -> set[str]:
 def stages_job(job: Mapping[str, Any]) -> dict[str, Any]:
     """The render timed stage by stage (see the module), then repeated (untimed) until the
     flame graph has ``flame_seconds`` of rendering to sample."""
-    from groundwork.images import write_image
-    from variants.registry import load_variant
-
     variant = load_variant(job["variant"])
     settings = _settings(job)
     compiled = is_compiled(variant)
@@ -66,6 +65,7 @@ def stages_job(job: Mapping[str, Any]) -> dict[str, Any]:
     if tracer is not None and compiled:
         before = _kernel_files()
         if getattr(getattr(tracer, "options", None), "bvh", None) == "sah":
+            # deferred: keeps ~85 ms (numba's loader) out of other variants' flame graphs
             from variants.numba.specialize import load_bvh_builder
 
             load_bvh_builder()  # loaded (built if missing) here, not inside the packing
@@ -128,8 +128,6 @@ def stages_job(job: Mapping[str, Any]) -> dict[str, Any]:
 def cprofile_job(job: Mapping[str, Any]) -> dict[str, Any]:
     """The render (prepare and trace) under cProfile: ``summarize``'s figures, and the raw
     statistics written to ``job["pstats"]`` when given."""
-    from variants.registry import load_variant
-
     variant = load_variant(job["variant"])
     settings = _settings(job)
     scene = _load(job, variant)
@@ -161,8 +159,6 @@ def cprofile_job(job: Mapping[str, Any]) -> dict[str, Any]:
 
 def main(argv: list[str] | None = None) -> int:
     """``python -m harness.sections.profile.jobs JOB.json``: a stages or a cProfile job."""
-    from harness.engine.jobs import job_main
-
     def run(job: dict[str, Any], _: Path) -> dict[str, Any]:
         return stages_job(job) if job["kind"] == "stages" else cprofile_job(job)
 

@@ -11,6 +11,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from groundwork.sizes import Size
+from harness.scenery.presets import PRESETS
 from harness.sections.profile.profiler import (
     SECTION,
     Request,
@@ -20,6 +21,7 @@ from harness.sections.profile.profiler import (
     slug,
 )
 from harness.sections.profile.stats import findings
+from variants.registry import load_variant
 
 if TYPE_CHECKING:
     from harness.engine.bench import Bench
@@ -57,8 +59,6 @@ def plan_for(settings: Any) -> Plan:
     """The section's plan in a bench run (``harness.engine.plan.BenchSettings``): its scene (the
     reference scene when the run's has no file), scaled to ``DEFAULT_PIXELS``, one sample
     per pixel, the run's depth, seed and threads."""
-    from harness.scenery.presets import PRESETS
-
     scene = settings.scene.path
     if scene is None:
         scene = PRESETS["reference"].path
@@ -71,8 +71,6 @@ def plan_for(settings: Any) -> Plan:
 def run(plan: Plan, jobs: Path, log: Log, images: Path, stem: str) -> list[dict[str, Any]]:
     """The ``profile`` section: one entry per variant of ``plan``; the flame graphs go into
     ``images`` (the run's folder), named in the entry as ``STEM/profile-VARIANT.svg``."""
-    from variants.registry import load_variant
-
     entries: list[dict[str, Any]] = []
     for name in plan.variants:
         try:

@@ -43,6 +43,7 @@ from typing import Any
 
 from groundwork.sizes import Size
 from harness.engine.budget import scaled
+from harness.engine.jobs import child_environment, start_child, wait_child
 
 SECTION = "profile"  # a profile is an entry of the bench's section of that name
 DEFAULT_PIXELS = 768  # the default size: the camera scaled to at most this many (32x24 at 4:3)
@@ -117,8 +118,6 @@ def _run_child(
 ) -> tuple[dict[str, Any] | None, str]:
     """Run ``command`` (ending in the job file's path, added here) on ``job`` written into
     ``folder``; (its result.json or None, the last line it printed when ``quiet``)."""
-    from harness.engine.jobs import child_environment, start_child, wait_child
-
     folder.mkdir(parents=True, exist_ok=True)
     job_path = folder / "job.json"
     job_path.write_text(json.dumps(job))

@@ -4,7 +4,9 @@
 from __future__ import annotations
 
 import cProfile
+import gc
 import sysconfig
+import types
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -56,9 +58,6 @@ def _code_name(code: Any) -> str:
     ``<string>``, every class's ``__init__`` on line 2), its function's ``__qualname__``
     (``Tuple.__init__``), found among the code's referrers."""
     if code.co_filename == "<string>":
-        import gc
-        import types
-
         for referrer in gc.get_referrers(code):
             if isinstance(referrer, types.FunctionType):
                 return str(referrer.__qualname__)

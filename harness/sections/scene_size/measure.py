@@ -43,17 +43,38 @@ a million triangles): run it on its own, ``rtc bench --sections scene-size``, an
 
 from __future__ import annotations
 
+import gc
 import math
 import statistics
+import subprocess
 import sys
 import time
+import tracemalloc
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from groundwork.sizes import Size
+from harness.engine.jobs import job_main, run_in_child
+from harness.instruments import povray
+from harness.instruments.imagediff import canvas_array, image_error
+from harness.instruments.usage import (
+    ProcessTimeout,
+    Timings,
+    current_rss,
+    peak_memory,
+    reset_peak_rss,
+    wait_with_usage,
+)
 from harness.scenery.make_meshes import CATALOGUE, GENERATED, SCALE_MESHES, mesh_path
+from raytracer.camera import RenderSettings
+from raytracer.obj_file import parse_obj_file
+from scene import load_scene_text
+from scene.obj_mesh import read_mesh
+from variants.registry import load_variant
 
 SECTION = "scene-size"
 PARSE_SECTION = "obj-parse"
@@ -110,9 +131,6 @@ POV_SCENE_END = """\
 def pov_scene(mesh: Path, size: Size, target: Path) -> Path:
     """Write ``target``: the section's scene (``scene_text``) for POV-Ray, the OBJ file
     ``mesh`` as a ``mesh2`` (vertices and faces as the scene loader reads them)."""
-    import numpy as np
-
-    from scene.obj_mesh import read_mesh
 
     model = read_mesh(mesh.read_bytes(), str(mesh))
     with target.open("w", encoding="ascii") as out:
@@ -204,8 +222,6 @@ def predicted_render(points: list[dict[str, Any]], triangles: int) -> float | No
 def _run_job(folder: Path, job: dict[str, Any], threads: int | None) -> dict[str, Any]:
     """Run one job in a fresh process (``python -m harness.sections.scene_size.measure JOB``); its
     result."""
-    from harness.engine.jobs import run_in_child
-
     result = run_in_child("harness.sections.scene_size.measure", folder, job, threads)
     if isinstance(result, int):
         return {"error": f"the measuring process exited with {result}"}
@@ -223,10 +239,6 @@ def run(
     jobs: a folder for the jobs' files (made here); save_image(array, file name) -> the
     picture's path in the run (None: pictures are not kept).
     """
-    import numpy as np
-
-    from harness.instruments.imagediff import image_error
-    from variants.registry import load_variant
 
     paths = {name: mesh_path(name, plan.folder) for name in plan.meshes}
     counter = iter(range(1, 1_000_000))
@@ -310,9 +322,6 @@ def _rtc_render(scene: Path, output: Path, size: Size, threads: int | None) -> l
 
 def _command(args: list[str], cwd: Path) -> dict[str, Any]:
     """One whole process, from start to exit: wall and CPU seconds, peak resident set."""
-    import subprocess
-
-    from harness.instruments.usage import ProcessTimeout, wait_with_usage
 
     started = time.perf_counter()
     process = subprocess.Popen(
@@ -337,8 +346,6 @@ def commands(plan: Plan, paths: dict[str, Path], jobs: Path, log: Log) -> dict[s
     """The ``scene-size-command`` entry: per mesh, ``rtc render`` with ``numba`` against
     POV-Ray on the same scene, whole processes, ``repeat`` times each in turns (see the
     module)."""
-    from harness.instruments import povray
-
     found = povray.find()
     threads = plan.threads or 2
     entry: dict[str, Any] = {
@@ -388,8 +395,6 @@ def commands(plan: Plan, paths: dict[str, Path], jobs: Path, log: Log) -> dict[s
 
 
 def _peak_since_reset(was_reset: bool) -> int:
-    from harness.instruments.usage import peak_memory
-
     return peak_memory(was_reset).main
 
 
@@ -398,12 +403,6 @@ def parse_job(job: dict[str, Any]) -> dict[str, Any]:
     from the file's bytes, and the resident set's growth during the first), then the
     book's ``parse_obj_file`` (read time, parse seconds, the resident set's growth during
     the first parse, and tracemalloc's figures if asked)."""
-    import gc
-    import tracemalloc
-
-    from harness.instruments.usage import current_rss, reset_peak_rss
-    from raytracer.obj_file import parse_obj_file
-    from scene.obj_mesh import read_mesh
 
     path = Path(job["mesh"])
     result: dict[str, Any] = {"arrays": []}
@@ -463,15 +462,6 @@ def _count_primitives(specs: Any) -> int:
 
 def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
     """One variant on one mesh: load, prepare, warm-up, timed renders (see the module)."""
-    import gc
-
-    import numpy as np
-
-    from harness.instruments.imagediff import canvas_array
-    from harness.instruments.usage import Timings, current_rss, reset_peak_rss
-    from raytracer.camera import RenderSettings
-    from scene import load_scene_text
-    from variants.registry import load_variant
 
     variant = load_variant(job["variant"])
     tracer = variant.tracer
@@ -532,8 +522,6 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
 
 def main(argv: list[str] | None = None) -> int:
     """``python -m harness.sections.scene_size.measure JOB.json``: a parse or a render job."""
-    from harness.engine.jobs import job_main
-
     def run(job: dict[str, Any], folder: Path) -> dict[str, Any]:
         return parse_job(job) if job["kind"] == "parse" else render_job(job, folder)
 

@@ -13,6 +13,8 @@ from typing import TYPE_CHECKING, Any
 
 from groundwork.sizes import Size
 from harness.engine import figures
+from harness.engine.bench import series_entry, series_task
+from harness.engine.cluster_jobs import cluster_jobs
 from harness.engine.jobs import JobOutcome
 from harness.engine.plan import BASELINE, default_names
 from harness.instruments import imagediff
@@ -55,8 +57,6 @@ def _jobs(
 ) -> list[tuple[dict[str, Any], JobOutcome]]:
     """The configurations, one after the other here, or all at once on the cluster
     ``--sweep-on`` names (``harness.engine.cluster_jobs``)."""
-    from harness.engine.bench import series_entry, series_task
-
     s = bench.settings
     extra = {"truth": truth}
     if s.sweep_on is None:
@@ -64,7 +64,6 @@ def _jobs(
             bench.series_job(SECTION, name, s.scene, points, s.budget, extra)
             for name, points in measured
         ]
-    from harness.engine.cluster_jobs import cluster_jobs
 
     specs = [
         bench.job_spec(name, s.scene, [series_task(points, s.budget)]) for name, points in measured
