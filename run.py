@@ -3,11 +3,11 @@
 
     python3 run.py bench   # quick benchmark of the reference scene, writes results/README.md
     python3 run.py test    # every feature for every variant, the unit tests (on every core),
-                           # ruff and mypy
+                           # ruff, the import contracts (lint-imports) and mypy
     python3 run.py rtc ARGS...   # any rtc command inside the environment
 
 Needs only Python 3.11 or newer. The environment is (re)built when pyproject.toml or the
-C extension's sources (setup.py, harness/_alloccount.c) change.
+C extension's sources (setup.py, harness/instruments/_alloccount.c) change.
 """
 
 from __future__ import annotations
@@ -29,7 +29,9 @@ ROOT = Path(__file__).resolve().parent
 VENV = ROOT / ".venv"
 BIN = VENV / ("Scripts" if os.name == "nt" else "bin")
 STAMP = VENV / "installed-from.sha256"
-BUILD_INPUTS = ("pyproject.toml", "setup.py", "harness/_alloccount.c")  # a change reinstalls
+BUILD_INPUTS = (  # a change reinstalls
+    "pyproject.toml", "setup.py", "harness/instruments/_alloccount.c",
+)
 STATUS_EVERY = 5.0  # seconds: while pip works, its latest line is shown at most this often
 SILENT_EVERY = 10.0  # seconds between two lines saying that a quiet step (mypy) still runs
 
@@ -159,7 +161,8 @@ def _marks_serial_tests() -> bool:
 
 
 def test(extra: list[str]) -> int:
-    """The suite on every core (pytest-xdist), then ruff and mypy. The tests marked
+    """The suite on every core (pytest-xdist), then ruff, the import contracts (lint-imports,
+    pyproject.toml's ``[tool.importlinter]``) and mypy. The tests marked
     ``serial`` (they cannot share the machine; none is, today) run first, alone, in one
     process; then the others on a worker process per core, ``worksteal`` handing a worker
     that is done tests from another's queue. ``extra`` goes to both passes."""
@@ -174,6 +177,7 @@ def test(extra: list[str]) -> int:
     steps = [
         [*parallel, *extra],
         [str(BIN / "ruff"), "check", "."],
+        [str(BIN / "lint-imports"), "--no-cache"],
     ]
     for argv in steps:
         worst = max(worst, _run(*argv))

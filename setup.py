@@ -1,4 +1,5 @@
-"""Builds the one optional C extension, ``harness._alloccount`` (exact allocation counts).
+"""Builds the one optional C extension, ``harness.instruments._alloccount`` (exact allocation
+counts).
 
 Everything else is configured in pyproject.toml. The extension is optional: without a C
 compiler (or without NumPy's headers) ``pip install`` still succeeds and the harness falls
@@ -22,8 +23,8 @@ def _numpy_options() -> dict[str, list]:
 setup(
     ext_modules=[
         Extension(
-            "harness._alloccount",
-            ["harness/_alloccount.c"],
+            "harness.instruments._alloccount",
+            ["harness/instruments/_alloccount.c"],
             optional=True,
             **_numpy_options(),
         )

@@ -9,20 +9,31 @@ import sys
 import time
 from typing import TYPE_CHECKING, Any
 
+from groundwork.sizes import parse_size
 from harness import numba_targets
+from harness.engine.plan import (
+    AGAIN,
+    BASELINE,
+    FULL,
+    QUICK,
+    BenchSettings,
+    expand_variants,
+    split_names,
+)
+from harness.scenery.presets import resolve_scene
+from harness.sections import DEFAULTS, NAMES, help_text, measuring, measuring_order
 from rtc.cli import UserError, add_results_dir, cannot_write, check_memory, check_writable
+from scene import SceneError
+from variants.registry import VariantError, parse_variant_name
 
 if TYPE_CHECKING:
-    from harness.plan import BenchSettings
+    from harness.engine.plan import BenchSettings
 
 NAME = "bench"
 HELP = "time, count allocations and measure image error per variant; writes results/runs/"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    from harness.plan import AGAIN, DEFAULT_SECTIONS, SECTIONS
-    from harness.sections import help_text
-
     parser.add_argument(
         "--scene",
         default="reference",
@@ -81,9 +92,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--sections",
-        default=",".join(DEFAULT_SECTIONS),
+        default=",".join(DEFAULTS),
         metavar="A,B",
-        help=f"which parts to run, of {', '.join(SECTIONS)}; {help_text()}",
+        help=f"which parts to run, of {', '.join(NAMES)}; {help_text()}",
     )
     parser.add_argument(
         "--mesh-variants", default="numba,numba[bvh=off]", metavar="A,B",
@@ -139,11 +150,6 @@ NUMBA_TARGET_OPTIONS = ("runs", "naive_size", "naive_pixels", "skip")
 
 def settings_from(args: argparse.Namespace) -> BenchSettings:
     """The run's settings from the command line; ``UserError`` for a bad value."""
-    from harness.plan import BASELINE, FULL, QUICK, SECTIONS, BenchSettings, expand_variants
-    from harness.presets import resolve_scene
-    from harness.sections import measuring_order
-    from harness.sizes import parse_size
-
     mode = FULL if args.full else QUICK
     try:
         scene = resolve_scene(args.scene)
@@ -165,9 +171,9 @@ def settings_from(args: argparse.Namespace) -> BenchSettings:
     if args.budget is not None and args.budget < 0:
         raise UserError(f"--budget {args.budget}: expected seconds, 0 or more (0: no limit)")
     sections = tuple(s.strip() for s in args.sections.split(",") if s.strip())
-    unknown = [s for s in sections if s not in SECTIONS]
+    unknown = [s for s in sections if s not in NAMES]
     if unknown or not sections:
-        raise UserError(f"--sections {args.sections!r}: choose from {', '.join(SECTIONS)}")
+        raise UserError(f"--sections {args.sections!r}: choose from {', '.join(NAMES)}")
     sections = tuple(measuring_order(sections))  # the order they are measured in
     try:
         names, unavailable = expand_variants(args.variants)
@@ -210,7 +216,10 @@ def _sweep_on(text: str | None, sections: tuple[str, ...]) -> str | None:
         return None
     if "sweep" not in sections:
         raise UserError("--sweep-on: the sweep is not among --sections (add sweep)")
-    from harness.cluster_jobs import cluster_options
+    # deferred: saves ~25 ms of rtc --help (harness.engine.cluster_jobs)
+    from harness.engine.cluster_jobs import cluster_options
+
+    # deferred: saves ~40 ms of rtc --help (dask's variant)
     from variants.dask_cluster import probe
 
     try:
@@ -226,9 +235,8 @@ def _scene_size_options(args: argparse.Namespace) -> tuple[tuple[str, ...], tupl
     """``--meshes`` and ``--mesh-variants`` checked: (mesh names, variant names). A variant
     the registry cannot build here (an option not there yet) is recorded as unavailable by
     the section, not refused: only the spelling is checked."""
-    from harness.plan import split_names
-    from harness.scene_size import mesh_names
-    from variants.registry import VariantError, parse_variant_name
+    # deferred: saves ~55 ms of rtc --help (the scene-size section)
+    from harness.sections.scene_size.measure import mesh_names
 
     try:
         meshes = mesh_names(args.meshes)
@@ -271,10 +279,14 @@ def run(args: argparse.Namespace) -> int:
     if given:
         raise UserError(f"{', '.join(given)}: only with --numba-targets")
 
-    from harness.bench import run_bench
-    from harness.report import console_table
-    from harness.results import load_run
-    from scene import SceneError
+    # deferred: saves ~65 ms of rtc --help (the bench engine)
+    from harness.engine.bench import run_bench
+
+    # deferred: saves ~25 ms of rtc --help (the run files)
+    from harness.engine.results import load_run
+
+    # deferred: saves ~2 s of rtc --help (the report: matplotlib, every section)
+    from harness.report.build import console_table
 
     settings = settings_from(args)
 
@@ -285,7 +297,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"rtc bench [{elapsed:5.0f} s]: {message}", file=sys.stderr, flush=True)
 
     try:
-        path = run_bench(settings, log)
+        path = run_bench(settings, log, measuring(settings.sections))
     except SceneError as error:  # checked before anything is measured or written
         raise UserError(str(error)) from None
     except OSError as error:  # a full disk: no run file, no lock, no staging folder
@@ -294,7 +306,8 @@ def run(args: argparse.Namespace) -> int:
     print(f"rtc bench: wrote {path}")
     if baseline is None:
         return 0
-    from harness.compare import gate
+    # deferred: saves ~70 ms of rtc --help (harness.report.compare)
+    from harness.report.compare import gate
 
     report, failures = gate(baseline[0], load_run(path)["rtc"], baseline[1])
     print("\n".join(report))
@@ -306,7 +319,8 @@ def run(args: argparse.Namespace) -> int:
 def _gate_baseline(args: argparse.Namespace) -> tuple[dict[str, Any], float | None] | None:
     """``--compare-to`` and ``--fail-slower`` checked before the run: (the run compared with,
     the percentage allowed or None), or None without ``--compare-to``."""
-    from harness.compare import RunChoiceError, load, parse_percent
+    # deferred: saves ~70 ms of rtc --help (harness.report.compare)
+    from harness.report.compare import RunChoiceError, load, parse_percent
 
     if args.compare_to is None:
         if args.fail_slower is not None:

@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import re
 import time
 from pathlib import Path
 
-from harness.images import FORMATS, write_image
-from raytracer.canvas import MAX_SIDE
+from groundwork import sizes
+from groundwork.images import FORMATS, write_image
 from rtc.cli import UserError, check_memory, check_output
 from rtc.demos import DEMOS
 
@@ -33,14 +32,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def parse_size(text: str) -> tuple[int, int]:
-    """``"200x100"`` -> (200, 100); anything else is a ``UserError``."""
-    match = re.fullmatch(r"\s*(\d+)\s*[xX×]\s*(\d+)\s*", text)
-    if not match:
-        raise UserError(f"bad --size {text!r}: expected WIDTHxHEIGHT, e.g. 200x100")
-    width, height = int(match.group(1)), int(match.group(2))
-    if not (1 <= width <= MAX_SIDE and 1 <= height <= MAX_SIDE):
-        raise UserError(f"bad --size {text!r}: width and height must be 1 to {MAX_SIDE}")
-    return width, height
+    """``--size``'s ``"200x100"`` -> (200, 100); anything else is a ``UserError``."""
+    try:
+        size = sizes.parse_size(text, "--size")
+    except ValueError as error:
+        raise UserError(str(error)) from None
+    return size.width, size.height
 
 
 def parse_chapter(text: str) -> int:

@@ -7,8 +7,9 @@ import argparse
 import sys
 from pathlib import Path
 
+from groundwork.files import describe, read_bytes
+from groundwork.progress import MODES, Progress
 from rtc.cli import UserError
-from rtc.progress import MODES, Progress
 
 NAME = "kata"
 HELP = "run .feature files (default: the project's features/) and show progress by chapter"
@@ -64,8 +65,6 @@ MAX_FEATURE_BYTES = 16 << 20  # the book's longest feature file is some 20 kB
 def check_features(path: Path) -> None:
     """A ``UserError`` naming the first feature file under ``path`` that pytest-bdd could not
     read: not a regular file (a named pipe would block it), too large, or not UTF-8 text."""
-    from scene.files import describe, read_bytes
-
     odd = describe(path)
     if odd is not None and not path.is_dir():
         raise UserError(f"{path}: {odd}")
@@ -86,6 +85,7 @@ def check_features(path: Path) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    # deferred: saves ~650 ms of rtc --help (pytest, the step library)
     from steps import kata
 
     path = args.path if args.path is not None else kata.PROJECT_FEATURES
@@ -109,6 +109,7 @@ def run(args: argparse.Namespace) -> int:
     finally:
         progress.close()
     if args.next:
+        # deferred: saves ~650 ms of rtc --help (pytest, the step library)
         from steps.next_scenario import next_json, next_report, next_scenario
 
         variant = result.variants[0]
@@ -121,7 +122,10 @@ def run(args: argparse.Namespace) -> int:
 def _watch(args: argparse.Namespace, path: Path, variants: list[str]) -> int:
     """Check the variant names once, then hand the same command (without ``--watch``) to
     ``rtc.watch``, which runs it in a fresh process on every change."""
+    # deferred: saves ~30 ms of rtc --help and of rtc kata without --watch (watchfiles)
     from rtc.watch import distinct, variant_folders, watch
+
+    # deferred: saves ~600 ms of rtc --help (pytest, the step library)
     from steps.plugin import select_variants
 
     try:

@@ -10,13 +10,20 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from harness.images import write_image
-from harness.make_meshes import provide
+from groundwork.images import write_image
+from groundwork.progress import MODES, Progress, compile_ticker, duration
+from harness.scenery.make_meshes import provide
 from raytracer.camera import RenderSettings
 from rtc.cli import UserError, check_memory, check_output
 from rtc.cmd_demo import parse_size
-from rtc.progress import MODES, Progress, compile_ticker, duration
 from scene import SceneError, load_scene
+from variants.registry import (
+    RenderError,
+    VariantError,
+    load_variant,
+    parse_variant_name,
+    variant_names,
+)
 
 NAME = "render"
 HELP = "render a scene file (the book's YAML scene format) to a PNG or PPM image"
@@ -102,8 +109,6 @@ class _Registered:
 
 def _registered() -> list[str]:
     """The registered variant names, for ``--help`` (naive first)."""
-    from variants.registry import variant_names
-
     return variant_names()
 
 
@@ -113,8 +118,6 @@ def _advice(name: str) -> Callable[[float], str | None] | None:
     variant that renders it fast when the render will take longer than ``LONG_SECONDS``,
     else None. None for a render that goes through a compiled variant already, or when no
     ``FAST_VARIANT`` is registered."""
-    from variants.registry import VariantError, parse_variant_name
-
     try:
         spec: Any = parse_variant_name(name)
     except VariantError:
@@ -147,7 +150,7 @@ def _clock() -> float:
 
 
 def _progress(args: argparse.Namespace, rows: int, name: str) -> Progress:
-    """The render's progress on stderr, counting rows (``rtc.progress``)."""
+    """The render's progress on stderr, counting rows (``groundwork.progress``)."""
     return Progress(
         "rtc render", rows, "row", mode=args.progress, clock=_clock, advice=_advice(name)
     )
@@ -162,6 +165,7 @@ def _watch_compiles(progress: Progress) -> tuple[list[float], Callable[[], None]
     spent: list[float] = []
     if "variants.numba" not in sys.modules:
         return spent, lambda: None
+    # deferred: saves ~150 ms of rtc --help and of a render by another variant
     from variants.numba.specialize import kernel_folder, on_compile
 
     # the ticker first: it has stopped when the end of a compile is told
@@ -187,8 +191,6 @@ def _watch_compiles(progress: Progress) -> tuple[list[float], Callable[[], None]
 
 
 def run(args: argparse.Namespace) -> int:
-    from variants.registry import RenderError, load_variant
-
     settings = _settings(args)
     size = parse_size(args.size) if args.size is not None else None
     output = check_output(args.output)

@@ -1,15 +1,19 @@
 """The "putting it together" programs of chapters 1 to 16, drawn with the reference tracer.
 
 Each demo takes the canvas size and returns the picture (a ``Canvas``), or None for chapter
-3, which only prints. Demos print what they compute as they go. The scenes are this
-project's own compositions of what each chapter introduces.
+3, which only prints. Demos print what they compute as they go. Chapters 1 to 6 are small
+programs; the scenes of chapters 7 to 16 are data (``rtc.chapter_scenes``), this project's
+own compositions of what each chapter introduces, built here by one function.
 """
 
 from __future__ import annotations
 
+import functools
 import math
-from collections.abc import Callable
+import operator
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from typing import Any
 
 from raytracer import (
     CSG,
@@ -65,6 +69,21 @@ from raytracer import (
     write_pixel,
 )
 from raytracer.matrices import Matrix
+from rtc.chapter_scenes import SCENES, Step
+from rtc.chapter_scenes import Shape as ShapeRow
+
+STEPS: dict[str, Callable[..., Matrix]] = {
+    "translate": translation, "scale": scaling, "shear": shearing,
+    "rotate_x": rotation_x, "rotate_y": rotation_y, "rotate_z": rotation_z,
+}  # fmt: skip
+"""A transform step of ``rtc.chapter_scenes`` by name."""
+PATTERNS: dict[str, Callable[[Color, Color], Pattern]] = {
+    "checkers": checkers_pattern, "stripes": stripe_pattern, "gradient": gradient_pattern,
+    "rings": ring_pattern,
+}  # fmt: skip
+SHAPES: dict[str, Callable[..., Shape]] = {
+    "sphere": Sphere, "plane": Plane, "cube": Cube, "cylinder": Cylinder, "cone": Cone,
+}  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -258,289 +277,62 @@ def chapter6(width: int, height: int) -> Canvas:
     return _cast_at_sphere(width, height, shape, shade)
 
 
-# --- chapters 7 and 8: the first scene --------------------------------------------------
+# --- chapters 7 to 16: the scenes of rtc.chapter_scenes, built and rendered -------------
 
 
-def _room(shadows: bool) -> World:
-    """Three spheres in a corner whose floor and walls are very flat spheres.
-
-    shadows: False makes every object ``casts_shadow=False`` (chapter 7 has no shadows yet).
-    """
-    wall = material(color=color(0.95, 0.88, 0.8), specular=0)
-    flat = scaling(10, 0.01, 10)
-    floor = Sphere(transform=flat, material=wall, casts_shadow=shadows)
-    left_wall = Sphere(
-        transform=translation(0, 0, 5) * rotation_y(-math.pi / 4) * rotation_x(math.pi / 2) * flat,
-        material=wall,
-        casts_shadow=shadows,
-    )
-    right_wall = Sphere(
-        transform=translation(0, 0, 5) * rotation_y(math.pi / 4) * rotation_x(math.pi / 2) * flat,
-        material=wall,
-        casts_shadow=shadows,
-    )
-    big = Sphere(
-        transform=translation(-0.4, 1, 0.7),
-        material=material(color=color(0.15, 0.65, 0.8), diffuse=0.7, specular=0.3),
-        casts_shadow=shadows,
-    )
-    medium = Sphere(
-        transform=translation(1.4, 0.6, -0.4) * scaling(0.6, 0.6, 0.6),
-        material=material(color=color(1, 0.5, 0.1), diffuse=0.7, specular=0.3),
-        casts_shadow=shadows,
-    )
-    small = Sphere(
-        transform=translation(-1.6, 0.35, -0.7) * scaling(0.35, 0.35, 0.35),
-        material=material(color=color(0.6, 0.3, 0.9), diffuse=0.7, specular=0.3),
-        casts_shadow=shadows,
-    )
-    return World(
-        [floor, left_wall, right_wall, big, medium, small],
-        [point_light(point(-8, 10, -10), color(1, 1, 1))],
-    )
+def _matrix(steps: tuple[Step, ...]) -> Matrix:
+    """The transform of ``steps`` as the book writes it: left to right, multiplied."""
+    return functools.reduce(operator.mul, (STEPS[step[0]](*step[1:]) for step in steps))
 
 
-def _room_camera(width: int, height: int) -> Camera:
-    return Camera(
-        width, height, math.pi / 3,
-        view_transform(point(0, 1.6, -5.2), point(0, 1, 0), vector(0, 1, 0)),
-    )  # fmt: skip
+def _material(values: Mapping[str, Any]) -> Material:
+    """``material()`` of a row's values: ``color`` as (r, g, b), a ``Pattern`` as its own."""
+    given = dict(values)
+    if "color" in given:
+        given["color"] = color(*given["color"])
+    if "pattern" in given:
+        row = given["pattern"]
+        pattern = PATTERNS[row.kind](color(*row.a), color(*row.b))
+        if row.transform:
+            set_pattern_transform(pattern, _matrix(row.transform))
+        given["pattern"] = pattern
+    return material(**given)
 
 
-def chapter7(width: int, height: int) -> Canvas:
-    """The first scene, rendered through a camera; no object casts a shadow yet."""
-    return render(_room_camera(width, height), _room(shadows=False))
+def _shapes(row: ShapeRow, shadows: bool) -> list[Shape]:
+    """The shape (or the shapes a builder makes) of ``row``."""
+    if row.kind in BUILDERS:
+        return BUILDERS[row.kind](row)
+    arguments = dict(row.options)
+    if row.transform:
+        arguments["transform"] = _matrix(row.transform)
+    if row.material:
+        arguments["material"] = _material(row.material)
+    if not shadows:
+        arguments["casts_shadow"] = False
+    return [SHAPES[row.kind](**arguments)]
 
 
-def chapter8(width: int, height: int) -> Canvas:
-    """The first scene again, now with shadows."""
-    return render(_room_camera(width, height), _room(shadows=True))
-
-
-# --- chapter 9: planes ------------------------------------------------------------------
-
-
-def chapter9(width: int, height: int) -> Canvas:
-    """A floor and a back wall that are real planes; one sphere sinks into the floor."""
-    floor = Plane(material=material(color=color(0.85, 0.9, 0.8), specular=0))
-    backdrop = Plane(
-        transform=translation(0, 0, 7) * rotation_x(math.pi / 2),
-        material=material(color=color(0.7, 0.75, 0.95), specular=0),
-    )
-    sunk = Sphere(
-        transform=translation(-1.3, 0.3, 1.2) * scaling(0.9, 0.9, 0.9),
-        material=material(color=color(0.9, 0.3, 0.3), diffuse=0.8, specular=0.4),
-    )
-    resting = Sphere(
-        transform=translation(0.6, 0.7, 0.2) * scaling(0.7, 0.7, 0.7),
-        material=material(color=color(0.2, 0.7, 0.4), diffuse=0.8, specular=0.4),
-    )
-    floating = Sphere(
-        transform=translation(1.8, 1.6, 2.2) * scaling(0.4, 0.4, 0.4),
-        material=material(color=color(0.95, 0.8, 0.2), diffuse=0.8, specular=0.4),
-    )
-    w = World(
-        [floor, backdrop, sunk, resting, floating],
-        [point_light(point(-6, 8, -8), color(1, 1, 1))],
-    )
+def draw_scene(chapter: int, width: int, height: int) -> Canvas:
+    """Chapter ``chapter``'s scene (``rtc.chapter_scenes.SCENES``), rendered by the book's
+    camera at ``width`` x ``height``."""
+    scene = SCENES[chapter]
+    objects = [shape for row in scene.shapes for shape in _shapes(row, scene.shadows)]
+    w = World(objects, [point_light(point(*scene.light), color(1, 1, 1))])
+    if scene.count:
+        print("  " + scene.count.format(count=len(w.objects)))
     cam = Camera(
-        width, height, math.pi / 3,
-        view_transform(point(0, 2.2, -5.5), point(0, 0.8, 1), vector(0, 1, 0)),
+        width, height, scene.field_of_view,
+        view_transform(point(*scene.eye), point(*scene.to), vector(0, 1, 0)),
     )  # fmt: skip
     return render(cam, w)
 
 
-# --- chapter 10: patterns ---------------------------------------------------------------
+def _scene(chapter: int) -> Callable[[int, int], Canvas]:
+    return functools.partial(draw_scene, chapter)
 
 
-def _patterned(pattern: Pattern, transform: Matrix, **overrides: float) -> Material:
-    """A material whose color comes from ``pattern`` with the given pattern transform."""
-    set_pattern_transform(pattern, transform)
-    return material(pattern=pattern, **overrides)
-
-
-def chapter10(width: int, height: int) -> Canvas:
-    """Checkers on the floor, stripes on the wall, a gradient, rings and checkers on spheres."""
-    white, charcoal = color(0.95, 0.95, 0.95), color(0.25, 0.25, 0.3)
-    floor = Plane(
-        material=_patterned(checkers_pattern(white, charcoal), rotation_y(math.pi / 7), specular=0)
-    )
-    wall = Plane(
-        transform=translation(0, 0, 6) * rotation_x(math.pi / 2),
-        material=_patterned(
-            stripe_pattern(color(0.9, 0.85, 0.6), color(0.75, 0.6, 0.4)),
-            rotation_y(math.pi / 4) * scaling(0.5, 0.5, 0.5),
-            specular=0,
-        ),
-    )
-    gradient_ball = Sphere(
-        transform=translation(-1.5, 1, 1),
-        # x from -1 to 1 across the sphere, so the blend spans it once
-        material=_patterned(
-            gradient_pattern(color(1, 0.2, 0.2), color(0.2, 0.3, 1)),
-            translation(-1, 0, 0) * scaling(2, 1, 1),
-            specular=0.4,
-        ),
-    )
-    ring_ball = Sphere(
-        transform=translation(0.9, 0.8, 0.3) * scaling(0.8, 0.8, 0.8),
-        material=_patterned(
-            ring_pattern(color(0.2, 0.7, 0.3), color(0.95, 0.95, 0.8)),
-            rotation_x(math.pi / 2) * scaling(0.2, 0.2, 0.2),
-            specular=0.4,
-        ),
-    )
-    checkered_ball = Sphere(
-        transform=translation(0.1, 0.4, -1.2) * scaling(0.4, 0.4, 0.4),
-        material=_patterned(
-            checkers_pattern(color(1, 0.75, 0.1), color(0.3, 0.15, 0.05)),
-            scaling(0.5, 0.5, 0.5),
-            specular=0.4,
-        ),
-    )
-    w = World(
-        [floor, wall, gradient_ball, ring_ball, checkered_ball],
-        [point_light(point(-5, 9, -8), color(1, 1, 1))],
-    )
-    cam = Camera(
-        width, height, math.pi / 3,
-        view_transform(point(0.5, 2.4, -5), point(0, 0.7, 1), vector(0, 1, 0)),
-    )  # fmt: skip
-    return render(cam, w)
-
-
-# --- chapter 11: reflection and refraction ----------------------------------------------
-
-
-def chapter11(width: int, height: int) -> Canvas:
-    """A glass ball and a mirror ball over a reflective checkered floor."""
-    floor = Plane(
-        material=material(
-            pattern=checkers_pattern(color(0.9, 0.9, 0.9), color(0.1, 0.1, 0.15)),
-            specular=0.2,
-            reflective=0.3,
-        )
-    )
-    wall = Plane(
-        transform=translation(0, 0, 8) * rotation_x(math.pi / 2),
-        material=material(color=color(0.55, 0.7, 0.9), specular=0),
-    )
-    glass = Sphere(
-        transform=translation(-0.3, 1, 0),
-        material=material(
-            color=color(0.05, 0.08, 0.05),
-            ambient=0.02,
-            diffuse=0.1,
-            specular=1,
-            shininess=300,
-            reflective=0.9,
-            transparency=0.9,
-            refractive_index=1.5,
-        ),
-        casts_shadow=False,  # clear glass: let the light through (the scene files' shadow: false)
-    )
-    mirror = Sphere(
-        transform=translation(1.8, 0.7, 1.5) * scaling(0.7, 0.7, 0.7),
-        material=material(color=color(0.15, 0.15, 0.2), diffuse=0.4, specular=0.9, reflective=0.8),
-    )
-    behind = Sphere(  # seen through the glass, upside down
-        transform=translation(-1.3, 0.5, 3) * scaling(0.5, 0.5, 0.5),
-        material=material(color=color(1, 0.35, 0.1), diffuse=0.8),
-    )
-    w = World(
-        [floor, wall, glass, mirror, behind],
-        [point_light(point(-4, 9, -8), color(1, 1, 1))],
-    )
-    cam = Camera(
-        width, height, math.pi / 3,
-        view_transform(point(0, 1.8, -5), point(0.2, 0.8, 1), vector(0, 1, 0)),
-    )  # fmt: skip
-    return render(cam, w)
-
-
-# --- chapter 12: cubes -----------------------------------------------------------------
-
-
-def chapter12(width: int, height: int) -> Canvas:
-    """A table in a room, all of it cubes: the room is one big cube seen from inside."""
-    room = Cube(
-        transform=translation(0, 3, 0) * scaling(5, 3, 5),
-        material=_patterned(
-            checkers_pattern(color(0.85, 0.8, 0.7), color(0.65, 0.6, 0.52)),
-            scaling(0.1, 0.1667, 0.1),  # one-unit checks in world space
-            specular=0,
-        ),
-    )
-    wood = material(color=color(0.55, 0.33, 0.18), diffuse=0.8, specular=0.2)
-    top = Cube(transform=translation(0, 1.5, 0) * scaling(1.5, 0.08, 1), material=wood)
-    legs = [
-        Cube(transform=translation(x, 0.71, z) * scaling(0.08, 0.71, 0.08), material=wood)
-        for x in (-1.35, 1.35)
-        for z in (-0.85, 0.85)
-    ]
-    red_box = Cube(
-        transform=translation(0.6, 1.83, 0.1) * rotation_y(0.5) * scaling(0.25, 0.25, 0.25),
-        material=material(color=color(0.85, 0.15, 0.1), specular=0.5),
-    )
-    blue_box = Cube(
-        transform=translation(-0.5, 1.73, -0.3) * rotation_y(-0.4) * scaling(0.15, 0.15, 0.15),
-        material=material(color=color(0.15, 0.35, 0.85), specular=0.5),
-    )
-    w = World(
-        [room, top, *legs, red_box, blue_box],
-        [point_light(point(-2.5, 5, -3.5), color(1, 1, 1))],
-    )
-    print(f"  {len(w.objects)} cubes")
-    cam = Camera(
-        width, height, math.pi / 3,
-        view_transform(point(0.8, 3, -4.5), point(0, 1.2, 0), vector(0, 1, 0)),
-    )  # fmt: skip
-    return render(cam, w)
-
-
-# --- chapter 13: cylinders and cones ----------------------------------------------------
-
-
-def chapter13(width: int, height: int) -> Canvas:
-    """A can, an open pipe, a coin, a traffic cone and an hourglass (a double cone)."""
-    floor = Plane(material=material(color=color(0.8, 0.85, 0.8), specular=0))
-    can = Cylinder(
-        minimum=0, maximum=1, closed=True,
-        transform=translation(-1.9, 0, 0.8) * scaling(0.5, 1.2, 0.5),
-        material=material(color=color(0.85, 0.2, 0.15), specular=0.6),
-    )  # fmt: skip
-    pipe = Cylinder(  # open: the inside shows
-        minimum=0, maximum=0.7,
-        transform=translation(-0.3, 0, 1.4) * scaling(0.6, 1, 0.6),
-        material=material(color=color(0.2, 0.65, 0.3), specular=0.3),
-    )  # fmt: skip
-    coin = Cylinder(
-        minimum=0, maximum=0.08, closed=True,
-        transform=translation(-0.9, 0, -1.0) * scaling(0.4, 1, 0.4),
-        material=material(color=color(0.9, 0.75, 0.2), specular=0.9, reflective=0.2),
-    )  # fmt: skip
-    traffic_cone = Cone(  # the lower half, tip up, widest (radius 1) at the floor
-        minimum=-1, maximum=0, closed=True,
-        transform=translation(1.5, 1.4, 0.8) * scaling(0.5, 1.4, 0.5),
-        material=material(color=color(1, 0.5, 0.05), specular=0.4),
-    )  # fmt: skip
-    hourglass = Cone(
-        minimum=-1, maximum=1, closed=True,
-        transform=translation(0.5, 0.6, -0.8) * scaling(0.35, 0.6, 0.35),
-        material=material(color=color(0.3, 0.4, 0.9), specular=0.6),
-    )  # fmt: skip
-    w = World(
-        [floor, can, pipe, coin, traffic_cone, hourglass],
-        [point_light(point(-5, 8, -6), color(1, 1, 1))],
-    )
-    cam = Camera(
-        width, height, math.pi / 3,
-        view_transform(point(0, 2.3, -4.3), point(0, 0.55, 0.3), vector(0, 1, 0)),
-    )  # fmt: skip
-    return render(cam, w)
-
-
-# --- chapter 14: groups -----------------------------------------------------------------
+# --- the builders: chapters 14 to 16's shapes made by a program -------------------------
 
 
 def _hexagon() -> Group:
@@ -566,19 +358,13 @@ def _hexagon() -> Group:
     return hexagon
 
 
-def chapter14(width: int, height: int) -> Canvas:
-    """The hexagon of spheres and cylinders, one group of six groups, tilted over a floor."""
+def _hexagon_shape(row: ShapeRow) -> list[Shape]:
+    """The hexagon of spheres and cylinders, one group of six groups, placed by ``row``."""
     hexagon = _hexagon()
-    hexagon.transform = translation(0, 1, 0) * rotation_x(-math.pi / 5)
+    hexagon.transform = _matrix(row.transform)
     leaves = sum(len(side.children) for side in hexagon.children if isinstance(side, Group))
     print(f"  1 group of {len(hexagon.children)} groups, {leaves} shapes in all")
-    floor = Plane(material=material(color=color(0.3, 0.35, 0.45), specular=0))
-    w = World([floor, hexagon], [point_light(point(-4, 8, -6), color(1, 1, 1))])
-    cam = Camera(
-        width, height, math.pi / 3,
-        view_transform(point(0, 2.4, -3.8), point(0, 0.75, 0), vector(0, 1, 0)),
-    )  # fmt: skip
-    return render(cam, w)
+    return [hexagon]
 
 
 # --- chapter 15: triangles and OBJ files ------------------------------------------------
@@ -608,9 +394,9 @@ def icosahedron_obj() -> str:
     return "\n".join(lines) + "\n"
 
 
-def chapter15(width: int, height: int) -> Canvas:
-    """One icosahedron read from OBJ text twice: flat triangles on the left, smooth triangles
-    (vertex normals) on the right."""
+def _icosahedra(row: ShapeRow) -> list[Shape]:
+    """One icosahedron read from OBJ text twice: flat triangles on the left, smooth
+    triangles (vertex normals) on the right, in ``row``'s material."""
     parser = parse_obj_file(icosahedron_obj())
     flat, smooth = parser.groups["Flat"], parser.groups["Smooth"]
     print(
@@ -618,17 +404,12 @@ def chapter15(width: int, height: int) -> Canvas:
         f"{len(flat.children)} + {len(smooth.children)} triangles; "
         f"{parser.ignored_lines} line ignored"
     )
-    paint = material(color=color(0.25, 0.6, 0.9), diffuse=0.8, specular=0.6, shininess=100)
+    paint = _material(row.material)
     for mesh, x in ((flat, -1.15), (smooth, 1.15)):
         mesh.transform = translation(x, 0, 0) * rotation_y(0.3)
         for face in mesh.children:
             face.material = paint
-    w = World([flat, smooth], [point_light(point(-6, 6, -8), color(1, 1, 1))])
-    cam = Camera(
-        width, height, math.pi / 3,
-        view_transform(point(0, 0.9, -4.4), point(0, 0, 0), vector(0, 1, 0)),
-    )  # fmt: skip
-    return render(cam, w)
+    return [flat, smooth]
 
 
 # --- chapter 16: constructive solid geometry --------------------------------------------
@@ -655,23 +436,20 @@ def die() -> CSG:
     return csg("difference", body, pips)
 
 
-def chapter16(width: int, height: int) -> Canvas:
-    """A die carved by CSG, resting on a floor."""
+def _die_shape(row: ShapeRow) -> list[Shape]:
+    """The die carved by CSG, placed by ``row``."""
     shape = die()
-    shape.transform = translation(0, 0.7, 0) * rotation_y(0.2) * scaling(0.7, 0.7, 0.7)
+    shape.transform = _matrix(row.transform)
     print("  difference(intersection(cube, sphere), group of 6 spheres)")
-    floor = Plane(
-        material=material(
-            pattern=checkers_pattern(color(0.35, 0.5, 0.35), color(0.25, 0.38, 0.25)),
-            specular=0,
-        )
-    )
-    w = World([floor, shape], [point_light(point(5, 7, -5), color(1, 1, 1))])
-    cam = Camera(
-        width, height, math.pi / 4,
-        view_transform(point(1.9, 2.3, -2.7), point(0, 0.62, 0), vector(0, 1, 0)),
-    )  # fmt: skip
-    return render(cam, w)
+    return [shape]
+
+
+BUILDERS: dict[str, Callable[[ShapeRow], list[Shape]]] = {
+    "hexagon": _hexagon_shape,
+    "icosahedron": _icosahedra,
+    "die": _die_shape,
+}
+"""The shapes of a row whose ``kind`` is none of the book's shapes, by kind."""
 
 
 DEMOS: dict[int, Demo] = {
@@ -683,15 +461,15 @@ DEMOS: dict[int, Demo] = {
         Demo(4, "a clock face: twelve hour marks", (200, 200), chapter4),
         Demo(5, "a sphere's silhouette", (100, 100), chapter5),
         Demo(6, "a shaded purple sphere", (100, 100), chapter6),
-        Demo(7, "the first scene, no shadows", (100, 50), chapter7),
-        Demo(8, "the first scene with shadows", (100, 50), chapter8),
-        Demo(9, "spheres on planes", (100, 50), chapter9),
-        Demo(10, "patterns", (100, 50), chapter10),
-        Demo(11, "reflection and refraction", (64, 32), chapter11),
-        Demo(12, "a table in a room, all cubes", (80, 40), chapter12),
-        Demo(13, "cylinders and cones", (80, 40), chapter13),
-        Demo(14, "a hexagon of groups", (64, 32), chapter14),
-        Demo(15, "an OBJ icosahedron, flat and smooth", (48, 24), chapter15),
-        Demo(16, "a die made by CSG", (56, 40), chapter16),
+        Demo(7, "the first scene, no shadows", (100, 50), _scene(7)),
+        Demo(8, "the first scene with shadows", (100, 50), _scene(8)),
+        Demo(9, "spheres on planes", (100, 50), _scene(9)),
+        Demo(10, "patterns", (100, 50), _scene(10)),
+        Demo(11, "reflection and refraction", (64, 32), _scene(11)),
+        Demo(12, "a table in a room, all cubes", (80, 40), _scene(12)),
+        Demo(13, "cylinders and cones", (80, 40), _scene(13)),
+        Demo(14, "a hexagon of groups", (64, 32), _scene(14)),
+        Demo(15, "an OBJ icosahedron, flat and smooth", (48, 24), _scene(15)),
+        Demo(16, "a die made by CSG", (56, 40), _scene(16)),
     ]
 }

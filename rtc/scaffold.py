@@ -15,13 +15,13 @@ from __future__ import annotations
 
 import ast
 import inspect
-import os
 import re
-import tempfile
+import tomllib
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import groundwork.files
 from raytracer.api import BOOK_API, CHAPTER_TITLES, naive_api
 from variants.learner import CONSTANTS, python_names
 
@@ -259,8 +259,6 @@ def entry_point_line(variant: str) -> str:
 
 def registers(pyproject: Path, variant: str) -> bool:
     """True if ``pyproject`` registers ``variant`` in the ``rtc.variants`` group."""
-    import tomllib
-
     try:
         data = tomllib.loads(pyproject.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
@@ -297,22 +295,7 @@ def write_new(path: Path, text: str) -> bool:
     if path.exists():
         return False
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as out:
-            out.write(text)
-        os.chmod(temporary, 0o644)
-        try:
-            os.link(temporary, path)  # atomic, and never replaces a file that appeared
-        except FileExistsError:
-            return False
-        except OSError:  # no hard links on this file system
-            if path.exists():
-                return False
-            os.replace(temporary, path)
-    finally:
-        Path(temporary).unlink(missing_ok=True)
-    return True
+    return groundwork.files.write_new(path, text)
 
 
 def files(variant: str, install: str, start: str) -> dict[str, str]:

@@ -15,6 +15,9 @@ from collections.abc import Iterable, Sequence
 from importlib.metadata import entry_points
 from pathlib import Path
 
+from watchfiles import DefaultFilter
+from watchfiles import watch as watch_changes
+
 from variants.registry import ALL, GROUP, VariantSpec, parse_variant_name
 
 WATCHED_SUFFIXES = (".py", ".feature", ".obj", ".toml", ".yml", ".yaml")
@@ -81,8 +84,6 @@ def distinct(paths: Iterable[Path]) -> list[Path]:
 
 def is_watched(_: object, path: str) -> bool:
     """Source files, not caches: a ``watchfiles`` filter."""
-    from watchfiles import DefaultFilter
-
     return path.endswith(WATCHED_SUFFIXES) and DefaultFilter()(_, path)  # type: ignore[arg-type]
 
 
@@ -112,8 +113,6 @@ def run_once(command: Sequence[str]) -> int:
 def watch(command: Sequence[str], paths: Sequence[Path], clear: bool | None = None) -> int:
     """Run ``command``, then again after every saved change under ``paths``, until Ctrl-C
     (exit status 0). ``clear``: clear the screen before each run (default: on a terminal)."""
-    from watchfiles import watch as watch_changes
-
     clear = sys.stdout.isatty() if clear is None else clear
     watched = ", ".join(_shown(path) for path in paths)
     run = 0

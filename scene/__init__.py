@@ -12,7 +12,7 @@ torus radius of 0 or less, a transform that cannot be inverted in floating point
 what was expected``.
 
 Modules: ``reader`` (YAML with lines), ``composer`` (YAML's composer with the ``limits``),
-``progress``, ``transforms``, ``colors``, ``materials``, ``textures`` (map patterns),
+``transforms``, ``colors``, ``materials``, ``textures`` (map patterns),
 ``images`` (image files), ``kinds`` (the table of leaf shapes), ``shapes`` (a shape's
 entry), ``fir_branch``, ``obj_mesh`` and ``obj_scan`` (OBJ models as arrays), ``build``
 (the book's shapes from a description), ``loader`` (the top level).

@@ -16,10 +16,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, NoReturn
 
+from groundwork.progress import LoadProgress
 from raytracer.obj_file import collector_paused
 from scene.context import updated
 from scene.errors import SceneError
-from scene.progress import LoadProgress
 from scene.shapes import GROUPS, ShapeSpec
 
 if TYPE_CHECKING:  # an OBJ's reader (and numpy) only for a scene that reads one

@@ -18,9 +18,9 @@ import yaml
 from yaml.events import AliasEvent, ScalarEvent
 from yaml.nodes import MappingNode, Node, ScalarNode
 
+from groundwork.progress import LoadProgress
 from scene.errors import SceneError
 from scene.limits import Limits
-from scene.progress import LoadProgress
 
 _PROGRESS_EVERY = 1024  # nodes between two progress updates
 

@@ -10,9 +10,9 @@ from typing import Any, Literal
 
 from yaml.nodes import Node
 
+from groundwork.progress import LoadProgress
 from raytracer.api import BOOK_API
 from scene.limits import Limits
-from scene.progress import LoadProgress
 from scene.reader import Reader
 
 Kind = Literal["material", "transform", "shape"]
@@ -44,7 +44,7 @@ class Context:
     (``limits``); shapes: the shapes the world will hold so far, counted before they are
     built (OBJ triangles included); meshes: each OBJ model, once read (``scene.obj_mesh``);
     progress: the load's progress bar (None: no bar); provide_mesh: writes a missing OBJ
-    file that the project generates (``harness.make_meshes.provide``), saying whether it
+    file that the project generates (``harness.scenery.make_meshes.provide``), saying whether it
     exists now (None: never).
     """
 

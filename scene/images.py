@@ -17,14 +17,15 @@ from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any, overload
 
+import numpy as np
 from yaml.nodes import Node
 
+from groundwork.files import describe, read_bytes
+from groundwork.memory import NotEnoughMemory, check
 from raytracer.canvas import Canvas
 from raytracer.colors import Color
 from scene.context import Context
 from scene.errors import SceneError
-from scene.files import describe, read_bytes
-from scene.memory import NotEnoughMemory, check
 
 PLAIN_PPM_SUFFIXES = (".ppm", ".pnm")
 MAX_IMAGE_BYTES = 64 * 1024 * 1024  # a larger texture file is almost certainly a mistake
@@ -80,6 +81,7 @@ def _decode(ctx: Context, node: Node, path: Path) -> Any:
 def _plain_ppm_size(data: bytes) -> tuple[int, int] | None:
     """A plain PPM's width and height from its header (Pillow reads it without the pixels),
     or None when Pillow cannot read the header."""
+    # deferred: saves ~25 ms (Pillow) of every scene load without an image texture
     from PIL import Image
 
     try:
@@ -161,8 +163,6 @@ class Texels(Sequence[Color]):
 
     def levels(self) -> Any:
         """Every channel level as a numpy array (height x width x 3 once reshaped)."""
-        import numpy as np
-
         if self.bits == 16:
             grey = np.asarray(self.channels, dtype=np.float64) / 65535.0
             return np.repeat(grey[:, None], 3, axis=1)
@@ -200,8 +200,6 @@ def _channels(ctx: Context, node: Node, path: Path, image: Any) -> tuple[bytes, 
     """The decoded ``image``'s channel values and their bits (``TextureCanvas``)."""
     mode = image.mode
     if mode.startswith("I;16") or mode == "I":
-        import numpy as np
-
         grey = np.asarray(image, dtype=np.int64).reshape(-1)
         if grey.size and (grey.min() < 0 or grey.max() > 65535):
             ctx.reader.fail(
@@ -218,7 +216,8 @@ def _channels(ctx: Context, node: Node, path: Path, image: Any) -> tuple[bytes, 
 
 
 def _decode_with_pillow(ctx: Context, node: Node, path: Path, data: bytes) -> Canvas:
-    from PIL import Image, UnidentifiedImageError  # only scenes with image textures need it
+    # deferred: saves ~25 ms (Pillow) of every scene load without an image texture
+    from PIL import Image, UnidentifiedImageError
 
     try:
         with warnings.catch_warnings():  # Pillow warns of a huge image on stderr; refuse it

@@ -23,15 +23,16 @@ from typing import Any
 
 from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
 
+from groundwork.files import read_text
+from groundwork.progress import LoadProgress
+from raytracer.canvas import MAX_SIDE
 from raytracer.sampling import MAX_LIGHT_STEPS
 from scene.build import Builder, divide_groups
 from scene.colors import read_color
 from scene.context import Context, Definition, Kind, updated
 from scene.errors import SceneError
-from scene.files import read_text
 from scene.limits import Limits, limits_from_environment
 from scene.materials import read_material_properties
-from scene.progress import LoadProgress
 from scene.reader import Entry, Reader, compose, describe, line_of
 from scene.shapes import SCENE_ITEMS, SHAPES, ShapeSpec, read_shape, with_meshes
 from scene.transforms import read_transform, transform_problem
@@ -41,7 +42,6 @@ LIGHT_KEYS = ("add", "at", "intensity")
 AREA_LIGHT_KEYS = ("add", "corner", "uvec", "usteps", "vvec", "vsteps", "intensity", "jitter")
 AREA_LIGHT_REQUIRED = AREA_LIGHT_KEYS[1:-1]  # all but add and jitter
 DEFINE_KEYS = ("define", "value", "extend")
-MAX_SIDE = 16384  # as the canvas allows
 
 
 # the most of a scene file read: YAML of this size already takes minutes to read

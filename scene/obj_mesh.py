@@ -48,6 +48,7 @@ EXTRA_SLOW = 4096  # slow lines of ordinary kind (v, vn, f) the scan makes room 
 def _scanner() -> Any:
     """The compiled OBJ scanner's function, built or loaded the first time an OBJ is read
     (``compiled.library``: a scene without one never loads it)."""
+    # deferred: saves ~100 ms (ctypes, the library loader) of every scene load without an OBJ model
     from compiled.library import Recipe, load
 
     return load(

@@ -19,10 +19,10 @@ from yaml.constructor import ConstructorError, SafeConstructor
 from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
 from yaml.reader import ReaderError
 
+from groundwork.progress import LoadProgress
 from scene.composer import LimitedLoader
 from scene.errors import SceneError
 from scene.limits import Limits
-from scene.progress import LoadProgress
 
 INDENTATION_HINT = (
     "check the indentation: the keys of one item line up, and every item of a list starts with '- '"

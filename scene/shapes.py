@@ -24,8 +24,8 @@ from typing import Any
 
 from yaml.nodes import MappingNode, Node
 
+from groundwork.files import describe, read_bytes
 from scene.context import Context
-from scene.files import describe, read_bytes
 from scene.fir_branch import BARK, LENGTH, NEEDLE, NEEDLES, RADIUS, needle_mesh
 from scene.kinds import ADDABLE, BY_NAME
 from scene.materials import read_material

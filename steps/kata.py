@@ -23,6 +23,7 @@ from pathlib import Path
 from typing import Any, Protocol
 
 import pytest
+from pytest_bdd import feature as bdd_feature
 from pytest_bdd.exceptions import StepDefinitionNotFoundError
 from pytest_bdd.scenario import scenario_wrapper_template_registry
 
@@ -104,7 +105,7 @@ def item_chapter(item: pytest.Item) -> int | None:
 
 
 class KataProgress(Protocol):
-    """What ``run_kata`` reports its progress to (``rtc.progress.Progress``): the number of
+    """What ``run_kata`` reports its progress to (``groundwork.progress.Progress``): the number of
     scenario tests once they are collected, then each one as it ends."""
 
     def set_total(self, total: int) -> None: ...
@@ -324,8 +325,6 @@ def duplicate_titles(path: Path) -> list[str]:
 
 def _forget_parsed_features(folder: Path) -> None:
     """Drop pytest-bdd's cached parses of these files, so edits between runs are seen."""
-    from pytest_bdd import feature as bdd_feature
-
     for filename in list(bdd_feature.features):
         if Path(filename).is_relative_to(folder):
             del bdd_feature.features[filename]

@@ -514,7 +514,7 @@ def test_an_area_light_scene_renders_the_same_through_the_loader(tmp_path: Path)
 
 
 def test_the_soft_shadows_scene_loads_with_one_jittered_area_light() -> None:
-    path = Path(__file__).resolve().parent.parent / "harness" / "scenes" / "soft-shadows.yml"
+    path = Path(__file__).resolve().parent.parent / "scenes" / "soft-shadows.yml"
     scene = load_scene(path, load_variant("naive").api)
     (light,) = scene.world.lights
     assert isinstance(light, AreaLight) and light.jitter and light.samples == 64

@@ -19,7 +19,7 @@ from typing import Any
 
 import pytest
 
-from harness.results import ResultFileError, check_run, load_run
+from harness.engine.results import ResultFileError, check_run, load_run
 from rtc.cli import main
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -261,7 +261,7 @@ def test_a_report_into_a_read_only_results_dir_is_one_line(open_tmp: Path) -> No
 
 # ------------------------------------------------------------------ rtc render: the output
 
-SCENE = ROOT / "harness" / "scenes" / "reference.yml"
+SCENE = ROOT / "scenes" / "reference.yml"
 
 
 def render_error(capsys: pytest.CaptureFixture[str], output: str, *extra: str) -> str:
@@ -307,7 +307,7 @@ def test_an_empty_size_is_an_error_not_the_default(
     line, out = one_line(
         capsys, "render", str(SCENE), "--size", "", "-o", str(tmp_path / "out.png")
     )
-    assert line == "rtc render: bad --size '': expected WIDTHxHEIGHT, e.g. 200x100"
+    assert line == "rtc render: bad --size '': expected WIDTHxHEIGHT, e.g. 160x120"
     assert out == "" and list(tmp_path.iterdir()) == []
 
 

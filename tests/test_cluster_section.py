@@ -1,7 +1,7 @@
-"""``rtc bench --sections cluster`` (``harness.cluster``, ``harness.cluster_report``) and
-``--sweep-on`` (``harness.cluster_jobs``): the section measures every configuration, the
-pictures agree, the report judges the issue's target from the figures; jobs run on a local
-cluster come back as they would from this machine."""
+"""``rtc bench --sections cluster`` (``harness.sections.cluster.measure``,
+``harness.sections.cluster.report``) and ``--sweep-on`` (``harness.engine.cluster_jobs``): the
+section measures every configuration, the pictures agree, the report judges the issue's target from
+the figures; jobs run on a local cluster come back as they would from this machine."""
 
 from __future__ import annotations
 
@@ -10,12 +10,13 @@ from typing import Any
 
 import pytest
 
-from harness import cluster, cluster_report
-from harness.bench import series_task
-from harness.cluster_jobs import cluster_jobs, cluster_options
-from harness.document import Para, Table
-from harness.presets import resolve_scene
-from harness.sizes import Size
+from groundwork.sizes import Size
+from harness.document.model import Para, Table
+from harness.engine.bench import series_task
+from harness.engine.cluster_jobs import cluster_jobs, cluster_options
+from harness.scenery.presets import resolve_scene
+from harness.sections.cluster import measure as cluster
+from harness.sections.cluster import report as cluster_report
 from rtc.cli import main
 
 pytest.importorskip("distributed")  # a declared dependency: always there in CI
@@ -130,7 +131,7 @@ def test_sweep_on_an_unreachable_scheduler_stops_before_measuring(
 def test_the_plot_draws_every_measured_configuration(tmp_path: Path) -> None:
     from PIL import Image
 
-    from harness.plots import cluster_plot
+    from harness.sections.cluster.plot import plot as cluster_plot
 
     run = _run([_point("numba[threads=1]", 9.0), _point("dask[workers=2]:numba[threads=1]", 5.0)])
     run["machine"].update(cpu_model="a CPU", python="3.11")

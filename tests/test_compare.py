@@ -1,4 +1,4 @@
-"""Runs compared (``rtc compare``, ``harness.compare``), the history across runs and the
+"""Runs compared (``rtc compare``, ``harness.report.compare``), the history across runs and the
 opt-in performance gate (``rtc bench --compare-to RUN --fail-slower PCT``)."""
 
 from __future__ import annotations
@@ -13,10 +13,10 @@ from typing import Any
 import pytest
 from pyperf._utils import is_significant  # the test pyperf compare_to applies
 
-from harness import compare, plots
-from harness.compare import compare_runs, history, parse_percent, t_test
-from harness.report import _history_blocks
-from harness.results import pyperf_document, runs_dir, write_new_file
+from harness.engine.results import pyperf_document, runs_dir, write_new_file
+from harness.report import compare, plots
+from harness.report.build import _history_blocks
+from harness.report.compare import compare_runs, history, parse_percent, t_test
 from rtc.cli import main
 
 # ------------------------------------------------------------------ the t-test
@@ -236,9 +236,9 @@ def test_pyperf_compare_to_still_reads_two_run_files(two_runs):
 
 def _fake_bench(monkeypatch: pytest.MonkeyPatch, path: Path) -> None:
     """``rtc bench`` without the measuring: its run is the file ``path``."""
-    import harness.bench
+    import harness.engine.bench
 
-    monkeypatch.setattr(harness.bench, "run_bench", lambda settings, log: path)
+    monkeypatch.setattr(harness.engine.bench, "run_bench", lambda settings, log, sections: path)
 
 
 def test_the_gate_exits_1_with_one_line_per_slower_variant(two_runs, monkeypatch, capsys):
@@ -331,7 +331,7 @@ def test_the_reports_history_shows_the_plot_and_names_the_significant_changes(tm
     runs = _history_runs()
     plot = plots.history_plot(runs, tmp_path / "history.png")
     assert plot is not None and plot.stat().st_size > 10_000
-    from harness.document import Bullets, Picture, Table, to_markdown
+    from harness.document.model import Bullets, Picture, Table, to_markdown
 
     blocks = _history_blocks(runs, plot)
     assert any(isinstance(b, Picture) and b.path == "report/history.png" for b in blocks)

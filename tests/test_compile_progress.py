@@ -5,19 +5,20 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from compiled import library
+from compiled import library, notices
+from compiled.linking import BuildError
 
 
 def test_a_build_is_announced_before_and_after_and_a_loaded_library_is_not(
     tmp_path: Path,
 ) -> None:
     heard: list[tuple[str, float | None]] = []
-    remove = library.on_compile(lambda what, seconds: heard.append((what, seconds)))
+    remove = notices.on_compile(lambda what, seconds: heard.append((what, seconds)))
     cache: dict[str, Any] = {}
     missing = tmp_path / "missing.so"
 
     def build() -> None:
-        raise library.BuildError("no compiler here")
+        raise BuildError("no compiler here")
 
     try:
         found = library.load_once(

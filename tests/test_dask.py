@@ -29,7 +29,7 @@ from variants.registry import Variant, VariantError, load_variant
 
 distributed = pytest.importorskip("distributed")  # a declared dependency: always there in CI
 
-REFERENCE_SCENE = Path(__file__).resolve().parent.parent / "harness" / "scenes" / "reference.yml"
+REFERENCE_SCENE = Path(__file__).resolve().parent.parent / "scenes" / "reference.yml"
 
 
 def _scene(variant: Variant, width: int, height: int) -> tuple[Any, Any]:

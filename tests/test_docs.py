@@ -11,8 +11,8 @@ from pathlib import Path
 
 import pytest
 
-from harness import readme_figures
-from harness.report import load_history
+from harness.report import readme_figures
+from harness.report.build import load_history
 from harness.sections import SECTIONS
 from harness.stability.suite import CASES
 from rtc.cmd_stability import GROUPS

@@ -19,7 +19,7 @@ from raytracer.camera import RenderSettings
 from scene import load_scene
 from variants.registry import Variant, available_variants, load_variant
 
-SCENES_FOLDER = Path(__file__).resolve().parent.parent / "harness" / "scenes"
+SCENES_FOLDER = Path(__file__).resolve().parent.parent / "scenes"
 REFERENCE_SCENE = SCENES_FOLDER / "reference.yml"
 COVER_SCENE = SCENES_FOLDER / "cover.yml"
 MESH_SCENE = SCENES_FOLDER / "mesh.yml"
@@ -115,13 +115,13 @@ def soft_shadows(api: Any) -> tuple[Any, Any]:
 
 
 def cover_scene(api: Any) -> tuple[Any, Any]:
-    """The cubes of ``harness/scenes/cover.yml`` (two lights, glass, mirror) at 16x16."""
+    """The cubes of ``scenes/cover.yml`` (two lights, glass, mirror) at 16x16."""
     scene = load_scene(COVER_SCENE, api).resized(16, 16)
     return scene.camera, scene.world
 
 
 def mesh_scene(api: Any) -> tuple[Any, Any]:
-    """``harness/scenes/mesh.yml`` at 16x10: OBJ meshes in groups, divided by the loader
+    """``scenes/mesh.yml`` at 16x10: OBJ meshes in groups, divided by the loader
     for the tracers that test boxes (the bonus chapter), flattened into numba's own
     hierarchy: the same picture either way."""
     scene = load_scene(MESH_SCENE, api).resized(16, 10)
@@ -129,7 +129,7 @@ def mesh_scene(api: Any) -> tuple[Any, Any]:
 
 
 def textures_scene(api: Any) -> tuple[Any, Any]:
-    """The bonus chapter "Texture mapping": ``harness/scenes/textures.yml`` (spherical,
+    """The bonus chapter "Texture mapping": ``scenes/textures.yml`` (spherical,
     planar, cylindrical and cube maps, checkers, align checks and two image files) at 16x12."""
     scene = load_scene(TEXTURES_SCENE, api).resized(16, 12)
     return scene.camera, scene.world
@@ -142,14 +142,14 @@ def reference_scene(api: Any) -> tuple[Any, Any]:
 
 
 def torus_scene(api: Any) -> tuple[Any, Any]:
-    """Tori (chapter 20, beyond the book): ``harness/scenes/torus.yml`` (linked rings, a glass
+    """Tori (chapter 20, beyond the book): ``scenes/torus.yml`` (linked rings, a glass
     ring, a ring whose tube nearly closes its hole) at 20x12."""
     scene = load_scene(TORUS_SCENE, api).resized(20, 12)
     return scene.camera, scene.world
 
 
 def christmas_scene(api: Any) -> tuple[Any, Any]:
-    """``harness/scenes/christmas.yml`` (eleven fir branches, 5,291 shapes) at 16x12."""
+    """``scenes/christmas.yml`` (eleven fir branches, 5,291 shapes) at 16x12."""
     scene = load_scene(CHRISTMAS_SCENE, api).resized(16, 12)
     return scene.camera, scene.world
 

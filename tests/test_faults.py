@@ -24,12 +24,12 @@ from typing import Any
 import pytest
 from holding import HANG_SECONDS, Hold
 
-from harness import sharing
-from harness.results import list_runs, load_run
+from harness.engine import sharing
+from harness.engine.results import list_runs, load_run
 from variants.pooled import HEARTBEAT_SECONDS, RenderWorkerError, _Link, _Pool, _Worker
 
 ROOT = Path(__file__).resolve().parent.parent
-REFERENCE = ROOT / "harness" / "scenes" / "reference.yml"
+REFERENCE = ROOT / "scenes" / "reference.yml"
 # a bench of the held variant (``tests/holding.py``; naive, the baseline, is measured first):
 # its measuring process waits in its first render until the test lets it go
 HELD_BENCH = ["bench", "--scene", "default-world", "--variants", "held", "--sections", "table",
@@ -150,7 +150,7 @@ def test_ctrl_c_during_rtc_bench_is_one_line_and_leaves_no_run(
     stop_leftovers.append(bench)
     measuring = hold.reached()  # the measuring process is in its first render, held there
     cmdlines = {c: Path(f"/proc/{c}/cmdline").read_bytes() for c in children(bench.pid)}
-    assert measuring == [c for c, cmdline in cmdlines.items() if b"harness.child" in cmdline]
+    assert measuring == [c for c, cmdline in cmdlines.items() if b"harness.engine.child" in cmdline]
     os.killpg(bench.pid, signal.SIGINT)
     out, err = bench.communicate(timeout=HANG_SECONDS)
     assert bench.returncode == 130
@@ -175,7 +175,7 @@ def test_a_measuring_process_sent_sigint_itself_exits_quietly(tmp_path: Path) ->
     }  # fmt: skip
     (tmp_path / "job.json").write_text(json.dumps(job))
     child = subprocess.Popen(
-        [sys.executable, "-m", "harness.child", str(tmp_path / "job.json")], cwd=ROOT,
+        [sys.executable, "-m", "harness.engine.child", str(tmp_path / "job.json")], cwd=ROOT,
         stderr=subprocess.PIPE, text=True, env=hold.env, preexec_fn=sigint_as_a_terminal_has_it,
     )  # fmt: skip
     try:

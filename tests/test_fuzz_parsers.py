@@ -6,7 +6,7 @@ and never a hang (the suite's hang guards: ``tests/conftest.py``).
 The scene inputs are random structures in the scene format's vocabulary (YAML aliases
 included: a value repeated in the structure is written once with an anchor), random text,
 random nesting depths, and random mutations (lines deleted, moved, re-indented, words
-replaced) of the project's own scenes in ``harness/scenes`` and of their OBJ and image files.
+replaced) of the project's own scenes in ``scenes`` and of their OBJ and image files.
 Scenes that load are checked against the limits they were loaded under. ``hypothesis.event``
 labels each outcome: ``--hypothesis-show-statistics`` shows how many parsed and how many
 were clear errors.
@@ -27,8 +27,8 @@ import yaml
 from hypothesis import event, given
 from hypothesis import strategies as st
 
-from harness import make_meshes
-from harness.results import ResultFileError, check_run, load_run
+import scenes
+from harness.engine.results import ResultFileError, check_run, load_run
 from raytracer.canvas import Canvas, canvas, canvas_to_ppm, pixel_at, write_pixel
 from raytracer.colors import color
 from raytracer.obj_file import ObjFileError, ObjParser, parse_obj_file
@@ -42,7 +42,7 @@ from scene.textures import FACES, MAP_KEYS, MAPPINGS, UV_KEYS
 from scene.transforms import TRANSFORMS
 from variants.registry import VariantError, VariantSpec, load_variant, parse_variant_name
 
-SCENES = make_meshes.SCENES  # harness/scenes/
+SCENES = scenes.FOLDER
 API = load_variant("naive").api
 # every scene of the project but the one whose meshes take seconds to load (six-knots.yml)
 FAST_SCENES = sorted(p for p in SCENES.glob("*.yml") if "meshes/" not in p.read_text())
@@ -58,7 +58,7 @@ def one_line(error: BaseException, starts: str) -> None:
 
 @pytest.fixture(scope="module")
 def workdir(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """A copy of harness/scenes (scenes, OBJ models, textures) that mutations may change."""
+    """A copy of scenes (scenes, OBJ models, textures) that mutations may change."""
     folder = tmp_path_factory.mktemp("fuzz") / "scenes"
     shutil.copytree(SCENES, folder, ignore=shutil.ignore_patterns("meshes"))
     return folder
@@ -617,7 +617,7 @@ PICTURE_PATHS = st.sampled_from(
 
 @st.composite
 def report_blocks(draw: st.DrawFn) -> list[Any]:
-    from harness.document import Bullets, Gallery, Heading, Para, Picture, Table
+    from harness.document.model import Bullets, Gallery, Heading, Para, Picture, Table
 
     def picture() -> Picture:
         width = draw(st.none() | st.integers(1, 500))
@@ -672,7 +672,7 @@ def test_any_text_in_a_report_is_escaped_and_no_file_outside_is_embedded(
     wait), and no heading made by a line break in a name."""
     from report_checks import check_html, check_markdown
 
-    from harness.document import Heading, to_html, to_markdown
+    from harness.document.model import Heading, to_html, to_markdown
 
     page = to_html(blocks, results_folder, "title <script>")
     markdown = to_markdown(blocks, results_folder)
@@ -695,7 +695,7 @@ def tiny_library(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path, 
     library file, and the bytes of both it and its record."""
     from test_hostile import TINY
 
-    from compiled import library
+    from compiled import library, records
 
     base = tmp_path_factory.mktemp("kernels")
     with pytest.MonkeyPatch.context() as patch:
@@ -706,10 +706,10 @@ def tiny_library(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path, 
         library._loaded.pop(str(built), None)
     shutil.copytree(base / "built", base / "copy", ignore=shutil.ignore_patterns("numba-*"))
     path = base / "copy" / built.name
-    library._keys[str(path)] = library._keys[str(built)]
-    found, why = library.verify(path)
+    records._keys[str(path)] = records._keys[str(built)]
+    found, why = records.verify(path)
     assert found is not None and found.parent == base / "copy", why
-    return path, found, found.read_bytes(), library.record_path(path).read_bytes()
+    return path, found, found.read_bytes(), records.record_path(path).read_bytes()
 
 
 @st.composite
@@ -736,13 +736,13 @@ def test_a_damaged_library_is_never_taken_for_the_one_built(
 ) -> None:
     """Any damage to the library's bytes is found before it is loaded (its digest), and
     said in one line; only the bytes built pass."""
-    from compiled import library
+    from compiled import records
 
     path, file, original, _record = tiny_library
     bytes_now = data.draw(damaged(original))
     file.write_bytes(bytes_now)
     try:
-        found, why = library.verify(path)
+        found, why = records.verify(path)
     finally:
         file.write_bytes(original)
     if bytes_now == original:
@@ -760,7 +760,7 @@ def test_a_damaged_record_is_never_trusted(
 ) -> None:
     """Any record but the one written names no library to load; verifying it never raises.
     (``st.data``: the record with one of its fields changed.)"""
-    from compiled import library
+    from compiled import records
 
     path, file, _original, written = tiny_library
     if isinstance(record, st.DataObject):
@@ -769,10 +769,10 @@ def test_a_damaged_record_is_never_trusted(
         entry[field] = record.draw(JSON_VALUES)
         record = json.dumps(entry)
     text = record if isinstance(record, bytes) else record.encode("utf-8")
-    place = library.record_path(path)
+    place = records.record_path(path)
     place.write_bytes(text)
     try:
-        found, why = library.verify(path)
+        found, why = records.verify(path)
     finally:
         place.write_bytes(written)
     if text == written or (found is not None and json.loads(text) == json.loads(written)):

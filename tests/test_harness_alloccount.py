@@ -8,14 +8,14 @@ import os
 import numpy as np
 import pytest
 
-from harness import alloccount
-from harness.alloccount import HOOKS, TRACEMALLOC, WORKER_HOOK_PATH, count_allocations
+from harness.instruments import alloccount
+from harness.instruments.alloccount import HOOKS, TRACEMALLOC, WORKER_HOOK_PATH, count_allocations
 
 N = 20_000
 
 needs_extension = pytest.mark.skipif(
     not alloccount.exact_available(),
-    reason="harness._alloccount was not built (no C compiler at install): "
+    reason="harness.instruments._alloccount was not built (no C compiler at install): "
     "the tracemalloc fallback is tested below",
 )
 
@@ -56,7 +56,7 @@ def test_the_hooks_count_numpy_array_buffers():
 
 @needs_extension
 def test_worker_processes_count_their_own_allocations(monkeypatch):
-    # the measuring process gets this PYTHONPATH from the harness (harness.jobs)
+    # the measuring process gets this PYTHONPATH from the harness (harness.engine.jobs)
     paths = [WORKER_HOOK_PATH, *filter(None, os.environ.get("PYTHONPATH", "").split(os.pathsep))]
     monkeypatch.setenv("PYTHONPATH", os.pathsep.join(paths))
 

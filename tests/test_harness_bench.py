@@ -14,8 +14,8 @@ from typing import Any
 import pytest
 from holding import HANG_SECONDS, Hold
 
-from harness.report import build_report
-from harness.results import STAGING_PREFIX, list_runs, load_run
+from harness.engine.results import STAGING_PREFIX, list_runs, load_run
+from harness.report.build import build_report
 from rtc.cli import main
 
 TINY = ["--scene", "default-world", "--size", "8x6", "--repeat", "1", "--again", "0"]
@@ -193,7 +193,7 @@ def _no_numba_env_leak(monkeypatch):
 
 
 def test_each_section_of_the_report_comes_from_the_newest_run_that_measured_it():
-    from harness.report import pick_runs
+    from harness.report.build import pick_runs
 
     everything = {
         "stem": "quick", "rows": [{"section": "table"}, {"section": "preset"}],
@@ -218,13 +218,13 @@ def _fake_bench(tmp_path: Path, shares: list[float], monkeypatch) -> tuple[Any, 
     for 2 cores); the tasks it was given are kept in the list returned."""
     import numpy as np
 
-    from harness import sharing
-    from harness.bench import Bench
-    from harness.jobs import JobOutcome
-    from harness.plan import QUICK, BenchSettings
-    from harness.presets import SceneRef
-    from harness.results import RunWriter
-    from harness.sizes import Size
+    from groundwork.sizes import Size
+    from harness.engine import sharing
+    from harness.engine.bench import Bench
+    from harness.engine.jobs import JobOutcome
+    from harness.engine.plan import QUICK, BenchSettings
+    from harness.engine.results import RunWriter
+    from harness.scenery.presets import SceneRef
 
     monkeypatch.setattr(sharing, "wait_for_quiet", lambda cores, longest, **_: "quiet")
     settings = BenchSettings(
@@ -255,8 +255,8 @@ def _task() -> dict:
 
 
 def test_a_busy_row_is_timed_again_and_keeps_its_least_busy_measurement(tmp_path, monkeypatch):
-    from harness import figures
-    from harness.presets import SceneRef
+    from harness.engine import figures
+    from harness.scenery.presets import SceneRef
 
     bench, given = _fake_bench(tmp_path, [0.9, 1.2, 1.9], monkeypatch)
     row = bench.measure_row("table", "numba", SceneRef("default-world", None), _task())
@@ -268,8 +268,8 @@ def test_a_busy_row_is_timed_again_and_keeps_its_least_busy_measurement(tmp_path
 
 
 def test_a_row_that_stays_busy_is_marked_after_the_retries(tmp_path, monkeypatch):
-    from harness import figures
-    from harness.presets import SceneRef
+    from harness.engine import figures
+    from harness.scenery.presets import SceneRef
 
     bench, given = _fake_bench(tmp_path, [0.5, 1.1, 0.7], monkeypatch)
     row = bench.measure_row("table", "numba", SceneRef("default-world", None), _task())
@@ -278,7 +278,7 @@ def test_a_row_that_stays_busy_is_marked_after_the_retries(tmp_path, monkeypatch
 
 
 def test_a_row_that_got_its_cores_is_measured_once(tmp_path, monkeypatch):
-    from harness.presets import SceneRef
+    from harness.scenery.presets import SceneRef
 
     bench, given = _fake_bench(tmp_path, [1.95], monkeypatch)
     row = bench.measure_row("table", "numba", SceneRef("default-world", None), _task())
@@ -286,7 +286,7 @@ def test_a_row_that_got_its_cores_is_measured_once(tmp_path, monkeypatch):
 
 
 def test_waiting_for_quiet_stops_when_the_cores_are_idle_or_after_the_longest(monkeypatch):
-    from harness import sharing
+    from harness.engine import sharing
 
     monkeypatch.setattr(sharing.os, "cpu_count", lambda: 2)
     seen = iter([1.9, 1.5, 0.1])

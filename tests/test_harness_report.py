@@ -1,4 +1,4 @@
-"""The report's summary table (``harness.summary``) and the figures it prints: speed-ups as
+"""The report's summary table (``harness.document.summary``) and the figures it prints: speed-ups as
 ``36,900x``, fastest first, the busy flag at 80% of the cores asked, image error quoted from
 a comparison of at least 160x120 pixels, heat maps only where they show something; and the
 whole report built from the project's own run files."""
@@ -12,9 +12,10 @@ from typing import Any
 
 import pytest
 
-from harness import figures, summary
-from harness.document import Table
-from harness.report import build_report, heat_visible
+from harness.document import summary
+from harness.document.model import Table
+from harness.engine import figures
+from harness.report.build import build_report, heat_visible
 
 RUNS = Path(__file__).resolve().parent.parent / "results" / "runs"
 
@@ -207,8 +208,8 @@ def test_a_heat_map_is_shown_only_where_it_is_not_all_black():
 def test_heat_maps_are_amplified_on_a_logarithmic_scale_that_shows_float32_rounding():
     import numpy as np
 
-    from harness import imagediff
-    from harness.table_report import HeatScale, heat_scale
+    from harness.instruments import imagediff
+    from harness.sections.table.report import HeatScale, heat_scale
 
     assert imagediff.heat_level(0.0) == 0 and imagediff.heat_level(imagediff.HEAT_LOW) == 0
     assert imagediff.heat_level(1.0) == pytest.approx(1.0)
@@ -230,7 +231,7 @@ def test_heat_maps_are_amplified_on_a_logarithmic_scale_that_shows_float32_round
 def test_where_two_pictures_differ_is_the_box_of_most_of_their_differing_pixels():
     import numpy as np
 
-    from harness import imagediff
+    from harness.instruments import imagediff
 
     reference = np.zeros((100, 100, 3))
     image = reference.copy()
@@ -277,7 +278,7 @@ def test_the_report_opens_with_the_summary_sorted_fastest_first(report):
 
 
 def test_the_report_flags_what_the_run_files_say_was_busy(report):
-    from harness.report import load_history, pick_runs
+    from harness.report.build import load_history, pick_runs
 
     runs, _ = load_history(RUNS.parent)
     latest = pick_runs(runs)["table"]

@@ -9,8 +9,8 @@ from pathlib import Path
 import pyperf
 import pytest
 
-from harness import results
-from harness.results import (
+from harness.engine import results
+from harness.engine.results import (
     ResultFileError,
     RunWriter,
     load_run,

@@ -9,12 +9,13 @@ import numpy as np
 import pytest
 
 import raytracer
-from harness import figures
-from harness.imagediff import image_error
-from harness.plan import BENCH_CONFIGS, bench_configs, split_names
-from harness.presets import BUILTIN_DEFAULT_WORLD, SceneRef, build_scene
-from harness.raycount import HOOK, INSTRUMENTED, count_rays, counting_method
-from harness.sizes import Estimate, Size, fit_to_budget, parse_size, scaled, smaller_sizes
+from groundwork.sizes import Size, parse_size
+from harness.engine import figures
+from harness.engine.budget import Estimate, fit_to_budget, scaled, smaller_sizes
+from harness.engine.plan import BENCH_CONFIGS, bench_configs, split_names
+from harness.instruments.imagediff import image_error
+from harness.instruments.raycount import HOOK, INSTRUMENTED, count_rays, counting_method
+from harness.scenery.presets import BUILTIN_DEFAULT_WORLD, SceneRef, build_scene
 from raytracer.camera import RenderSettings
 from raytracer.tracer import TRACER
 from variants.registry import load_variant
@@ -71,7 +72,7 @@ def test_an_estimate_separates_a_fixed_cost_from_the_cost_per_pixel():
 
 
 def test_probing_goes_on_until_the_cost_per_pixel_shows_above_a_start_up_cost():
-    from harness.child import probed_enough
+    from harness.engine.child import probed_enough
 
     target = Size(640, 480)
     # a pool: 0.4 s to start, then cheap pixels; its first probes cost the start-up alone
@@ -176,7 +177,7 @@ def test_bench_configs_come_from_one_table():
 def test_a_changed_result_file_does_not_make_the_tree_dirty_but_changed_code_does(tmp_path):
     import subprocess
 
-    from harness.machine import git_state
+    from harness.engine.machine import git_state
 
     def git(*args: str) -> None:
         subprocess.run(["git", *args], cwd=tmp_path, check=True, capture_output=True)
@@ -197,7 +198,7 @@ def test_a_changed_result_file_does_not_make_the_tree_dirty_but_changed_code_doe
 def test_run_names_sort_by_start_time_within_one_second():
     from datetime import UTC, datetime
 
-    from harness.results import new_stem
+    from harness.engine.results import new_stem
 
     first = new_stem(datetime(2026, 11, 21, 15, 5, 46, 998_000, tzinfo=UTC))
     second = new_stem(datetime(2026, 11, 21, 15, 5, 46, 999_000, tzinfo=UTC))

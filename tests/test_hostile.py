@@ -42,12 +42,13 @@ import pytest
 from PIL import Image
 from report_checks import check_html, check_markdown
 
-from compiled import KernelFolderError, library
-from harness import summary
-from harness.document import to_markdown
-from harness.images import read_png
-from harness.report import build_blocks
-from harness.results import load_run
+from compiled import KernelFolderError, library, notices, records
+from compiled import folder as compiled_folder
+from groundwork.images import read_png
+from harness.document import summary
+from harness.document.model import to_markdown
+from harness.engine.results import load_run
+from harness.report.build import build_blocks
 from rtc.cli import main
 from scene.obj_mesh import read_mesh
 
@@ -270,7 +271,7 @@ def hostile_results(tmp_path: Path) -> Path:
     (pictures / "link.png").symlink_to(outside)
     os.mkfifo(pictures / "pipe.png")
     (pictures / "text.png").write_text("not a picture", encoding="utf-8")
-    shutil.copy(ROOT / "harness" / "scenes" / "textures" / "planet.png", pictures / "ok.png")
+    shutil.copy(ROOT / "scenes" / "textures" / "planet.png", pictures / "ok.png")
     images = ["../../../secret.png", str(outside), f"{stem}/link.png", f"{stem}/pipe.png",
               f"{stem}/text.png", f"{stem}/ok.png"]  # fmt: skip
     naive, other = rtc_part["rows"]
@@ -485,7 +486,7 @@ def test_an_unreadable_library_is_built_again_or_read_as_it_is(
     right, so it is loaded as it is, in silence)."""
     _record, file = the_library(kernels)
     file.chmod(0)
-    library._said.clear()
+    notices._said.clear()
     compiled = library.load(TINY)
     assert scaled(compiled) == RIGHT
     err = capsys.readouterr().err
@@ -520,13 +521,13 @@ def test_a_damaged_library_or_record_is_built_again_with_one_line(
 ) -> None:
     record, file = the_library(kernels)
     damage(file if damaged == "library" else record)
-    library._said.clear()
+    notices._said.clear()
     compiled = library.load(TINY)
     assert scaled(compiled) == RIGHT and compiled.origin.startswith("shared library")
     err = capsys.readouterr().err
     (said,) = said_lines(err)
     assert words in said and "building it again" in said, err
-    assert library.verify(TINY.path())[0] is not None  # sound again
+    assert records.verify(TINY.path())[0] is not None  # sound again
 
 
 def test_a_half_cut_render_library_is_rebuilt_and_the_render_is_right(tmp_path: Path) -> None:
@@ -555,12 +556,13 @@ def test_a_half_cut_render_library_is_rebuilt_and_the_render_is_right(tmp_path: 
 def test_the_kernel_folder_is_private(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.delenv("RTC_NUMBA_KERNELS", raising=False)
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
-    folder = library.kernel_folder()
+    folder = compiled_folder.kernel_folder()
     assert folder == tmp_path / "cache" / "rtc-workbook" / "numba-kernels"
     assert stat.S_IMODE(folder.stat().st_mode) == 0o700
     os.chmod(folder, 0o755)  # an older version's: made private
-    library._folders.clear()
-    assert library.kernel_folder() == folder and stat.S_IMODE(folder.stat().st_mode) == 0o700
+    compiled_folder._folders.clear()
+    assert compiled_folder.kernel_folder() == folder
+    assert stat.S_IMODE(folder.stat().st_mode) == 0o700
 
 
 def test_a_kernel_folder_others_could_write_in_is_emptied_and_made_private(
@@ -574,9 +576,9 @@ def test_a_kernel_folder_others_could_write_in_is_emptied_and_made_private(
     (folder / "rtc_numba_0123456789abcdef.json").write_text("{}", encoding="utf-8")
     (folder / "mine.txt").write_text("not ours to remove", encoding="utf-8")
     os.chmod(folder, 0o777)
-    library._folders.clear()
-    library._said.clear()
-    assert library.kernel_folder() == folder
+    compiled_folder._folders.clear()
+    notices._said.clear()
+    assert compiled_folder.kernel_folder() == folder
     assert stat.S_IMODE(folder.stat().st_mode) == 0o700
     assert sorted(p.name for p in folder.iterdir()) == ["mine.txt"]
     err = capsys.readouterr().err
@@ -596,20 +598,21 @@ def test_a_shared_folder_another_user_made_first_is_never_used(
     monkeypatch.setenv("XDG_CACHE_HOME", str(blocked))
     temporary = tmp_path / "tmp"
     temporary.mkdir()
-    monkeypatch.setattr(library.tempfile, "tempdir", str(temporary))
+    monkeypatch.setattr(compiled_folder.tempfile, "tempdir", str(temporary))
     me = os.geteuid()
-    monkeypatch.setattr(library.os, "geteuid", lambda: me + 4242)  # the folder is not "ours"
+    # the folder is not "ours"
+    monkeypatch.setattr(compiled_folder.os, "geteuid", lambda: me + 4242)
     planted = temporary / f"rtc-numba-kernels-{me + 4242}"
     planted.mkdir(mode=0o777)
     (planted / "rtc_numba_0123456789abcdef.so").write_bytes(b"planted")
-    library._folders.clear()
-    library._said.clear()
-    folder = library.kernel_folder()
+    compiled_folder._folders.clear()
+    notices._said.clear()
+    folder = compiled_folder.kernel_folder()
     assert folder != planted and folder.parent == temporary
     assert stat.S_IMODE(folder.stat().st_mode) == 0o700
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "it belongs to another user" in err and str(folder) in err
-    library._folders.clear()
+    compiled_folder._folders.clear()
 
 
 def test_a_kernel_folder_others_can_write_in_is_refused_in_one_line(
@@ -619,14 +622,14 @@ def test_a_kernel_folder_others_can_write_in_is_refused_in_one_line(
     shared.mkdir()
     os.chmod(shared, 0o1777)
     monkeypatch.setenv("RTC_NUMBA_KERNELS", str(shared))
-    library._folders.clear()
+    compiled_folder._folders.clear()
     with pytest.raises(KernelFolderError, match=r"other users can write in it \(mode 1777\)"):
-        library.kernel_folder()
+        compiled_folder.kernel_folder()
     path = scene(tmp_path, "- add: sphere\n")
     done = rtc("render", str(path), "--variant", "numba", "-o", str(tmp_path / "o.png"),
                env={"RTC_NUMBA_KERNELS": str(shared)})  # fmt: skip
     clear(done, "other users can write in it")
-    library._folders.clear()
+    compiled_folder._folders.clear()
 
 
 def test_a_damaged_file_in_numbas_cache_is_a_miss(
@@ -644,7 +647,7 @@ def test_a_damaged_file_in_numbas_cache_is_a_miss(
     )
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(Path(__file__).parent), str(ROOT)])}
     env.pop("NUMBA_CACHE_DIR", None)
-    env.pop(library.NUMBA_CACHE_SET, None)
+    env.pop(compiled_folder.NUMBA_CACHE_SET, None)
 
     def run() -> subprocess.CompletedProcess[str]:
         return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
@@ -676,7 +679,7 @@ def test_a_size_that_does_not_fit_in_memory_is_refused_before_rendering(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch,
     variant: str,
 ) -> None:  # fmt: skip
-    from scene import memory
+    from groundwork import memory
 
     monkeypatch.setattr(memory, "available", lambda: memory.Room(2 << 30, "left (a test)"))
     path = scene(tmp_path, "- add: sphere\n")
@@ -698,7 +701,7 @@ def test_under_a_memory_limit_a_real_process_says_so_in_one_line(tmp_path: Path)
 def test_a_texture_that_does_not_fit_in_memory_is_refused_before_it_is_decoded(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    from scene import memory
+    from groundwork import memory
 
     monkeypatch.setattr(memory, "available", lambda: memory.Room(1 << 20, "left (a test)"))
     ppm = tmp_path / "big.ppm"
@@ -722,7 +725,7 @@ BENCH = ["bench", "--scene", "default-world", "--variants", "naive", "--sections
 def test_a_full_disk_stops_the_bench_in_one_line_with_no_run_and_no_lock(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    from harness import results
+    from harness.engine import results
 
     monkeypatch.setenv("RTC_BENCH_LOCK_DIR", str(tmp_path / "locks"))
     _full_disk(monkeypatch, results, "write_new_file")  # the run file: the last write
@@ -741,7 +744,7 @@ def test_a_full_disk_stops_the_bench_in_one_line_with_no_run_and_no_lock(
 def test_a_measuring_process_that_cannot_write_stops_the_bench(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    from harness import jobs
+    from harness.engine import jobs
 
     monkeypatch.setenv("RTC_BENCH_LOCK_DIR", str(tmp_path / "locks"))
     monkeypatch.setattr(jobs, "wait_child", lambda process: (process.kill(), process.wait(),
@@ -755,7 +758,7 @@ def test_a_measuring_process_that_cannot_write_stops_the_bench(
 def test_a_result_the_disk_refuses_is_one_line_and_a_status(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    from harness import jobs
+    from harness.engine import jobs
 
     _full_disk(monkeypatch, Path, "write_text")
     assert jobs.write_result(tmp_path, {"x": 1}) == jobs.CANNOT_WRITE
@@ -767,7 +770,7 @@ def test_a_result_the_disk_refuses_is_one_line_and_a_status(
 def test_a_full_disk_in_rtc_stability_and_rtc_report_is_one_line(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    from harness import report
+    from harness.report import build as report
     from harness.stability import runfile
 
     _full_disk(monkeypatch, runfile, "write_new_file")
@@ -783,7 +786,7 @@ def test_a_full_disk_in_rtc_stability_and_rtc_report_is_one_line(
     folder = tmp_path / "results" / "runs"
     folder.mkdir(parents=True)
     shutil.copy(SCHEMA1, folder / "bench-20250101T000000000Z-aaaaaa.json")
-    _full_disk(monkeypatch, report, "_write_text")
+    _full_disk(monkeypatch, report, "write_atomically")
     line = one_line(capsys, "report", "--results-dir", str(tmp_path / "results"))
     assert "No space left on device" in line
     assert not (tmp_path / "results" / "README.md").exists()

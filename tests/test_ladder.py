@@ -1,7 +1,7 @@
-"""The report's "Step by step" (``harness.ladder_report``) from made-up run files: each step's
-own factor over the step it builds on and its factor over naive (per pixel, across sizes),
-the error it adds, the advice computed from the rows, the POV-Ray anchor present or said to
-be absent, and the section opening the report with its plot and the links to the others."""
+"""The report's "Step by step" (``harness.sections.ladder.report``) from made-up run files: each
+step's own factor over the step it builds on and its factor over naive (per pixel, across sizes),
+the error it adds, the advice computed from the rows, the POV-Ray anchor present or said to be
+absent, and the section opening the report with its plot and the links to the others."""
 
 from __future__ import annotations
 
@@ -9,9 +9,10 @@ from typing import Any
 
 import pytest
 
-from harness import ladder, ladder_report
-from harness.document import Table, to_markdown
-from harness.report import build_report
+from harness.document.model import Table, to_markdown
+from harness.report.build import build_report
+from harness.sections.ladder import measure as ladder
+from harness.sections.ladder import report as ladder_report
 
 IDENTICAL = {"max_abs": 0.0, "mean_abs": 0.0, "rmse": 0.0, "psnr": None,
              "pixels_over_one_step": 0, "pixels": 300}  # fmt: skip

@@ -321,7 +321,7 @@ def render(c, w, settings=None, progress=None):
 def test_a_learners_own_canvas_from_render_can_be_written_as_png(tmp_path: Path) -> None:
     from PIL import Image
 
-    from harness.images import write_image
+    from groundwork.images import write_image
 
     module = load_module(tmp_path / "own.py", tracer_source("own") + OWN_CANVAS_CODE)
     variant = learner_variant("own", module)

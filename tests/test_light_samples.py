@@ -9,10 +9,12 @@ from typing import Any
 import pytest
 import yaml
 
-from harness import light_samples, light_samples_report, plots
-from harness.document import Gallery, Table
-from harness.light_samples import Config, Plan, configured
-from harness.sizes import Size
+from groundwork.sizes import Size
+from harness.document.model import Gallery, Table
+from harness.sections.light_samples import measure as light_samples
+from harness.sections.light_samples import plot as light_samples_plot
+from harness.sections.light_samples import report as light_samples_report
+from harness.sections.light_samples.measure import Config, Plan, configured
 
 SCENE = """\
 - add: camera
@@ -88,7 +90,7 @@ def test_the_report_section_has_a_row_per_point_and_says_what_is_cheapest() -> N
 
 
 def test_the_plot_is_written(tmp_path: Path) -> None:
-    path = plots.light_samples_plot(_run(), tmp_path / "plot.png")
+    path = light_samples_plot.plot(_run(), tmp_path / "plot.png")
     assert path is not None and path.stat().st_size > 1000
 
 

@@ -52,7 +52,7 @@ from variants.numba.pack import pack_world
 from variants.registry import Variant, VariantError, load_variant
 
 ROOT = Path(__file__).resolve().parent.parent
-SCENES = ROOT / "harness" / "scenes"
+SCENES = ROOT / "scenes"
 ONE_STEP = 1.0 / 255.0
 FLOAT64_WORST = 1e-6
 APPROXIMATE_SHARE = 0.02

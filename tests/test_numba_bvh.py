@@ -34,7 +34,7 @@ from variants.numba.packed import Packed
 from variants.registry import VariantError, load_variant
 
 ROOT = Path(__file__).resolve().parents[1]
-SCENES = ROOT / "harness" / "scenes"
+SCENES = ROOT / "scenes"
 FLOAT64_WORST = 1e-6  # as in test_numba
 ONE_STEP = 1.0 / 255.0
 STRUCTURES = ("numba", "numba[bvh=groups]", "numba[bvh=off]")
@@ -498,7 +498,7 @@ MESH_IN_A_FRESH_PROCESS = (
     "from variants.registry import load_variant\n"
     "from compiled import library\n"
     "v = load_variant('numba')\n"
-    "s = load_scene('harness/scenes/mesh.yml', v.api).resized(16, 10)\n"
+    "s = load_scene('scenes/mesh.yml', v.api).resized(16, 10)\n"
     "from raytracer.camera import RenderSettings\n"
     "frame = v.tracer.prepare(s.camera, v.world_for(s), RenderSettings())\n"
     "print('numba' in sys.modules, frame.packed.hierarchy.nodes,"

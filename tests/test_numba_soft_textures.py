@@ -6,7 +6,7 @@ their new forms; specialization leaving both out of scenes that lack them; refus
 
 Pictures are compared with ``naive`` as ``test_numba`` does (float64: no pixel more than
 ``FLOAT64_WORST`` away, none by 1/255). The scenes are the project's own
-(``harness/scenes/soft-shadows.yml``, ``textures.yml``), at a few pixels, and the soft
+(``scenes/soft-shadows.yml``, ``textures.yml``), at a few pixels, and the soft
 shadows one with its light rewritten (fewer cells, jitter off, a sequence), since naive
 casts a shadow ray per cell of the light at every point it shades.
 """
@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from harness.raycount import count_rays
+from harness.instruments.raycount import count_rays
 from raytracer.camera import RenderSettings
 from raytracer.colors import Color
 from raytracer.materials import material
@@ -38,7 +38,7 @@ from variants.numba.render import Options
 from variants.numba.specialize import load_kernels, module_source
 from variants.registry import load_variant
 
-SCENES = Path(__file__).resolve().parent.parent / "harness" / "scenes"
+SCENES = Path(__file__).resolve().parent.parent / "scenes"
 FLOAT64_WORST = 1e-6
 ONE_STEP = 1.0 / 255.0
 SOFT = {"HAS_AREA_LIGHTS", "HAS_JITTER"}

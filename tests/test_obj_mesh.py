@@ -132,7 +132,7 @@ def test_any_obj_text_reads_as_the_book_parser_reads_it(head: int, lines: list[b
 
 
 def test_the_project_models_read_as_the_book_parser_reads_them() -> None:
-    folder = Path(obj_mesh.__file__).parents[1] / "harness" / "scenes"
+    folder = Path(obj_mesh.__file__).parents[1] / "scenes"
     for model in sorted(folder.glob("*.obj")):
         data = model.read_bytes()
         _same(read_mesh(data, str(model)), book_mesh(data, str(model)))

@@ -1,4 +1,4 @@
-"""The generated meshes (``harness.make_meshes``): their counts, closed and consistently
+"""The generated meshes (``harness.scenery.make_meshes``): their counts, closed and consistently
 wound surfaces, the same bytes on every run, atomic writes, and scene files that name them."""
 
 from __future__ import annotations
@@ -12,8 +12,8 @@ from pathlib import Path
 
 import pytest
 
-from harness import make_meshes
-from harness.make_meshes import (
+from harness.scenery import make_meshes
+from harness.scenery.make_meshes import (
     CATALOGUE,
     GENERATED,
     SCALE_MESHES,
@@ -36,7 +36,7 @@ def test_the_catalogue_has_the_counts_the_benchmarks_name() -> None:
     assert [CATALOGUE[n].triangles for n in SCALE_MESHES] == [1_000, 10_000, 100_000, 1_000_000]
     assert CATALOGUE["knot-23k.obj"].triangles == 23_000
     assert all(spec.vertices * 2 == spec.triangles for spec in CATALOGUE.values())
-    assert GENERATED == ROOT / "harness" / "scenes" / "meshes"
+    assert GENERATED == ROOT / "scenes" / "meshes"
 
 
 @pytest.mark.parametrize("name", ["ring-1k.obj", "knot-23k.obj"])
@@ -109,7 +109,7 @@ def test_the_smallest_triangles_of_the_largest_ring_are_big_enough_for_the_books
 def test_the_same_mesh_is_the_same_bytes_in_another_process(tmp_path: Path) -> None:
     here = "\n".join(mesh_lines(CATALOGUE["ring-1k.obj"])) + "\n"
     code = (
-        "import sys; from pathlib import Path; from harness.make_meshes import mesh_path; "
+        "import sys; from pathlib import Path; from harness.scenery.make_meshes import mesh_path; "
         "sys.stdout.write(mesh_path('ring-1k.obj', Path(sys.argv[1])).read_text())"
     )
     env = {**os.environ, "PYTHONHASHSEED": "12345"}
@@ -176,7 +176,7 @@ def test_the_command_line_writes_the_generated_meshes_asked_for(tmp_path: Path) 
 
 def test_the_generated_folder_is_ignored_by_git() -> None:
     done = subprocess.run(
-        ["git", "check-ignore", "-q", "harness/scenes/meshes/ring-1m.obj"], cwd=ROOT
+        ["git", "check-ignore", "-q", "scenes/meshes/ring-1m.obj"], cwd=ROOT
     )
     assert done.returncode == 0
 

@@ -23,7 +23,7 @@ from variants.pooled import PooledTracer, RenderWorkerError, _serve
 from variants.pooled import variant as pooled_variant
 from variants.registry import Variant, VariantError, load_variant
 
-REFERENCE_SCENE = Path(__file__).resolve().parent.parent / "harness" / "scenes" / "reference.yml"
+REFERENCE_SCENE = Path(__file__).resolve().parent.parent / "scenes" / "reference.yml"
 
 
 def _scene(variant: Variant, width: int, height: int) -> tuple[Any, Any]:

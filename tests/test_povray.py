@@ -1,4 +1,4 @@
-"""``harness.povray``: finding POV-Ray, one render as a whole process (its picture, its
+"""``harness.instruments.povray``: finding POV-Ray, one render as a whole process (its picture, its
 timings, its own statistics), a clean 'not installed', and the reference scene's ``.pov``
 version against the project's picture when POV-Ray is installed."""
 
@@ -12,9 +12,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from harness import povray
-from harness.imagediff import image_error
-from harness.sizes import Size
+from groundwork.sizes import Size
+from harness.instruments import povray
+from harness.instruments.imagediff import image_error
 
 STATISTICS = """\
 Parser Time
@@ -104,15 +104,15 @@ def test_not_installed_is_said_cleanly(tmp_path, monkeypatch):
 
 
 REAL = povray.find()
-SCENES = Path(__file__).resolve().parent.parent / "harness" / "scenes"
+SCENES = Path(__file__).resolve().parent.parent / "scenes"
 
 
 @pytest.mark.skipif(REAL is None, reason=povray.NOT_INSTALLED)
 def test_the_pov_version_of_the_reference_scene_draws_the_projects_picture():
     """POV-Ray's picture of ``reference.pov`` against prealloc's (naive's picture) at 64x48:
     the same scene (PSNR over 25 dB), apart where the two models differ (the glass)."""
-    from harness.imagediff import canvas_array
-    from harness.presets import build_scene, resolve_scene
+    from harness.instruments.imagediff import canvas_array
+    from harness.scenery.presets import build_scene, resolve_scene
     from variants.registry import load_variant
 
     assert REAL is not None

@@ -33,7 +33,7 @@ from variants.prealloc.shading import intersect_world_into
 from variants.prealloc.tracer import PreallocTracer
 from variants.registry import VariantError, load_variant
 
-REFERENCE_SCENE = Path(__file__).resolve().parents[1] / "harness" / "scenes" / "reference.yml"
+REFERENCE_SCENE = Path(__file__).resolve().parents[1] / "scenes" / "reference.yml"
 Api = Mapping[str, Any]
 PT = PreallocTracer()  # the pipeline's steps, each converting at the boundary
 

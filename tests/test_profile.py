@@ -1,6 +1,6 @@
-"""``rtc profile`` and ``rtc bench --sections profile`` (``harness.profiling``, issue 18):
-the command's tables and flame graph for a tiny render, numba's stages, the one-line
-errors, the figures read off cProfile, and the report's "Where the time goes" section."""
+"""``rtc profile`` and ``rtc bench --sections profile`` (``harness.sections.profile.measure``, issue
+18): the command's tables and flame graph for a tiny render, numba's stages, the one-line errors,
+the figures read off cProfile, and the report's "Where the time goes" section."""
 
 from __future__ import annotations
 
@@ -14,13 +14,17 @@ from typing import Any
 
 import pytest
 
-from harness import profiling, profiling_report
-from harness.document import Table, to_html, to_markdown
-from harness.plan import DEFAULT_SECTIONS, SECTIONS
-from harness.sizes import Size
+from groundwork.sizes import Size
+from harness.document.model import Table, to_html, to_markdown
+from harness.sections import DEFAULTS as DEFAULT_SECTIONS
+from harness.sections import NAMES as SECTIONS
+from harness.sections.profile import measure as profiling
+from harness.sections.profile import profiler
+from harness.sections.profile import report as profiling_report
+from harness.sections.profile import stats as profile_stats
 from rtc.cli import main
 
-REFERENCE = Path(__file__).resolve().parent.parent / "harness" / "scenes" / "reference.yml"
+REFERENCE = Path(__file__).resolve().parent.parent / "scenes" / "reference.yml"
 
 
 # --- the command ----------------------------------------------------------------------------
@@ -58,11 +62,11 @@ def test_rtc_profile_prints_both_tables_and_writes_a_flame_graph(
 
 
 def test_numba_is_profiled_by_its_stages_which_add_up_to_the_wall_time(tmp_path: Path) -> None:
-    request = profiling.Request(
+    request = profiler.Request(
         variant="numba", scene=REFERENCE, size=Size(16, 12), folder=tmp_path, stem="n",
         flame=False, compiled=True,
     )  # fmt: skip
-    entry = profiling.profile(request, tmp_path / "jobs", lambda message: None)
+    entry = profiler.profile(request, tmp_path / "jobs", lambda message: None)
     assert entry["status"] == "ok", entry.get("error")
     stages = entry["stages"]
     assert list(stages) == ["load", "pack", "compile", "trace", "encode"]
@@ -71,7 +75,7 @@ def test_numba_is_profiled_by_its_stages_which_add_up_to_the_wall_time(tmp_path:
     assert "cprofile" not in entry and "cprofile_skipped" in entry
     assert entry["kernels"].startswith(("loaded from the kernel cache", "built now"))
     assert entry["trace_again"] > 0
-    finding = profiling.findings(entry)
+    finding = profile_stats.findings(entry)
     assert finding.startswith("numba: of ") and "pack (world to arrays" in finding
     text = "\n".join(profiling_report.text(entry, 10))
     assert "compile or cache load" in text and "cProfile: not run" in text
@@ -107,9 +111,9 @@ def test_a_broken_scene_file_names_its_line(
 
 
 def test_the_default_size_is_the_camera_scaled_to_about_768_pixels() -> None:
-    assert profiling.profile_size(Size(640, 480)) == Size(32, 24)
-    assert profiling.profile_size(Size(20, 10)) == Size(20, 10)  # small already: kept
-    assert profiling.profile_size(Size(500, 500)).pixels <= profiling.DEFAULT_PIXELS
+    assert profiler.profile_size(Size(640, 480)) == Size(32, 24)
+    assert profiler.profile_size(Size(20, 10)) == Size(20, 10)  # small already: kept
+    assert profiler.profile_size(Size(500, 500)).pixels <= profiler.DEFAULT_PIXELS
 
 
 # --- the figures ------------------------------------------------------------------------------
@@ -138,14 +142,14 @@ def test_every_dataclass_init_keeps_its_own_calls_where_pstats_merges_them() -> 
     profile.enable()
     _outer(300)
     profile.disable()
-    table = profiling.collect(profile)
+    table = profile_stats.collect(profile)
     calls = {key[2]: row[1] for key, row in table.items() if key[0] == "<string>"}
     assert calls[f"{Small.__qualname__}.__init__"] == 300
     assert calls[f"{Large.__qualname__}.__init__"] == 600
     # pstats' own table keys both as ('<string>', 2, '__init__') and keeps one of them
     merged = pstats.Stats(profile).stats  # type: ignore[attr-defined]
     assert sum(1 for key in merged if key[0] == "<string>") == 1
-    summary = profiling.summarize(table, 3)
+    summary = profile_stats.summarize(table, 3)
     assert summary["calls"] == sum(row[1] for row in table.values())
     assert summary["total"] == pytest.approx(sum(row[2] for row in table.values()))
     # building objects: the two __init__s' own time (nothing built-in is called from them)
@@ -167,18 +171,18 @@ def test_the_hot_chain_climbs_callers_in_the_same_file() -> None:
         init: (4, 4, 0.05, 0.1, {c: (4, 4, 0.05, 0.1)}),
         builtin: (5, 5, 0.15, 0.15, {init: (2, 2, 0.05, 0.05), c: (3, 3, 0.1, 0.1)}),
     }
-    summary = profiling.summarize(table, 2)
+    summary = profile_stats.summarize(table, 2)
     assert summary["hot"] == {"function": "f.py:1 a", "cum": 1.0}
     assert summary["constructors"] == pytest.approx(0.05 + 0.05)
     assert summary["half"] == 1 and summary["total"] == pytest.approx(1.0)
     entry = {"name": "v", "cprofile": summary, "pixels": 10}
-    assert profiling.findings(entry).startswith("v: 100% of the render in `a()` (f.py)")
+    assert profile_stats.findings(entry).startswith("v: 100% of the render in `a()` (f.py)")
 
 
 def test_labels_are_shortened_to_the_project() -> None:
-    key = (str(profiling.ROOT / "raytracer" / "matrices.py"), 139, "inverse")
-    assert profiling.label(key) == "raytracer/matrices.py:139 inverse"
-    assert profiling.label(("~", 0, "<built-in method builtins.len>")) == (
+    key = (str(profile_stats.ROOT / "raytracer" / "matrices.py"), 139, "inverse")
+    assert profile_stats.label(key) == "raytracer/matrices.py:139 inverse"
+    assert profile_stats.label(("~", 0, "<built-in method builtins.len>")) == (
         "<built-in method builtins.len>"
     )
 
@@ -226,7 +230,7 @@ def test_the_pstats_file_is_the_collected_table(tmp_path: Path) -> None:
     _outer(50)
     profile.disable()
     path = tmp_path / "x.pstats"
-    table = profiling.collect(profile)
+    table = profile_stats.collect(profile)
     path.write_bytes(marshal.dumps(table))
     loaded = pstats.Stats(str(path))
     assert loaded.total_calls == sum(row[1] for row in table.values())  # type: ignore[attr-defined]

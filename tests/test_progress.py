@@ -1,7 +1,8 @@
-"""Progress on stderr (issue 28, item 3): ``rtc.progress`` on a clock of the test's own, every
-variant family's render reporting all its rows, numba's bands, the line that names a faster
-variant for a render that will take long, and ``rtc render --help`` naming the registry's
-variants. No verdict here depends on how fast the machine is: the clocks are the tests'."""
+"""Progress on stderr (issue 28, item 3): ``groundwork.progress`` on a clock of the test's
+own, every variant family's render reporting all its rows, numba's bands, the line that names
+a faster variant for a render that will take long, and ``rtc render --help`` naming the
+registry's variants. No verdict here depends on how fast the machine is: the clocks are the
+tests'."""
 
 from __future__ import annotations
 
@@ -16,10 +17,10 @@ from typing import Any
 import numpy as np
 import pytest
 
+from groundwork.progress import Progress, Ticker, compile_ticker, duration
 from raytracer.camera import RenderSettings
 from rtc import cmd_render
 from rtc.cli import main
-from rtc.progress import Progress, Ticker, compile_ticker, duration
 from variants.registry import load_variant, variant_names
 
 
@@ -40,7 +41,7 @@ def lines_of(stream: io.StringIO) -> list[str]:
     return stream.getvalue().splitlines()
 
 
-# ------------------------------------------------------------------------ rtc.progress
+# ------------------------------------------------------------------------ groundwork.progress
 
 
 def test_nothing_is_shown_before_the_delay_then_a_plain_line_every_so_often() -> None:

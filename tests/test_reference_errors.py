@@ -8,7 +8,7 @@ from typing import Any
 
 import pytest
 
-from harness.images import read_png, write_image
+from groundwork.images import read_png, write_image
 from raytracer import (
     NotInvertibleError,
     canvas,

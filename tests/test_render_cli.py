@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from harness.images import read_png
+from groundwork.images import read_png
 from raytracer.camera import RenderSettings
 from raytracer.canvas import canvas_to_rgb8
 from rtc.cli import main
@@ -167,7 +167,7 @@ def test_a_crashed_worker_is_an_error_naming_the_variant_and_scene(
     """A pooled render whose worker dies ends with a message, status 2 and no image."""
     import dataclasses
 
-    import variants.registry
+    from rtc import cmd_render
     from variants.pooled import RenderWorkerError
 
     def crashed(*_: object) -> None:
@@ -175,7 +175,7 @@ def test_a_crashed_worker_is_an_error_naming_the_variant_and_scene(
 
     pooled = load_variant("pooled[workers=1]")
     broken = dataclasses.replace(pooled, api={**pooled.api, "render": crashed})
-    monkeypatch.setattr(variants.registry, "load_variant", lambda _name: broken)
+    monkeypatch.setattr(cmd_render, "load_variant", lambda _name: broken)
     output = tmp_path / "out.png"
     line = one_line_error(capsys, str(tiny), "--variant", "pooled[workers=1]", "-o", str(output))
     assert line == (
@@ -192,7 +192,7 @@ def test_explain_asks_the_variants_tracer(
     learner's) has nothing to explain."""
     import dataclasses
 
-    import variants.registry
+    from rtc import cmd_render
 
     output = tmp_path / "out.png"
     status, out, _ = render(
@@ -201,6 +201,6 @@ def test_explain_asks_the_variants_tracer(
     assert status == 0
     assert "RobustTracer: the book's pipeline in Python, one pixel at a time; 2 objects" in out
     learner = dataclasses.replace(load_variant("naive"), name="mine", tracer=None)
-    monkeypatch.setattr(variants.registry, "load_variant", lambda _name: learner)
+    monkeypatch.setattr(cmd_render, "load_variant", lambda _name: learner)
     status, out, _ = render(capsys, str(tiny), "--variant", "mine", "--explain", "-o", str(output))
     assert status == 0 and "mine: nothing to explain" in out

@@ -15,8 +15,9 @@ from typing import Any
 
 import pytest
 
+from groundwork import progress as progress_module
+from groundwork.progress import LoadProgress
 from scene import SceneError, load_scene, load_scene_text
-from scene import progress as progress_module
 from scene.limits import (
     DEFAULT_MAX_DEPTH,
     DEFAULT_MAX_SHAPES,
@@ -25,7 +26,6 @@ from scene.limits import (
     Limits,
     limits_from_environment,
 )
-from scene.progress import LoadProgress
 from scene.reader import compose
 from variants.registry import load_variant
 

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from harness.make_meshes import provide
+from harness.scenery.make_meshes import provide
 from scene import load_scene
 from variants.numba.pack import pack_scene as numba_scene
 from variants.numba.pack import pack_world as numba_world
@@ -17,7 +17,7 @@ from variants.registry import load_variant
 from variants.wavefront.pack import pack as wavefront_world
 from variants.wavefront.pack import pack_scene as wavefront_scene
 
-SCENES = Path(__file__).resolve().parents[1] / "harness" / "scenes"
+SCENES = Path(__file__).resolve().parents[1] / "scenes"
 SMALL = sorted(p.name for p in SCENES.glob("*.yml") if p.name != "six-knots.yml")
 WAVEFRONT = [name for name in SMALL if name not in ("soft-shadows.yml", "textures.yml")]
 

@@ -1,5 +1,5 @@
-"""``rtc bench --sections scene-size`` (``harness.scene_size``): the plan, the skip rule, the
-fitted slopes, one tiny run in fresh processes, and its report section and plot."""
+"""``rtc bench --sections scene-size`` (``harness.sections.scene_size.measure``): the plan, the skip
+rule, the fitted slopes, one tiny run in fresh processes, and its report section and plot."""
 
 from __future__ import annotations
 
@@ -9,10 +9,13 @@ from typing import Any
 
 import pytest
 
-from harness import plots, scene_size_report
-from harness.document import Picture, Table, to_markdown
-from harness.plan import DEFAULT_SECTIONS, SECTIONS
-from harness.scene_size import (
+from groundwork.sizes import Size
+from harness.document.model import Picture, Table, to_markdown
+from harness.sections import DEFAULTS as DEFAULT_SECTIONS
+from harness.sections import NAMES as SECTIONS
+from harness.sections.scene_size import plot as scene_size_plot
+from harness.sections.scene_size import report as scene_size_report
+from harness.sections.scene_size.measure import (
     COMMAND_SECTION,
     PARSE_SECTION,
     SECTION,
@@ -23,7 +26,6 @@ from harness.scene_size import (
     scene_text,
     slope,
 )
-from harness.sizes import Size
 from rtc.cli import UserError, build_parser
 from rtc.cmd_bench import settings_from
 
@@ -284,11 +286,11 @@ def test_a_run_without_the_section_adds_nothing() -> None:
 
 
 def test_the_plot_is_a_png_with_one_line_per_variant(tmp_path: Path) -> None:
-    path = plots.scene_size_plot(synthetic_run(), tmp_path / "t.png")
+    path = scene_size_plot.plot(synthetic_run(), tmp_path / "t.png")
     assert path == tmp_path / "t.png"
     assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert [p.name for p in tmp_path.iterdir()] == ["t.png"]  # written atomically, nothing left
-    assert plots.scene_size_plot({"series": []}, tmp_path / "none.png") is None
+    assert scene_size_plot.plot({"series": []}, tmp_path / "none.png") is None
     assert not (tmp_path / "none.png").exists()
     assert math.isfinite(path.stat().st_size)
 
@@ -296,7 +298,7 @@ def test_the_plot_is_a_png_with_one_line_per_variant(tmp_path: Path) -> None:
 def test_rtc_bench_records_the_section_and_rtc_report_draws_it(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    from harness.results import list_runs, load_run
+    from harness.engine.results import list_runs, load_run
     from rtc.cli import main
 
     results = tmp_path / "results"

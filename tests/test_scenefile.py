@@ -11,11 +11,12 @@ from typing import Any
 
 import pytest
 
-from harness import make_meshes
+import scenes
+from harness.scenery import make_meshes
 from scene import Scene, SceneError, load_scene, load_scene_text
 from variants.registry import load_variant
 
-SCENES = make_meshes.SCENES  # harness/scenes/
+SCENES = scenes.FOLDER
 
 CAMERA_AND_LIGHT = """\
 - add: camera

@@ -1,7 +1,8 @@
-"""The bench's sections in one table (``harness.sections``): every section has a module that
-measures and one that reports, with the functions the protocol names; the command line, the
-plan and the report read the table; the run files name rows and entries by the command
-line's section names (schema 1's other names migrated); the report leaves no stale plot."""
+"""The bench's sections in one table (``harness.sections``): every section is a package of its own
+with a module that measures, one that reports and one that plots (where it has a plot), with the
+functions the protocol names; the command line and the report read the table; the run files name
+rows and entries by the command line's section names (schema 1's other names migrated); the report
+leaves no stale plot."""
 
 from __future__ import annotations
 
@@ -11,27 +12,36 @@ from pathlib import Path
 
 import pytest
 
-from harness import plan, sections
-from harness.results import RENAMED_SECTIONS, load_run
+from harness import sections
+from harness.engine.results import RENAMED_SECTIONS, load_run
 
 SCHEMA1 = Path(__file__).parent / "data" / "bench-schema1.json"
 
 
 @pytest.mark.parametrize("section", sections.SECTIONS, ids=lambda s: s.name)
-def test_each_section_has_a_measuring_and_a_reporting_module(section):
-    measure = sections._resolve(section.measures, "measure")
+def test_each_section_is_a_package_that_measures_reports_and_plots(section):
+    measure = section.module("measure").measure
     assert list(inspect.signature(measure).parameters) == ["bench"]
     report = sections.reporting(section.name)
     for name in ("newest", "blocks", "console_lines"):
         assert callable(getattr(report, name)), name
     assert len(inspect.signature(report.blocks).parameters) == 4  # run, plot, context, runs
-    assert callable(getattr(report, "plot", None)) == bool(section.plot_file)
     assert report.newest([]) is None
+    folder = Path(sections.__file__).parent / section.package.rpartition(".")[2]
+    assert (folder / "plot.py").is_file() == bool(section.plot_file)
+    if section.plot_file:
+        plot = section.module("plot").plot
+        assert list(inspect.signature(plot).parameters) == ["run", "path"]
 
 
-def test_the_command_line_and_the_plan_read_the_table():
-    assert tuple(s.name for s in sections.SECTIONS) == plan.SECTIONS
-    assert set(plan.DEFAULT_SECTIONS) == {s.name for s in sections.SECTIONS if s.default}
+def test_the_table_lists_every_section_package():
+    folder = Path(sections.__file__).parent
+    packages = {path.parent.name for path in folder.glob("*/__init__.py")}
+    assert packages == {section.package.rpartition(".")[2] for section in sections.SECTIONS}
+
+
+def test_the_command_line_reads_the_table():
+    assert set(sections.DEFAULTS) == {s.name for s in sections.SECTIONS if s.default}
     import argparse
 
     from rtc.cli import build_parser
@@ -42,7 +52,7 @@ def test_the_command_line_and_the_plan_read_the_table():
     (option,) = [a for a in bench._actions if a.dest == "sections"]
     assert all(f"{s.name}{' (default)' if s.default else ''}: {s.about}" in option.help
                for s in sections.SECTIONS)  # fmt: skip
-    assert option.default == ",".join(plan.DEFAULT_SECTIONS)
+    assert option.default == ",".join(sections.DEFAULTS)
 
 
 def test_a_section_is_measured_after_the_sections_it_reads():
@@ -65,13 +75,13 @@ def test_schema_1_names_are_the_command_lines_with_a_part(tmp_path):
     found = [(e["section"], e.get("part")) for e in rtc["series"]]
     assert found == [*RENAMED_SECTIONS.values(), ("sweep", None)]
     names = {section for section, _ in found} | {r["section"] for r in rtc["rows"]}
-    assert names <= set(plan.SECTIONS)
+    assert names <= set(sections.NAMES)
 
 
 def test_the_report_removes_the_plots_it_no_longer_draws(tmp_path):
     import shutil
 
-    from harness.report import build_report
+    from harness.report.build import build_report
 
     shutil.copy(SCHEMA1, tmp_path / "x.json")
     (tmp_path / "runs").mkdir()

@@ -66,7 +66,7 @@ from variants.prealloc.errors import PreallocUnsupported
 from variants.prealloc.patterns import pattern_record
 from variants.registry import load_variant
 
-SCENES = Path(__file__).resolve().parent.parent / "harness" / "scenes"
+SCENES = Path(__file__).resolve().parent.parent / "scenes"
 BLACK, WHITE = Color(0, 0, 0), Color(1, 1, 1)
 RED, GREEN, BLUE = Color(1, 0, 0), Color(0, 1, 0), Color(0, 0, 1)
 

@@ -20,10 +20,12 @@ from typing import Any
 import numpy as np
 import pytest
 
-from harness import pass_size, pass_size_report, plots
-from harness.document import Table
-from harness.presets import SceneRef
-from harness.sizes import Size
+from groundwork.sizes import Size
+from harness.document.model import Table
+from harness.scenery.presets import SceneRef
+from harness.sections.pass_size import measure as pass_size
+from harness.sections.pass_size import plot as pass_size_plot
+from harness.sections.pass_size import report as pass_size_report
 from raytracer.camera import RenderSettings, ray_for_pixel
 from raytracer.intersections import intersection, prepare_computations
 from raytracer.materials import material
@@ -41,7 +43,7 @@ from variants.wavefront.pack import pack
 from variants.wavefront.scene import SLOTS, Unsupported
 from variants.wavefront.tracer import WavefrontTracer
 
-SCENES = Path(__file__).resolve().parents[1] / "harness" / "scenes"
+SCENES = Path(__file__).resolve().parents[1] / "scenes"
 FLOAT64_WORST = 1e-6  # float32 canvas rounding is about 6e-8
 NAIVE = load_variant("naive").api
 
@@ -467,5 +469,5 @@ def test_the_pass_size_section_measures_every_max_mb(tmp_path: Path) -> None:
     assert any(isinstance(b, Table) and len(b.rows) == 2 for b in blocks)
     assert any("knee" in getattr(b, "text", "") for b in blocks)
     assert len(pass_size_report.console_lines(run)) == 3
-    path = plots.pass_size_plot(run, tmp_path / "plot.png")
+    path = pass_size_plot.plot(run, tmp_path / "plot.png")
     assert path is not None and path.stat().st_size > 1000

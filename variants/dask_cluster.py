@@ -61,7 +61,7 @@ from typing import Any
 
 import numpy as np
 
-from compiled.library import announce, on_compile
+from compiled.notices import announce, on_compile
 from raytracer.camera import Camera, RenderSettings
 from raytracer.canvas import Canvas
 from raytracer.tracer import Progress, Region, Tracer

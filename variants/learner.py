@@ -98,7 +98,7 @@ def learner_variant(
 def _readable_render(render: Any, pixel_at: Any) -> Any:
     """The learner's ``render``, whose canvas (a type of the learner's own) also gets a
     ``to_rgb8()`` read through the learner's ``pixel_at``, so ``rtc render`` and ``rtc
-    bench`` can write and compare its image (``harness.images.rgb8`` uses ``to_rgb8``)."""
+    bench`` can write and compare its image (``groundwork.images.rgb8`` uses ``to_rgb8``)."""
 
     @functools.wraps(render)
     def render_readably(*args: Any, **kwargs: Any) -> Any:

@@ -26,7 +26,7 @@ from typing import Any
 import mpmath
 import numpy as np
 
-from harness.imagediff import image_error
+from harness.instruments.imagediff import image_error
 from harness.stability import oracle
 from harness.stability.cases_scale import compare_pictures
 from harness.stability.model import Case, Outcome, Probe, Verdict, graded

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from harness.imagediff import image_error
+from harness.instruments.imagediff import image_error
 from harness.stability.model import Case, Outcome, Probe, Verdict
 from harness.stability.scenes import reference_scene, render_array
 

@@ -1,6 +1,6 @@
-"""Stability run files: ``results/runs/stability-<UTC time>-<random>.json``, one per
-``rtc stability``, written atomically and never replaced (``harness.results``'s writer), beside
-the bench runs (whose names start with ``bench-``, so neither history sees the other).
+"""Stability run files: ``results/runs/stability-<UTC time>-<random>.json``, one per ``rtc
+stability``, written atomically and never replaced (``harness.engine.results``'s writer), beside the
+bench runs (whose names start with ``bench-``, so neither history sees the other).
 
 The file holds one JSON object ``{"rtc": {...}}``: ``schema_version``, ``kind``
 ("stability"), ``stem``, ``started``, ``seconds``, ``machine``, ``settings`` (size, cases),
@@ -17,7 +17,8 @@ from datetime import datetime
 from pathlib import Path
 from typing import Any
 
-from harness.results import (
+from groundwork.files import read_text
+from harness.engine.results import (
     MAX_RUN_FILE_BYTES,
     ResultFileError,
     new_stem,
@@ -26,7 +27,6 @@ from harness.results import (
 )
 from harness.stability.model import Case, Verdict
 from harness.stability.suite import Cell
-from scene.files import read_text
 
 SCHEMA_VERSION = 1
 KIND = "stability"

@@ -10,16 +10,16 @@ from __future__ import annotations
 import dataclasses
 import math
 from collections.abc import Mapping
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 import yaml
 
-from harness.imagediff import canvas_array
+from harness.instruments.imagediff import canvas_array
+from harness.scenery import SCENES
 from scene import load_scene_text
 
-REFERENCE_SCENE = Path(__file__).resolve().parent.parent / "scenes" / "reference.yml"
+REFERENCE_SCENE = SCENES / "reference.yml"
 
 
 def scaled_reference_text(factor: float, offset: float = 0.0) -> str:

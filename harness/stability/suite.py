@@ -13,7 +13,7 @@ import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
-from harness.plan import bench_configs, split_names
+from harness.engine.plan import bench_configs, split_names
 from harness.stability import (
     cases_degenerate,
     cases_rays,
@@ -24,6 +24,7 @@ from harness.stability import (
 )
 from harness.stability.model import Case, Outcome, Probe, crashed
 from variants.registry import Variant, VariantError, load_variant, parse_variant_name, registry
+from variants.robust import variant as robust_variant
 
 CASES: list[Case] = [
     *cases_scale.CASES,
@@ -49,9 +50,7 @@ class Cell:
 
 def _robust_directly() -> Variant:
     """``robust`` from its factory (until pyproject registers its entry point)."""
-    from variants.robust import variant
-
-    return variant()
+    return robust_variant()
 
 
 def load(name: str) -> Variant:

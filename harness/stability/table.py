@@ -11,7 +11,7 @@ from collections import Counter
 from collections.abc import Mapping
 from typing import Any
 
-from harness.document import Block, Bullets, Heading, Para, Table
+from harness.document.model import Block, Bullets, Heading, Para, Table
 from harness.stability.model import Verdict
 
 Run = Mapping[str, Any]

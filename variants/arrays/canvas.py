@@ -3,7 +3,7 @@ by a (height, width, 3) float array instead of a list of ``Color`` values.
 
 ``pixels`` is a list-like view of the array, so the reference's ``pixel_at``, ``write_pixel``
 and ``canvas_to_ppm`` work unchanged (reading and writing the array); ``to_rgb8()`` (used by
-``harness.images.write_image``) and ``to_array()`` convert the whole image with numpy.
+``groundwork.images.write_image``) and ``to_array()`` convert the whole image with numpy.
 ``ArrayCanvasTracer`` is the two ``Tracer`` steps that make such a canvas and write a
 region into it, for a tracer whose regions come as arrays.
 """

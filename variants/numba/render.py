@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from compiled.library import built
+from compiled.records import built
 from raytracer.camera import Camera, RenderSettings
 from raytracer.sampling import GAMMA, MASK64
 from raytracer.tracer import Region

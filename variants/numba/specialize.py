@@ -38,20 +38,12 @@ from pathlib import Path
 from types import ModuleType
 from typing import Any
 
-from compiled.library import (
-    BuildError,
-    announce,
-    compiler,
-    kernel_folder,
-    link,
-    load_once,
-    on_compile,
-    private_numba_cache,
-)
-from compiled.library import (
-    library_path as compiled_library_path,
-)
-from scene.files import read_bytes
+from compiled.folder import kernel_folder, private_numba_cache
+from compiled.library import load_once
+from compiled.linking import BuildError, compiler, link
+from compiled.notices import announce, on_compile
+from compiled.records import library_path as compiled_library_path
+from groundwork.files import read_bytes
 from scene.kinds import KINDS
 from scene.pattern_kinds import PATTERN_KINDS
 from variants.numba.features import ALL_FLAGS, FeatureSet

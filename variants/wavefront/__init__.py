@@ -18,7 +18,7 @@ passes), ``hits`` (nearest hit, shadow rays, every intersection along a line; CS
 ``shading`` (computations, patterns, lights, Schlick, refraction), ``indices`` (n1 and n2
 without sorted lists), ``camera`` (camera rays and the project's samples in uint64 NumPy),
 ``wave`` (the loop over depth and the passes), ``tracer`` (``WavefrontTracer``). Its
-benchmark section is ``rtc bench --sections pass-size`` (``harness.pass_size``).
+benchmark section is ``rtc bench --sections pass-size`` (``harness.sections.pass_size.measure``).
 
 Same pictures: at float64 each step is the reference's arithmetic in the reference's
 order, so most pixels are naive's bits; sums differ in their last bits where the book's

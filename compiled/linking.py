@@ -1,0 +1,89 @@
+"""Linking a compiled ``cfunc`` into a shared library with the system C compiler."""
+
+from __future__ import annotations
+
+import os
+import shlex
+import shutil
+import subprocess
+import tempfile
+from pathlib import Path
+from typing import Any
+
+from compiled.entry import UNREACHABLE
+from compiled.records import publish
+
+
+class BuildError(RuntimeError):
+    """A shared library could not be built (no C compiler, a link error ...)."""
+
+
+def compiler() -> list[str]:
+    """The C compiler: ``$CC``, else ``cc`` or ``gcc``; a ``BuildError`` when none."""
+    found = (
+        shlex.split(os.environ.get("CC", ""))
+        or [found for found in (shutil.which("cc"), shutil.which("gcc")) if found][:1]
+    )
+    if not found:
+        raise BuildError("no C compiler (cc, gcc or $CC) found")
+    return found
+
+
+def link(entry: Any, stub: str, path: Path, what: str) -> None:
+    """Link a compiled ``cfunc`` ``entry`` with the C ``stub`` (which calls it as
+    ``ENTRY_SYMBOL``) into the shared library ``path``; ``what`` names it in errors."""
+    command_start = compiler()
+    try:
+        obj, helpers = _object_code(entry)
+    except Exception as error:  # numba's internals moved: fall back to numba's own cache
+        raise BuildError(f"cannot take the compiled {what} out of numba: {error!r}") from None
+    runtime = [name for name in helpers if not name.startswith("numba_")]
+    if runtime:
+        raise BuildError(f"the compiled {what} calls numba's runtime ({', '.join(runtime)})")
+    source = (
+        stub.replace("ENTRY_SYMBOL", entry.native_name)
+        + UNREACHABLE
+        + "".join(f'void {name}(void) {{ unreachable("{name}"); }}\n' for name in helpers)
+    )
+    with tempfile.TemporaryDirectory(prefix="rtc-numba-link-", dir=path.parent) as folder:
+        work = Path(folder)
+        (work / "kernel.o").write_bytes(obj)
+        (work / "entry.c").write_text(source, encoding="utf-8")
+        built = work / path.name
+        command = [  # names relative to the work folder: each build gives the same bytes
+            *command_start, "-shared", "-fPIC", "-O2", "-o", built.name, "entry.c", "kernel.o",
+            "-lm",
+        ]  # fmt: skip
+        try:
+            done = subprocess.run(
+                command, capture_output=True, text=True, timeout=300, cwd=work
+            )
+        except (OSError, subprocess.SubprocessError) as error:
+            raise BuildError(f"{command_start[0]} failed to run: {error}") from None
+        if done.returncode != 0 or not built.is_file():
+            problem = done.stderr.strip()[:500] or f"exit status {done.returncode}"
+            raise BuildError(f"{command_start[0]} could not link the {what}: {problem}")
+        publish(built, path)
+
+
+def _object_code(entry: Any) -> tuple[bytes, list[str]]:
+    """The position-independent machine code of a compiled ``cfunc`` (numba's optimized,
+    linked LLVM module, for this CPU), and the numba runtime functions it declares."""
+    # deferred: saves ~80 ms (llvmlite) of every process that builds no library
+    import llvmlite.binding as llvm
+
+    module = entry._library._final_module
+    target = llvm.Target.from_triple(llvm.get_process_triple())
+    machine = target.create_target_machine(
+        cpu=llvm.get_host_cpu_name(),
+        features=llvm.get_host_cpu_features().flatten(),
+        opt=3,
+        reloc="pic",
+        codemodel="default",
+    )
+    helpers = sorted(
+        f.name
+        for f in module.functions
+        if f.is_declaration and f.name.startswith(("numba_", "NRT_"))
+    )
+    return machine.emit_object(module), helpers

@@ -1,0 +1,68 @@
+"""Writing canvases as image files (PNG or PPM) and reading PNGs back.
+
+PNG goes through Pillow, from the canvas's own ``to_rgb8()`` when it has one (so a variant
+with an array-backed canvas skips the per-pixel path), else from
+``raytracer.canvas_to_rgb8``. PPM is the book's plain text (``canvas_to_ppm``). Files are
+written atomically (``groundwork.files.write_atomically``).
+"""
+
+from __future__ import annotations
+
+import io
+import os
+from pathlib import Path
+from typing import Any
+
+from PIL import Image
+
+from groundwork.files import write_atomically
+from raytracer.canvas import canvas_to_ppm, canvas_to_rgb8
+
+FORMATS = (".png", ".ppm")
+
+
+def rgb8(canvas: Any) -> bytes:
+    """The canvas as row-major RGB bytes: its own ``to_rgb8()`` if it has one."""
+    to_rgb8 = getattr(canvas, "to_rgb8", None)
+    if callable(to_rgb8):
+        return bytes(to_rgb8())
+    return canvas_to_rgb8(canvas)
+
+
+def _encode(canvas: Any, suffix: str) -> bytes:
+    if suffix == ".ppm":
+        return canvas_to_ppm(canvas).encode("ascii")
+    data = rgb8(canvas)
+    expected = canvas.width * canvas.height * 3
+    if len(data) != expected:
+        raise ValueError(
+            f"write_image: the {canvas.width}x{canvas.height} canvas gave {len(data)} bytes "
+            f"of RGB, expected {expected}"
+        )
+    image = Image.frombytes("RGB", (canvas.width, canvas.height), data)
+    buffer = io.BytesIO()
+    image.save(buffer, format="PNG", compress_level=1)  # fast; files stay small for renders
+    return buffer.getvalue()
+
+
+def write_image(canvas: Any, path: str | os.PathLike[str]) -> Path:
+    """Write ``canvas`` to ``path`` as PNG or PPM, chosen by the extension; returns the path.
+
+    canvas: a ``raytracer.Canvas`` (or a variant's subclass); path: ends in .png or .ppm.
+    """
+    target = Path(path)
+    suffix = target.suffix.lower()
+    if suffix not in FORMATS:
+        shown = repr(target.suffix) if target.suffix else "no extension"
+        raise ValueError(
+            f"write_image({str(target)!r}): unknown image extension {shown}; "
+            f"use {' or '.join(FORMATS)}"
+        )
+    return write_atomically(target, _encode(canvas, suffix))
+
+
+def read_png(path: str | os.PathLike[str]) -> tuple[int, int, bytes]:
+    """A PNG's ``(width, height, row-major RGB bytes)``."""
+    with Image.open(path) as image:
+        rgb = image.convert("RGB")
+        return rgb.width, rgb.height, rgb.tobytes()

@@ -1,0 +1,2 @@
+"""The bench's ``kata`` section (one line of ``harness.sections``): ``measure``,
+``report``."""

@@ -1,0 +1,2 @@
+"""The bench's ``pass-size`` section (one line of ``harness.sections``): ``measure``,
+``report``, ``plot``."""

@@ -1,0 +1,2 @@
+"""The bench's ``profile`` section (one line of ``harness.sections``): ``measure``,
+``report``."""

@@ -1,0 +1,2 @@
+"""The bench's ``scaling`` section (one line of ``harness.sections``): ``measure``,
+``report``, ``plot``."""
