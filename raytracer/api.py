@@ -31,6 +31,7 @@ CHAPTER_TITLES: dict[int, str] = {
     18: "Rendering Soft Shadows (bonus chapter)",
     19: "Texture Mapping (bonus chapter)",
     20: "Tori (beyond the book)",
+    21: "Path tracing (beyond the book)",
 }
 
 # name -> chapter that introduces it. Constants are listed too (EPSILON, identity_matrix).
@@ -84,6 +85,10 @@ BOOK_API: dict[str, int] = {
     "area_light": 18, "point_on_light": 18, "intensity_at": 18, "sequence": 18, "next": 18,
     # chapter 20: beyond the book, the torus (a quartic)
     "torus": 20,
+    # chapter 21: beyond the book, path tracing (render: 7)
+    "path_random": 21, "orthonormal_basis": 21, "cosine_direction": 21, "choose_lobe": 21,
+    "sky": 21, "gradient_sky": 21, "sky_color": 21, "scatter": 21, "direct_light": 21,
+    "path_color_at": 21, "russian_roulette": 21, "render_settings": 21,
     # chapter 19: the bonus chapter "Texture mapping"
     "uv_checkers": 19, "uv_pattern_at": 19, "spherical_map": 19, "planar_map": 19,
     "cylindrical_map": 19, "texture_map": 19, "uv_align_check": 19, "face_from_point": 19,

@@ -29,7 +29,7 @@ NUMBER_PROPERTIES = {
     "transparency": "transparency",
     "refractive-index": "refractive_index",
 }
-MATERIAL_KEYS = ("color", *NUMBER_PROPERTIES, "pattern")
+MATERIAL_KEYS = ("color", *NUMBER_PROPERTIES, "pattern", "emissive")
 PATTERNS = {
     "stripes": "stripe_pattern",
     "gradient": "gradient_pattern",
@@ -104,8 +104,8 @@ def read_material_properties(ctx: Context, node: Node, what: str) -> dict[str, A
     reader.check_keys(entries, MATERIAL_KEYS, what)
     properties: dict[str, Any] = {}
     for key, entry in entries.items():
-        if key == "color":
-            properties["color"] = read_color(ctx, entry.value, f"{what}: color")
+        if key in ("color", "emissive"):  # emissive: the path integrator's (chapter 21)
+            properties[key] = read_color(ctx, entry.value, f"{what}: {key}")
         elif key == "pattern":
             properties["pattern"] = read_pattern(ctx, entry.value)
         else:

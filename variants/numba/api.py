@@ -41,6 +41,7 @@ from raytracer.tolerance import epsilon
 from raytracer.tracer import Progress, Region, Tracer, light_and_point
 from raytracer.tuples import Tuple
 from raytracer.world import World
+from variants.integrators import whitted_only
 from variants.numba import layout as L
 from variants.numba.canvas import ArrayCanvas
 from variants.numba.lights import light_rows, move_on
@@ -415,7 +416,9 @@ class NumbaTracer(Tracer):
 
     def prepare(self, c: Camera, w: World, settings: RenderSettings) -> Frame:
         """Chapter 7: a frame's state: camera and world packed, the render entry of ``w``'s
-        feature set loaded, the threads' scratch (``prepared`` keeps it for the regions)."""
+        feature set loaded, the threads' scratch (``prepared`` keeps it for the regions).
+        The book's integrator only: the path integrator is not ported to the kernels."""
+        whitted_only("numba", settings)
         return prepare_frame(self.options, c, w, settings)
 
     def render_region(

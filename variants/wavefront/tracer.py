@@ -28,6 +28,7 @@ from raytracer.tolerance import epsilon
 from raytracer.tracer import Progress, Region, Tracer, light_and_point
 from raytracer.tuples import Tuple, magnitude, normalize
 from raytracer.world import World
+from variants.integrators import whitted_only
 from variants.numba.canvas import ArrayCanvas
 from variants.wavefront.camera import lens
 from variants.wavefront.hits import blocked, index, records
@@ -147,7 +148,9 @@ class WavefrontTracer(Tracer):
     # -- chapter 7: the render
 
     def prepare(self, c: Camera, w: World, settings: RenderSettings) -> Frame:
-        """The frame: the world packed and indexed, the camera's numbers, the batch size."""
+        """The frame: the world packed and indexed, the camera's numbers, the batch size.
+        The book's integrator only: the path integrator is not ported to the passes."""
+        whitted_only("wavefront", settings)
         return self._make_frame(w, settings, c)
 
     def render_region(
