@@ -99,7 +99,7 @@ PATH_STEPS = ("path_color_at", "scatter", "direct_light")
 
 STEPS = (
     *BOOK_STEPS, *PATH_STEPS, "pixel_color", "prepare", "render_region", "render_into",
-    "new_canvas", "write_region", "light_for_sample", "world_for",
+    "new_canvas", "write_region", "light_for_sample", "world_for", "check_settings",
 )  # fmt: skip
 """Every overridable step of the interface, book names first."""
 
@@ -345,6 +345,7 @@ class Tracer:
         progress: called with the number of rows just finished.
         """
         settings = settings if settings is not None else RenderSettings()
+        self.check_settings(settings)
         image = self.new_canvas(c)
         self.forget()
         try:
@@ -378,6 +379,11 @@ class Tracer:
         write_region(image, region, values)
 
     # -- what the harness asks of a tracer
+
+    def check_settings(self, settings: RenderSettings) -> None:
+        """Raise an error naming this tracer (a ``ValueError``) when it cannot render with
+        ``settings``; ``render`` asks before it starts, so a pool or a cluster asks here,
+        not in its workers. The reference renders with any: both integrators."""
 
     def world_for(self, scene: Any) -> Any:
         """What a render of a loaded scene file (``scene.Scene``: a description, nothing

@@ -417,9 +417,13 @@ class NumbaTracer(Tracer):
     def prepare(self, c: Camera, w: World, settings: RenderSettings) -> Frame:
         """Chapter 7: a frame's state: camera and world packed, the render entry of ``w``'s
         feature set loaded, the threads' scratch (``prepared`` keeps it for the regions).
-        The book's integrator only: the path integrator is not ported to the kernels."""
-        whitted_only("numba", settings)
+        The book's integrator only (``check_settings``)."""
+        self.check_settings(settings)
         return prepare_frame(self.options, c, w, settings)
+
+    def check_settings(self, settings: RenderSettings) -> None:
+        """The book's integrator only: the path integrator is not ported to the kernels."""
+        whitted_only("numba", settings)
 
     def render_region(
         self, c: Camera, w: World, settings: RenderSettings, region: Region

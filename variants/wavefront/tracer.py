@@ -149,9 +149,13 @@ class WavefrontTracer(Tracer):
 
     def prepare(self, c: Camera, w: World, settings: RenderSettings) -> Frame:
         """The frame: the world packed and indexed, the camera's numbers, the batch size.
-        The book's integrator only: the path integrator is not ported to the passes."""
-        whitted_only("wavefront", settings)
+        The book's integrator only (``check_settings``)."""
+        self.check_settings(settings)
         return self._make_frame(w, settings, c)
+
+    def check_settings(self, settings: RenderSettings) -> None:
+        """The book's integrator only: the path integrator is not ported to the passes."""
+        whitted_only("wavefront", settings)
 
     def render_region(
         self, c: Camera, w: World, settings: RenderSettings, region: Region
