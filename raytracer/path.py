@@ -23,7 +23,7 @@ ray's is bounce 0), with the material m and its computations::
     if roulette > 0 and b >= roulette:        (Russian roulette: ``russian_roulette``)
         p = min(1, max(throughput.red, .green, .blue))
         if number(b, ROULETTE) >= p: stop
-        throughput = throughput * (1 / p)
+        throughput = throughput / p          (each channel divided)
     choose a lobe and a new ray (``scatter``, numbers LOBE, FRESNEL, DIRECTION, DIRECTION+1)
     throughput = throughput * its weight
     if throughput is black: stop              (it can add nothing more)
@@ -176,12 +176,13 @@ def _is_black(c: Color) -> bool:
 
 def russian_roulette(throughput: Color, u: float) -> Color:
     """Chapter 21: Russian roulette: a path with ``throughput`` goes on with probability p =
-    min(1, its brightest channel), its throughput multiplied by 1 / p; it ends (black) when
-    its number ``u`` (in [0, 1)) is p or more. Unbiased: on average the throughput is kept."""
-    survival = min(1.0, max(throughput.red, throughput.green, throughput.blue))
-    if u >= survival:
+    min(1, its brightest channel), each channel divided by p (not multiplied by 1 / p, which
+    overflows for a tiny p); it ends (black) when its number ``u`` (in [0, 1)) is p or more.
+    Unbiased: on average the throughput is kept."""
+    p = min(1.0, max(throughput.red, throughput.green, throughput.blue))
+    if u >= p:
         return BLACK
-    return throughput * (1.0 / survival)
+    return Color(throughput.red / p, throughput.green / p, throughput.blue / p)
 
 
 def scatter(

@@ -208,7 +208,8 @@ def _path_estimate(variant: Any, camera: Any, world: Any, settings: RenderSettin
     return (
         f"rtc render: {variant.name} will take about {duration(total)} of one core for this "
         f"path-traced render ({rays}, up to {settings.depth + 1} hits each; timed on "
-        f"{pixels} pixels); fewer --samples, a lower --depth or a smaller --size shortens it"
+        f"{pixels} pixel{'s' if pixels > 1 else ''}); fewer --samples, a lower --depth or "
+        "a smaller --size shortens it"
     )
 
 
