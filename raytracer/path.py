@@ -121,7 +121,7 @@ class PathTracer(Protocol):
 
     def path_color_at(
         self, w: World, r: Ray, depth: int = 5, roulette: int = 0, bounce: int = 0,
-        throughput: Color = WHITE,
+        throughput: Color | None = None,
     ) -> Color: ...  # fmt: skip
 
     def scatter(
@@ -133,7 +133,7 @@ class PathTracer(Protocol):
 
 def path_color_at(
     tracer: PathTracer, w: World, r: Ray, depth: int = 5, roulette: int = 0, bounce: int = 0,
-    throughput: Color = WHITE,
+    throughput: Color | None = None,
 ) -> Color:  # fmt: skip
     """Chapter 21: the light that ``r`` carries back, times ``throughput``: what it meets
     emits, then it scatters and the path goes on, until bounce ``depth`` (the module
@@ -142,8 +142,9 @@ def path_color_at(
     w: the world (its lights and sky); r: the ray; depth: the most scatter events of a path
     (at the hit of bounce ``depth`` only emission counts); roulette: Russian roulette from
     this bounce on (0: never); bounce: this ray's (0: a camera ray); throughput: the
-    product of the weights so far (white for a camera ray).
+    product of the weights so far (None: white, a camera ray's).
     """
+    throughput = WHITE if throughput is None else throughput
     xs = tracer.intersect_world(w, r)
     h = hit(xs)
     if h is None:

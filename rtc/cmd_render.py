@@ -301,6 +301,12 @@ def run(args: argparse.Namespace) -> int:
         raise UserError(str(error)) from None
     camera = scene.camera
     settings = _settings(flags, scene)
+    if settings.integrator == PATH and variant.tracer is None:
+        raise UserError(
+            f"{variant.name} renders with a render() of its own, which takes no integrator: "
+            "path-trace with a variant built on raytracer.tracer.Tracer (naive, cached, "
+            "robust, prealloc, pooled or dask over them), or render with --integrator whitted"
+        )
     check_memory(variant.name, camera.hsize, camera.vsize)
     for warning in scene.warnings:
         print(f"rtc render: warning: {warning}", file=sys.stderr, flush=True)

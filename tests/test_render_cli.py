@@ -280,3 +280,19 @@ def test_a_long_path_traced_render_says_so_before_it_starts(
     ticks = iter(range(0, 10**6, 20))
     status, _, err = render(capsys, str(tiny), "-o", str(tmp_path / "w.png"), "--progress", "none")
     assert status == 0 and "path-traced" not in err
+
+
+def test_a_variant_without_a_tracer_refuses_the_path_integrator_in_one_line(
+    tiny: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # a learner's tracer answers through its API alone: its render() knows no integrator
+    from variants import registry
+
+    own = registry.Variant("own", "a learner's", load_variant("naive").api)
+    monkeypatch.setattr(registry, "load_variant", lambda name: own)
+    output = tmp_path / "out.png"
+    line = one_line_error(
+        capsys, str(tiny), "-o", str(output), "--variant", "own", "--integrator", "path"
+    )
+    assert line.startswith("rtc render: own renders with a render() of its own, which takes no")
+    assert not output.exists()
