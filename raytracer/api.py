@@ -85,16 +85,16 @@ BOOK_API: dict[str, int] = {
     "area_light": 18, "point_on_light": 18, "intensity_at": 18, "sequence": 18, "next": 18,
     # chapter 20: beyond the book, the torus (a quartic)
     "torus": 20,
-    # chapter 21: beyond the book, path tracing (render: 7)
-    "path_random": 21, "orthonormal_basis": 21, "cosine_direction": 21, "choose_lobe": 21,
-    "sky": 21, "gradient_sky": 21, "sky_color": 21, "scatter": 21, "direct_light": 21,
-    "path_color_at": 21, "russian_roulette": 21, "render_settings": 21,
     # chapter 19: the bonus chapter "Texture mapping"
     "uv_checkers": 19, "uv_pattern_at": 19, "spherical_map": 19, "planar_map": 19,
     "cylindrical_map": 19, "texture_map": 19, "uv_align_check": 19, "face_from_point": 19,
     "cube_uv_front": 19, "cube_uv_back": 19, "cube_uv_left": 19, "cube_uv_right": 19,
     "cube_uv_up": 19, "cube_uv_down": 19, "cube_map": 19, "uv_image": 19,
     "canvas_from_ppm": 19,
+    # chapter 21: beyond the book, path tracing (render: 7)
+    "path_random": 21, "orthonormal_basis": 21, "cosine_direction": 21, "choose_lobe": 21,
+    "sky": 21, "gradient_sky": 21, "sky_color": 21, "scatter": 21, "direct_light": 21,
+    "path_color_at": 21, "russian_roulette": 21, "render_settings": 21,
 }  # fmt: skip
 
 
