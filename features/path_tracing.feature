@@ -56,12 +56,12 @@ Feature: Path tracing
       And cross(t, b) = n
 
     Examples:
-      | normal             |
-      | vector(0, 0, 1)    |
-      | vector(0, 0, -1)   |
-      | vector(0, 1, 0)    |
-      | vector(1, -2, 3)   |
-      | vector(-1, 2, -3)  |
+      | normal            |
+      | vector(0, 0, 1)   |
+      | vector(0, 0, -1)  |
+      | vector(0, 1, 0)   |
+      | vector(1, -2, 3)  |
+      | vector(-1, 2, -3) |
 
   @chapter21
   Scenario: The corners of a cosine-weighted direction's square
@@ -79,10 +79,10 @@ Feature: Path tracing
       And dot(d, n) > 0 for each d in ds
 
     Examples:
-      | normal            |
-      | vector(0, 1, 0)   |
-      | vector(0, 0, -1)  |
-      | vector(1, -2, 3)  |
+      | normal           |
+      | vector(0, 1, 0)  |
+      | vector(0, 0, -1) |
+      | vector(1, -2, 3) |
 
   # Their density is cos(theta) / pi: the mean cosine is 2/3 and the mean squared cosine
   # 1/2 (uniform directions would give 1/2 and 1/3). The seed is fixed, so this is one
@@ -110,20 +110,20 @@ Feature: Path tracing
     Then choose_lobe(m, <u>) = <lobe>
 
     Examples:
-      | reflective | transparency | u     | lobe    |
+      | reflective | transparency | u     | lobe      |
       | 0          | 0            | 0     | "diffuse" |
       | 0          | 0            | 0.999 | "diffuse" |
-      | 1          | 0            | 0     | "mirror" |
-      | 1          | 0            | 0.999 | "mirror" |
-      | 0.3        | 0            | 0.29  | "mirror" |
+      | 1          | 0            | 0     | "mirror"  |
+      | 1          | 0            | 0.999 | "mirror"  |
+      | 0.3        | 0            | 0.29  | "mirror"  |
       | 0.3        | 0            | 0.31  | "diffuse" |
-      | 0          | 1            | 0.999 | "glass" |
-      | 0.2        | 0.5          | 0.49  | "glass" |
-      | 0.2        | 0.5          | 0.51  | "mirror" |
+      | 0          | 1            | 0.999 | "glass"   |
+      | 0.2        | 0.5          | 0.49  | "glass"   |
+      | 0.2        | 0.5          | 0.51  | "mirror"  |
       | 0.2        | 0.5          | 0.71  | "diffuse" |
-      | 0.9        | 0.9          | 0.49  | "glass" |
-      | 0.9        | 0.9          | 0.51  | "mirror" |
-      | 0.9        | 0.9          | 0.999 | "mirror" |
+      | 0.9        | 0.9          | 0.49  | "glass"   |
+      | 0.9        | 0.9          | 0.51  | "mirror"  |
+      | 0.9        | 0.9          | 0.999 | "mirror"  |
 
   # --- scattering at a hit: scatter(comps, lobe_u, fresnel_u, u1, u2)
 
@@ -183,7 +183,7 @@ Feature: Path tracing
       And s.ray.direction = <direction>
 
     Examples:
-      | fresnel_u | lobe    | origin            | direction        |
+      | fresnel_u | lobe      | origin            | direction        |
       | 0.039     | "reflect" | comps.over_point  | vector(0, 0, -1) |
       | 0.041     | "refract" | comps.under_point | vector(0, 0, 1)  |
       | 0.999     | "refract" | comps.under_point | vector(0, 0, 1)  |
@@ -215,10 +215,10 @@ Feature: Path tracing
     Then direct_light(w, comps, color(0.5, 0.5, 0.5), 0) = <result>
 
     Examples:
-      | position           | result                     |
-      | point(0, 10, 0)    | color(0.5, 0.5, 0.5)       |
-      | point(10, 10, 0)   | color(0.35355, 0.35355, 0.35355) |
-      | point(0, -10, 0)   | color(0, 0, 0)             |
+      | position         | result                           |
+      | point(0, 10, 0)  | color(0.5, 0.5, 0.5)             |
+      | point(10, 10, 0) | color(0.35355, 0.35355, 0.35355) |
+      | point(0, -10, 0) | color(0, 0, 0)                   |
 
   @chapter21
   Scenario: Something between a diffuse hit and the light shadows it
@@ -278,11 +278,11 @@ Feature: Path tracing
     Then path_color_at(w, ray(point(1, 2, 3), <direction>)) = color(0.2, 0.4, 0.6)
 
     Examples:
-      | direction          |
-      | vector(0, 1, 0)    |
-      | vector(0, -1, 0)   |
-      | vector(1, 0, 0)    |
-      | vector(1, 2, -3)   |
+      | direction        |
+      | vector(0, 1, 0)  |
+      | vector(0, -1, 0) |
+      | vector(1, 0, 0)  |
+      | vector(1, 2, -3) |
 
   @chapter21
   Scenario: A world without a sky is black all around
@@ -297,12 +297,12 @@ Feature: Path tracing
     Then sky_color(s, <direction>) = <result>
 
     Examples:
-      | direction          | result                         |
-      | vector(0, 1, 0)    | color(0.5, 0.7, 1.0)           |
-      | vector(0, 3, 0)    | color(0.5, 0.7, 1.0)           |
-      | vector(1, 0, 0)    | color(1, 1, 1)                 |
-      | vector(0, -1, 0)   | color(1, 1, 1)                 |
-      | vector(1, 1, 0)    | color(0.64645, 0.78787, 1.0)   |
+      | direction        | result                       |
+      | vector(0, 1, 0)  | color(0.5, 0.7, 1.0)         |
+      | vector(0, 3, 0)  | color(0.5, 0.7, 1.0)         |
+      | vector(1, 0, 0)  | color(1, 1, 1)               |
+      | vector(0, -1, 0) | color(1, 1, 1)               |
+      | vector(1, 1, 0)  | color(0.64645, 0.78787, 1.0) |
 
   # A black surface takes every bit of light that reaches it: the path ends there, with
   # only what the surface itself emits.
@@ -359,12 +359,12 @@ Feature: Path tracing
     Then path_color_at(w, ray(<origin>, <direction>), <depth>) = color(0.5, 0.5, 0.5)
 
     Examples:
-      | origin           | direction          | depth |
-      | point(0, 0, -5)  | vector(0, 0, 1)    | 1     |
-      | point(0, 0, -5)  | vector(0, 0, 1)    | 5     |
-      | point(0, 0.9, -5) | vector(0, 0, 1)   | 5     |
-      | point(0, 5, 0)   | vector(0, -1, 0)   | 3     |
-      | point(0, 0, -5)  | vector(0, 1, 0)    | 5     |
+      | origin            | direction        | depth |
+      | point(0, 0, -5)   | vector(0, 0, 1)  | 1     |
+      | point(0, 0, -5)   | vector(0, 0, 1)  | 5     |
+      | point(0, 0.9, -5) | vector(0, 0, 1)  | 5     |
+      | point(0, 5, 0)    | vector(0, -1, 0) | 3     |
+      | point(0, 0, -5)   | vector(0, 1, 0)  | 5     |
 
   # Lossless glass (nothing of it is diffuse) vanishes as well, head on.
   @chapter21
@@ -399,12 +399,12 @@ Feature: Path tracing
     Then russian_roulette(<throughput>, <u>) = <result>
 
     Examples:
-      | throughput              | u    | result                 |
-      | color(0.25, 0.1, 0.2)   | 0.2  | color(1, 0.4, 0.8)     |
-      | color(0.25, 0.1, 0.2)   | 0.25 | color(0, 0, 0)         |
-      | color(0.25, 0.1, 0.2)   | 0.9  | color(0, 0, 0)         |
-      | color(2, 0.5, 0)        | 0.99 | color(2, 0.5, 0)       |
-      | color(0, 0, 0)          | 0    | color(0, 0, 0)         |
+      | throughput            | u    | result             |
+      | color(0.25, 0.1, 0.2) | 0.2  | color(1, 0.4, 0.8) |
+      | color(0.25, 0.1, 0.2) | 0.25 | color(0, 0, 0)     |
+      | color(0.25, 0.1, 0.2) | 0.9  | color(0, 0, 0)     |
+      | color(2, 0.5, 0)      | 0.99 | color(2, 0.5, 0)   |
+      | color(0, 0, 0)        | 0    | color(0, 0, 0)     |
 
   # A white path always survives, so the furnace stays exact with roulette on.
   @chapter21
