@@ -16,7 +16,7 @@ from raytracer.bounds import (
     split_bounds,
     transform,
 )
-from raytracer.camera import Camera, RenderSettings, camera
+from raytracer.camera import Camera, RenderSettings, camera, render_settings
 from raytracer.canvas import (
     Canvas,
     canvas,
@@ -59,6 +59,7 @@ from raytracer.matrices import (
     transpose,
 )
 from raytracer.obj_file import ObjParseError, ObjParser, obj_to_group, parse_obj_file
+from raytracer.path import Scattered, russian_roulette
 from raytracer.patterns import (
     CheckersPattern,
     GradientPattern,
@@ -79,7 +80,8 @@ from raytracer.patterns import (
 )
 from raytracer.ppm import PPMError, canvas_from_ppm
 from raytracer.rays import Ray, position, ray
-from raytracer.sampling import light_jitter, sample_offset
+from raytracer.sampling import light_jitter, path_random, sample_offset
+from raytracer.scatter import choose_lobe, cosine_direction, orthonormal_basis
 from raytracer.shapes.cone import Cone, cone
 from raytracer.shapes.csg import (
     CSG,
@@ -110,6 +112,7 @@ from raytracer.shapes.sphere import Sphere, glass_sphere, sphere
 from raytracer.shapes.test_shape import TestShape, test_shape
 from raytracer.shapes.torus import Torus, torus
 from raytracer.shapes.triangle import Triangle, triangle
+from raytracer.sky import Sky, gradient_sky, sky, sky_color
 from raytracer.textures import (
     CubeMap,
     TextureMap,
@@ -139,16 +142,19 @@ from raytracer.tracer import (
     TRACER,
     Tracer,
     color_at,
+    direct_light,
     intensity_at,
     intersect_world,
     is_shadowed,
     lighting,
+    path_color_at,
     pixel_color,
     prepare_computations,
     ray_for_pixel,
     reflected_color,
     refracted_color,
     render,
+    scatter,
     schlick,
     shade_hit,
 )
@@ -206,7 +212,9 @@ __all__ = [
     "Ray",
     "RenderSettings",
     "RingPattern",
+    "Scattered",
     "Shape",
+    "Sky",
     "SmoothTriangle",
     "Sphere",
     "StripePattern",
@@ -236,10 +244,12 @@ __all__ = [
     "canvas_to_ppm",
     "canvas_to_rgb8",
     "checkers_pattern",
+    "choose_lobe",
     "cofactor",
     "color",
     "color_at",
     "cone",
+    "cosine_direction",
     "cross",
     "csg",
     "cube",
@@ -254,6 +264,7 @@ __all__ = [
     "cylindrical_map",
     "default_world",
     "determinant",
+    "direct_light",
     "divide",
     "dot",
     "epsilon",
@@ -262,6 +273,7 @@ __all__ = [
     "filter_intersections",
     "glass_sphere",
     "gradient_pattern",
+    "gradient_sky",
     "group",
     "hit",
     "identity_matrix",
@@ -291,9 +303,12 @@ __all__ = [
     "normal_to_world",
     "normalize",
     "obj_to_group",
+    "orthonormal_basis",
     "parent_space_bounds_of",
     "parse_obj_file",
     "partition_children",
+    "path_color_at",
+    "path_random",
     "pattern_at",
     "pattern_at_shape",
     "pixel_at",
@@ -311,18 +326,23 @@ __all__ = [
     "reflected_color",
     "refracted_color",
     "render",
+    "render_settings",
     "ring_pattern",
     "rotation_x",
     "rotation_y",
     "rotation_z",
+    "russian_roulette",
     "sample_offset",
     "scaling",
+    "scatter",
     "schlick",
     "sequence",
     "set_pattern_transform",
     "set_transform",
     "shade_hit",
     "shearing",
+    "sky",
+    "sky_color",
     "smooth_triangle",
     "sphere",
     "spherical_map",

@@ -33,6 +33,7 @@ CHAPTER_TITLES: dict[int, str] = {
     18: "Rendering Soft Shadows (bonus chapter)",
     19: "Texture Mapping (bonus chapter)",
     20: "Tori (beyond the book)",
+    21: "Path tracing (beyond the book)",
 }
 
 # name -> chapter that introduces it. Constants are listed too (EPSILON, identity_matrix).
@@ -92,6 +93,10 @@ BOOK_API: dict[str, int] = {
     "cube_uv_front": 19, "cube_uv_back": 19, "cube_uv_left": 19, "cube_uv_right": 19,
     "cube_uv_up": 19, "cube_uv_down": 19, "cube_map": 19, "uv_image": 19,
     "canvas_from_ppm": 19,
+    # chapter 21: beyond the book, path tracing (render: 7)
+    "path_random": 21, "orthonormal_basis": 21, "cosine_direction": 21, "choose_lobe": 21,
+    "sky": 21, "gradient_sky": 21, "sky_color": 21, "scatter": 21, "direct_light": 21,
+    "path_color_at": 21, "russian_roulette": 21, "render_settings": 21,
 }  # fmt: skip
 
 

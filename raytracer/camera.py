@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 from raytracer.matrices import Matrix, identity_matrix, inverse_of
 from raytracer.rays import Ray
@@ -91,28 +92,52 @@ def ray_for_pixel(c: Camera, px: float, py: float) -> Ray:
     return Ray(origin, normalize(pixel - origin))
 
 
+WHITTED = "whitted"
+PATH = "path"
+INTEGRATORS = (WHITTED, PATH)
+"""How light is gathered: the book's recursive (Whitted) ray tracing, chapters 7-11, or
+Monte Carlo path tracing (chapter 21 here, beyond the book: ``raytracer.path``)."""
+MAX_DEPTH = 100  # reflections, refractions or bounces of one ray
+
+
 @dataclass(frozen=True, slots=True)
 class RenderSettings:
     """How to render (not in the book, except ``depth``, its ``remaining``).
 
-    depth: how many times a ray may be reflected or refracted (the book's 5);
+    depth: how many times a ray may be reflected or refracted (the book's 5); under the
+    path integrator, how many times a path may scatter;
     samples: rays per pixel (1: through the centre, as in the book; more: antialiasing);
-    seed: chooses the sample positions when samples > 1 (see ``raytracer.sampling``);
-    epsilon: the offset for over_point/under_point and friends (``EPSILON`` by default).
+    seed: chooses the sample positions when samples > 1 (see ``raytracer.sampling``), and
+    the path integrator's random numbers;
+    epsilon: the offset for over_point/under_point and friends (``EPSILON`` by default);
+    integrator: ``"whitted"`` (the book's, the default) or ``"path"``;
+    roulette: the path integrator's Russian roulette from this bounce on (0: off).
     """
 
     depth: int = 5
     samples: int = 1
     seed: int = 0
     epsilon: float = EPSILON
+    integrator: str = WHITTED
+    roulette: int = 0
 
     def __post_init__(self) -> None:
         def whole(value: object) -> bool:
             return isinstance(value, int) and not isinstance(value, bool)
 
-        if not whole(self.depth) or not 0 <= self.depth <= 100:
+        if not whole(self.depth) or not 0 <= self.depth <= MAX_DEPTH:
             raise ValueError(
-                f"RenderSettings: depth must be a whole number 0 to 100, got {self.depth!r}"
+                f"RenderSettings: depth must be a whole number 0 to {MAX_DEPTH}, got {self.depth!r}"
+            )
+        if self.integrator not in INTEGRATORS:
+            raise ValueError(
+                f"RenderSettings: integrator must be {' or '.join(INTEGRATORS)}, got "
+                f"{self.integrator!r}"
+            )
+        if not whole(self.roulette) or not 0 <= self.roulette <= MAX_DEPTH:
+            raise ValueError(
+                f"RenderSettings: roulette must be a whole number 0 (off) to {MAX_DEPTH}, got "
+                f"{self.roulette!r}"
             )
         if not whole(self.samples) or not 1 <= self.samples <= MAX_SAMPLES:
             raise ValueError(
@@ -131,3 +156,10 @@ class RenderSettings:
             raise ValueError(
                 f"RenderSettings: epsilon must be a number between 0 and 1, got {self.epsilon!r}"
             )
+
+
+def render_settings(**options: Any) -> RenderSettings:
+    """How to render: ``RenderSettings`` with the ``options`` given (depth, samples, seed,
+    epsilon, integrator, roulette) and the defaults for the others, e.g.
+    ``render_settings(integrator="path", samples=16)`` (chapter 21 here, beyond the book)."""
+    return RenderSettings(**options)

@@ -155,3 +155,16 @@ def schlick(comps: Computations) -> float:
         cos = math.sqrt(1.0 - sin2_t)
     r0 = ((comps.n1 - comps.n2) / (comps.n1 + comps.n2)) ** 2
     return r0 + (1 - r0) * (1 - cos) ** 5
+
+
+def refraction_direction(comps: Computations) -> Tuple | None:
+    """Chapter 11: the direction of the ray refracted at the hit (Snell's law, from the
+    eye vector and the normal), or None under total internal reflection. Not normalized:
+    as the book's ``refracted_color`` computes it."""
+    n_ratio = comps.n1 / comps.n2
+    cos_i = dot(comps.eyev, comps.normalv)
+    sin2_t = n_ratio * n_ratio * (1 - cos_i * cos_i)
+    if sin2_t > 1:
+        return None  # total internal reflection
+    cos_t = math.sqrt(1.0 - sin2_t)
+    return comps.normalv * (n_ratio * cos_i - cos_t) - comps.eyev * n_ratio

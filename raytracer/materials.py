@@ -42,7 +42,9 @@ class Material:
     shininess: the size of the specular highlight (higher is smaller and tighter);
     reflective: 0 (matte) to 1 (mirror); transparency: 0 (opaque) to 1;
     refractive_index: 1 for vacuum/air, 1.5 for glass, 1.333 for water;
-    pattern: a pattern giving the color at each point, or None.
+    pattern: a pattern giving the color at each point, or None;
+    emissive: the light the surface gives off (chapter 21 here, beyond the book: the path
+    integrator adds it; the book's Whitted integrator ignores it), black by default.
     """
 
     color: Color = WHITE
@@ -54,6 +56,7 @@ class Material:
     transparency: float = 0.0
     refractive_index: float = 1.0
     pattern: Pattern | None = None
+    emissive: Color = BLACK
 
 
 def material(**overrides: Any) -> Material:
@@ -85,6 +88,17 @@ def light_fraction(in_shadow: bool | float) -> float:
     )
 
 
+def surface_color(material: Material, object: Placed | None, point: Tuple) -> Color:
+    """Chapters 6 and 10: the colour of the surface at the world-space ``point``: its
+    pattern's there (in ``object``'s pattern space; with no object, world space is taken as
+    object space, the chapter 6 form), else the material's ``color``."""
+    if material.pattern is None:
+        return material.color
+    if object is None:
+        return material.pattern.local_pattern_at(material.pattern.inverse_transform * point)
+    return pattern_at_shape(material.pattern, object, point)
+
+
 def lighting(
     material: Material,
     object: Placed | None,
@@ -106,14 +120,7 @@ def lighting(
     later lights: the ambient light is counted once, with the first).
     """
     intensity = light_fraction(in_shadow)
-    if material.pattern is not None:
-        if object is None:  # the chapter 6 form had no object: treat world space as object space
-            surface = material.pattern.local_pattern_at(material.pattern.inverse_transform * point)
-        else:
-            surface = pattern_at_shape(material.pattern, object, point)
-    else:
-        surface = material.color
-    effective_color = surface * light.intensity
+    effective_color = surface_color(material, object, point) * light.intensity
     ambient_part = effective_color * material.ambient if ambient else BLACK
     if isinstance(light, AreaLight):
         return _area_lighting(

@@ -15,6 +15,15 @@ shadows", ``light_jitter``): outputs 1 and 2 are the pixel offset; the cell (u, 
 number k takes outputs ``3 + 2 n`` and ``4 + 2 n`` with ``n = k << 32 | v << 16 | u``. So
 where a light's cells are sampled depends on (seed, pixel, sample, light index, cell) only,
 never on the order in which rays are traced, and a compiled variant reproduces it.
+
+The path integrator (chapter 21 here, beyond the book: ``raytracer.path``) draws its numbers
+from the same key, XORed with ``PATH_TAG`` so that its streams lie apart from the two above:
+
+    path_random(seed, x, y, i, b, d) = top 53 bits of
+        mix(((key XOR PATH_TAG) + (1 + (b << 32) + d) * GAMMA) mod 2**64), times 2**-53
+
+for bounce ``b`` (the camera ray's hit is bounce 0) and dimension ``d`` (which number of
+that bounce: ``raytracer.path`` lists them), each in [0, 1).
 """
 
 from __future__ import annotations
@@ -25,6 +34,9 @@ MAX_COORDINATE = 1 << 14  # 16384, the largest canvas side: x and y take 14 bits
 MAX_SAMPLES = 1 << 20  # sample indices take the low 20 bits of the key
 MAX_LIGHT_STEPS = 1 << 16  # an area light's cells per side: u and v take 16 bits of a stream
 MAX_LIGHTS = 1 << 31  # light indices: the stream stays below 2**64
+PATH_TAG = 0x5851F42D4C957F2D  # an odd constant (PCG's multiplier): the path's streams
+MAX_BOUNCES = 1 << 31  # a path's bounce index takes the bits above 32 of its counter
+MAX_DIMENSIONS = 1 << 32  # a bounce's dimensions take the low 32 bits
 
 
 def mix64(z: int) -> int:
@@ -104,3 +116,26 @@ def light_jitters(
         for u in range(usteps):
             values += light_jitter_key(key, light_index, u, v)
     return values
+
+
+def path_random_key(key: int, bounce: int, dimension: int) -> float:
+    """``path_random`` for a sample whose ``sample_key`` is ``key`` (no checks: the caller
+    checked bounce and dimension)."""
+    counter = 1 + (bounce << 32) + dimension
+    z = mix64(((key ^ PATH_TAG) + counter * GAMMA) & MASK64)
+    return (z >> 11) * 2.0**-53
+
+
+def path_random(seed: int, x: int, y: int, i: int, bounce: int, dimension: int) -> float:
+    """The path integrator's random number ``dimension`` at ``bounce`` of sample ``i`` of
+    pixel (x, y) under ``seed``: a number in [0, 1), a pure function of its arguments
+    (chapter 21 here, beyond the book; the module docstring gives the formula).
+
+    seed, x, y, i: as ``sample_offset``; bounce: 0 for the camera ray's hit, 1 for the next
+    one ...; dimension: which number of that bounce (``raytracer.path`` lists their uses).
+    """
+    if not 0 <= bounce < MAX_BOUNCES:
+        raise ValueError(f"path_random: bounce {bounce} is outside 0..{MAX_BOUNCES - 1}")
+    if not 0 <= dimension < MAX_DIMENSIONS:
+        raise ValueError(f"path_random: dimension {dimension} is outside 0..{MAX_DIMENSIONS - 1}")
+    return path_random_key(sample_key(seed, x, y, i), bounce, dimension)

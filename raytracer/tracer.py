@@ -12,6 +12,13 @@ overrides only the step it changes and every other step calls the override.
     intensity_at ─> is_shadowed (once per point light, once per cell of an area light)
     reflected_color, refracted_color ─> color_at (one level deeper)
 
+The path integrator (chapter 21 here, beyond the book; ``raytracer.path``), which
+``pixel_color`` calls instead of ``color_at`` when ``settings.integrator`` is "path"::
+
+    path_color_at ─> intersect_world, prepare_computations, scatter, direct_light,
+                     path_color_at (the next bounce)
+    scatter ─> schlick;  direct_light ─> is_shadowed
+
 Area lights (the bonus chapter "Rendering soft shadows", 18 here): ``shade_hit`` asks, for
 light number k of the world, ``light_k = light_for_sample(light, k)``, then ``intensity =
 intensity_at(light_k, over_point, w)`` and ``lighting(..., light_k, ..., intensity,
@@ -40,16 +47,22 @@ leaf steps are their chapter's functions, kept beside the values they work on
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Sequence
 from dataclasses import replace
 from typing import Any
 
-from raytracer.camera import Camera, RenderSettings
+from raytracer import path
+from raytracer.camera import PATH, Camera, RenderSettings
 from raytracer.camera import ray_for_pixel as camera_ray
 from raytracer.canvas import Canvas, canvas
 from raytracer.colors import BLACK, Color
-from raytracer.intersections import Computations, Intersection, hit, intersections
+from raytracer.intersections import (
+    Computations,
+    Intersection,
+    hit,
+    intersections,
+    refraction_direction,
+)
 from raytracer.intersections import prepare_computations as computations_for
 from raytracer.intersections import schlick as schlick_reflectance
 from raytracer.lights import AreaLight, CyclicSequence, Light, describe_lights, point_on_light
@@ -59,7 +72,7 @@ from raytracer.sampling import light_jitters, sample_offset
 from raytracer.shapes.shape import Shape, intersect
 from raytracer.space import Placed
 from raytracer.tolerance import using_epsilon
-from raytracer.tuples import Tuple, dot, magnitude, normalize
+from raytracer.tuples import Tuple, magnitude, normalize
 from raytracer.world import World
 
 Region = tuple[int, int, int, int]
@@ -81,9 +94,13 @@ BOOK_STEPS = (
 )  # fmt: skip
 """The methods that are book names (``raytracer.api.BOOK_API``)."""
 
+PATH_STEPS = ("path_color_at", "scatter", "direct_light")
+"""The path integrator's methods (``raytracer.path``), names of the book's API too (chapter
+21 here, beyond the book)."""
+
 STEPS = (
-    *BOOK_STEPS, "pixel_color", "prepare", "render_region", "render_into", "new_canvas",
-    "write_region", "light_for_sample", "world_for",
+    *BOOK_STEPS, *PATH_STEPS, "pixel_color", "prepare", "render_region", "render_into",
+    "new_canvas", "write_region", "light_for_sample", "world_for", "check_settings",
 )  # fmt: skip
 """Every overridable step of the interface, book names first."""
 
@@ -235,18 +252,21 @@ class Tracer:
         transparency = comps.object.material.transparency
         if transparency == 0 or remaining <= 0:
             return BLACK
-        n_ratio = comps.n1 / comps.n2
-        cos_i = dot(comps.eyev, comps.normalv)
-        sin2_t = n_ratio * n_ratio * (1 - cos_i * cos_i)
-        if sin2_t > 1:
+        direction = refraction_direction(comps)
+        if direction is None:
             return BLACK  # total internal reflection
-        cos_t = math.sqrt(1.0 - sin2_t)
-        direction = comps.normalv * (n_ratio * cos_i - cos_t) - comps.eyev * n_ratio
         refract_ray = ray(comps.under_point, direction)
         return self.color_at(w, refract_ray, remaining - 1) * transparency
 
     schlick = staticmethod(schlick_reflectance)
     """Chapter 11: Schlick's reflectance at a hit (``raytracer.intersections.schlick``)."""
+
+    # -- chapter 21 (beyond the book): the path integrator, ``raytracer.path``'s functions
+    # bound as methods (the tracer is their first argument)
+
+    path_color_at = path.path_color_at
+    scatter = path.scatter
+    direct_light = path.direct_light
 
     # -- chapter 7: the camera and the render loop
 
@@ -256,17 +276,28 @@ class Tracer:
     def pixel_color(self, c: Camera, w: World, x: int, y: int, settings: RenderSettings) -> Color:
         """The color of pixel (x, y): one ray through its centre (the book), or the mean of
         ``settings.samples`` rays placed by ``raytracer.sampling`` (summed in order, then
-        multiplied by 1 / samples). Sets ``_sample`` before each (jittered area lights)."""
+        multiplied by 1 / samples). Sets ``_sample`` before each (jittered area lights, the
+        path integrator's random numbers). Each ray's color is ``color_at``'s (the book's
+        integrator) or ``path_color_at``'s (``settings.integrator`` "path")."""
+        trace = self.color_at if settings.integrator != PATH else self._path_trace(settings)
         if settings.samples == 1:
             self._sample = (settings.seed, x, y, 0)
-            return self.color_at(w, self.ray_for_pixel(c, x, y), settings.depth)
+            return trace(w, self.ray_for_pixel(c, x, y), settings.depth)
         total = BLACK
         for i in range(settings.samples):
             self._sample = (settings.seed, x, y, i)
             dx, dy = sample_offset(settings.seed, x, y, i)
             sample = self.ray_for_pixel(c, x + dx - 0.5, y + dy - 0.5)
-            total = total + self.color_at(w, sample, settings.depth)
+            total = total + trace(w, sample, settings.depth)
         return total * (1.0 / settings.samples)
+
+    def _path_trace(self, settings: RenderSettings) -> Callable[[World, Ray, int], Color]:
+        """``path_color_at`` for a camera ray, with the settings' roulette."""
+
+        def trace(w: World, r: Ray, depth: int) -> Color:
+            return self.path_color_at(w, r, depth, settings.roulette)
+
+        return trace
 
     def prepare(self, c: Camera, w: World, settings: RenderSettings) -> Any:
         """What ``render_region`` needs for every region of one frame, made once per frame
@@ -323,6 +354,7 @@ class Tracer:
         progress: called with the number of rows just finished.
         """
         settings = settings if settings is not None else RenderSettings()
+        self.check_settings(settings)
         image = self.new_canvas(c)
         self.forget()
         try:
@@ -356,6 +388,11 @@ class Tracer:
         write_region(image, region, values)
 
     # -- what the harness asks of a tracer
+
+    def check_settings(self, settings: RenderSettings) -> None:
+        """Raise an error naming this tracer (a ``ValueError``) when it cannot render with
+        ``settings``; ``render`` asks before it starts, so a pool or a cluster asks here,
+        not in its workers. The reference renders with any: both integrators."""
 
     def world_for(self, scene: Any) -> Any:
         """What a render of a loaded scene file (``scene.Scene``: a description, nothing
@@ -414,4 +451,7 @@ refracted_color = TRACER.refracted_color
 schlick = TRACER.schlick
 ray_for_pixel = TRACER.ray_for_pixel
 pixel_color = TRACER.pixel_color
+path_color_at = TRACER.path_color_at
+scatter = TRACER.scatter
+direct_light = TRACER.direct_light
 render = TRACER.render

@@ -4,7 +4,8 @@
 A world is an entity: ``w.light ← ...`` and "s is added to w" change it in place. The book's
 world has one light, ``w.light``; the published scenes light theirs with several, so a world
 holds a list, ``lights``, and ``light`` is its first. A light is a point light (chapter 6)
-or an area light (the bonus chapter "Rendering soft shadows").
+or an area light (the bonus chapter "Rendering soft shadows"). A world may also have a sky
+(chapter 21 here, beyond the book), which only the path integrator sees.
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ from raytracer.lights import Light, point_light
 from raytracer.materials import material
 from raytracer.shapes.shape import Shape
 from raytracer.shapes.sphere import Sphere
+from raytracer.sky import Sky
 from raytracer.transformations import scaling
 from raytracer.tuples import point
 
@@ -23,10 +25,12 @@ from raytracer.tuples import point
 @dataclass(slots=True, eq=True)
 class World:
     """Chapter 7: ``objects`` (a list of shapes) lit by ``lights`` (a list of lights, in
-    order; empty: no light yet, and every point shades black)."""
+    order; empty: no light yet, and every point shades black); ``sky``: what a path that
+    escapes sees (``raytracer.sky``; None: black, and the Whitted integrator never looks)."""
 
     objects: list[Shape] = field(default_factory=list)
     lights: list[Light] = field(default_factory=list)
+    sky: Sky | None = None
 
     @property
     def light(self) -> Light | None:

@@ -4,6 +4,7 @@ variant, as PNG or PPM."""
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import time
 from collections.abc import Callable
@@ -13,7 +14,7 @@ from typing import Any
 from groundwork.images import write_image
 from groundwork.progress import MODES, Progress, compile_ticker, duration
 from harness.scenery.make_meshes import provide
-from raytracer.camera import RenderSettings
+from raytracer.camera import INTEGRATORS, PATH, RenderSettings
 from rtc.cli import UserError, check_memory, check_output
 from rtc.cmd_demo import parse_size
 from scene import SceneError, load_scene
@@ -36,6 +37,17 @@ COMPILED = ("numba", "wavefront")  # a render through one of these gets no such 
 # line's estimate of numba's time errs on the long side.
 SPEED_UP = {"prealloc": 100.0}
 SPEED_UP_OTHERS = 1000.0
+# A path-traced render through a Python variant is timed on a few pixels before it starts
+# (numba's speed-up above is the book's integrator's): at most PROBE_PIXELS, spread over the
+# image, and no more once PROBE_SECONDS have passed.
+PROBE_PIXELS = 16
+PROBE_SECONDS = 1.0
+# the flags that set RenderSettings fields (None: not given; the scene file's render item,
+# then RenderSettings' default, decides)
+SETTING_FLAGS = {
+    "integrator": "--integrator", "depth": "--depth", "samples": "--samples", "seed": "--seed",
+    "roulette": "--roulette", "epsilon": "--epsilon",
+}  # fmt: skip
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -59,8 +71,20 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )  # fmt: skip
     variant.registered = _Registered()  # type: ignore[attr-defined]
     parser.add_argument(
-        "--depth", type=int, default=5, metavar="N",
-        help="how many times a ray may be reflected or refracted (default: 5, the book's)",
+        "--integrator", metavar="NAME",
+        help="how light is gathered: whitted (the book's recursive ray tracer, the default) "
+        "or path (Monte Carlo path tracing: a sky, emissive surfaces, soft shadows and "
+        "colour bleeding; docs/scene-format.md); wins over the scene file's render item",
+    )  # fmt: skip
+    parser.add_argument(
+        "--depth", type=int, metavar="N",
+        help="how many times a ray may be reflected or refracted, or a path may scatter "
+        "(default: the scene file's, else 5, the book's)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--roulette", type=int, metavar="N",
+        help="path tracing: Russian roulette ends paths at random from bounce N on, "
+        "keeping the picture unbiased (default: the scene file's, else 0: off)",
     )  # fmt: skip
     parser.add_argument(
         "--epsilon", type=float, default=None, metavar="E",
@@ -68,12 +92,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "0.001 matches the Go renderer's reference image)",
     )  # fmt: skip
     parser.add_argument(
-        "--samples", type=int, default=1, metavar="N",
-        help="rays per pixel (default: 1, through the pixel centre as in the book)",
+        "--samples", type=int, metavar="N",
+        help="rays per pixel (default: the scene file's, else 1, through the pixel centre "
+        "as in the book)",
     )  # fmt: skip
     parser.add_argument(
-        "--seed", type=int, default=0, metavar="N",
-        help="chooses the sample positions when --samples is above 1 (default: 0)",
+        "--seed", type=int, metavar="N",
+        help="chooses the sample positions when --samples is above 1, and the path "
+        "integrator's random numbers (default: the scene file's, else 0)",
     )  # fmt: skip
     parser.add_argument(
         "--progress", choices=MODES, default="auto",
@@ -88,15 +114,32 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )  # fmt: skip
 
 
-def _settings(args: argparse.Namespace) -> RenderSettings:
-    options: dict[str, Any] = {"depth": args.depth, "samples": args.samples, "seed": args.seed}
-    if args.epsilon is not None:
-        options["epsilon"] = args.epsilon
-    try:
-        return RenderSettings(**options)
-    except ValueError as error:
-        message = str(error).removeprefix("RenderSettings: ")
-        raise UserError(f"bad option: {message}") from None
+def _flag_settings(args: argparse.Namespace) -> dict[str, Any]:
+    """The ``RenderSettings`` fields the flags give, each checked: a ``UserError`` naming
+    the flag for a bad value."""
+    options = {
+        field: getattr(args, field)
+        for field in SETTING_FLAGS
+        if getattr(args, field, None) is not None
+    }
+    if "integrator" in options and options["integrator"] not in INTEGRATORS:
+        raise UserError(
+            f"bad option {SETTING_FLAGS['integrator']} {options['integrator']!r}: expected "
+            f"{' or '.join(INTEGRATORS)}"
+        )
+    for field, value in options.items():
+        try:
+            RenderSettings(**{field: value})
+        except ValueError as error:
+            message = str(error).removeprefix("RenderSettings: ")
+            raise UserError(f"bad option {SETTING_FLAGS[field]}: {message}") from None
+    return options
+
+
+def _settings(flags: dict[str, Any], scene: Any) -> RenderSettings:
+    """The render's settings: the flags given, else the scene file's ``- add: render``
+    item, else ``RenderSettings``' defaults (each value is checked where it was read)."""
+    return RenderSettings(**{**scene.render, **flags})
 
 
 class _Registered:
@@ -112,12 +155,9 @@ def _registered() -> list[str]:
     return variant_names()
 
 
-def _advice(name: str) -> Callable[[float], str | None] | None:
-    """For a render through a pure-Python variant (naive, cached, prealloc, robust, a
-    learner's, or a pool of them): given the render's estimated seconds, a line naming the
-    variant that renders it fast when the render will take longer than ``LONG_SECONDS``,
-    else None. None for a render that goes through a compiled variant already, or when no
-    ``FAST_VARIANT`` is registered."""
+def _python_chain(name: str) -> list[str] | None:
+    """The variants a render through ``name`` goes through (``pooled:cached``: pooled,
+    cached), when none of them is compiled; else None."""
     try:
         spec: Any = parse_variant_name(name)
     except VariantError:
@@ -126,7 +166,18 @@ def _advice(name: str) -> Callable[[float], str | None] | None:
     while spec is not None:
         chain.append(spec.name)
         spec = spec.inner
-    if any(part in COMPILED for part in chain) or FAST_VARIANT not in _registered():
+    return None if any(part in COMPILED for part in chain) else chain
+
+
+def _advice(name: str, settings: RenderSettings) -> Callable[[float], str | None] | None:
+    """For a render with the book's integrator through a pure-Python variant (naive,
+    cached, prealloc, robust, a learner's, or a pool of them): given the render's estimated
+    seconds, a line naming the variant that renders it fast when the render will take
+    longer than ``LONG_SECONDS``, else None. None for a render that goes through a compiled
+    variant already, when no ``FAST_VARIANT`` is registered, and for a path-traced render
+    (no compiled variant path-traces yet; ``_path_estimate`` spoke before it started)."""
+    chain = _python_chain(name)
+    if chain is None or settings.integrator == PATH or FAST_VARIANT not in _registered():
         return None
     speed_up = min(SPEED_UP.get(part, SPEED_UP_OTHERS) for part in chain)
 
@@ -144,16 +195,61 @@ def _advice(name: str) -> Callable[[float], str | None] | None:
     return advise
 
 
+def _path_estimate(variant: Any, camera: Any, world: Any, settings: RenderSettings) -> str | None:
+    """For a path-traced render through a pure-Python variant: the line saying how long it
+    will take, when that is longer than ``LONG_SECONDS``, from the time ``_probe`` took;
+    else None. Said before the render starts."""
+    if settings.integrator != PATH or variant.tracer is None:
+        return None
+    if _python_chain(variant.name) is None:
+        return None
+    pixels, seconds = _probe(variant.tracer, camera, world, settings)
+    total = seconds / pixels * camera.hsize * camera.vsize
+    if total < LONG_SECONDS:
+        return None
+    rays = f"{settings.samples} ray{'s' if settings.samples > 1 else ''} per pixel"
+    return (
+        f"rtc render: {variant.name} will take about {duration(total)} of one core for this "
+        f"path-traced render ({rays}, up to {settings.depth + 1} hits each; timed on "
+        f"{pixels} pixel{'s' if pixels > 1 else ''}); fewer --samples, a lower --depth or "
+        "a smaller --size shortens it"
+    )
+
+
+def _probe(tracer: Any, camera: Any, world: Any, settings: RenderSettings) -> tuple[int, float]:
+    """(pixels traced, seconds they took): up to ``PROBE_PIXELS`` pixels on a grid over the
+    image, one at a time through ``tracer.render_region``, stopping once ``PROBE_SECONDS``
+    have passed (``_clock``)."""
+    side = math.isqrt(PROBE_PIXELS)
+    width, height = camera.hsize, camera.vsize
+    grid = [
+        ((2 * i + 1) * width // (2 * side), (2 * j + 1) * height // (2 * side))
+        for j in range(side)
+        for i in range(side)
+    ]
+    start = _clock()
+    traced = 0
+    for x, y in grid:
+        tracer.render_region(camera, world, settings, (x, y, x + 1, y + 1))
+        traced += 1
+        if _clock() - start >= PROBE_SECONDS:
+            break
+    return traced, _clock() - start
+
+
 def _clock() -> float:
     """The progress's clock (tests put one of their own here)."""
     return time.monotonic()
 
 
-def _progress(args: argparse.Namespace, rows: int, name: str) -> Progress:
+def _progress(
+    args: argparse.Namespace, rows: int, name: str, settings: RenderSettings
+) -> Progress:
     """The render's progress on stderr, counting rows (``groundwork.progress``)."""
     return Progress(
-        "rtc render", rows, "row", mode=args.progress, clock=_clock, advice=_advice(name)
-    )
+        "rtc render", rows, "row", mode=args.progress, clock=_clock,
+        advice=_advice(name, settings),
+    )  # fmt: skip
 
 
 def _watch_compiles(progress: Progress) -> tuple[list[float], Callable[[], None]]:
@@ -191,7 +287,7 @@ def _watch_compiles(progress: Progress) -> tuple[list[float], Callable[[], None]
 
 
 def run(args: argparse.Namespace) -> int:
-    settings = _settings(args)
+    flags = _flag_settings(args)
     size = parse_size(args.size) if args.size is not None else None
     output = check_output(args.output)
     try:
@@ -206,13 +302,19 @@ def run(args: argparse.Namespace) -> int:
     except SceneError as error:
         raise UserError(str(error)) from None
     camera = scene.camera
+    settings = _settings(flags, scene)
+    if settings.integrator == PATH and variant.tracer is None:
+        raise UserError(
+            f"{variant.name} renders with a render() of its own, which takes no integrator: "
+            "path-trace with a variant built on raytracer.tracer.Tracer (naive, cached, "
+            "robust, prealloc, pooled or dask over them), or render with --integrator whitted"
+        )
     check_memory(variant.name, camera.hsize, camera.vsize)
     for warning in scene.warnings:
         print(f"rtc render: warning: {warning}", file=sys.stderr, flush=True)
     print(
         f"rendering {args.scene} at {camera.hsize}x{camera.vsize} with {variant.name} "
-        f"(depth {settings.depth}, epsilon {settings.epsilon:g}, "
-        f"{settings.samples} sample{'s' if settings.samples > 1 else ''} per pixel)",
+        f"({_describe(settings)})",
         flush=True,
     )
     if args.explain:
@@ -224,7 +326,13 @@ def run(args: argparse.Namespace) -> int:
         )
         for note in scene.notes:
             print(f"scene: {note}")
-    progress = _progress(args, camera.vsize, variant.name)
+    try:
+        estimate = _path_estimate(variant, camera, world, settings)
+    except RenderError as error:
+        raise UserError(f"{variant.name} could not render {args.scene}: {error}") from None
+    if estimate is not None:
+        print(estimate, file=sys.stderr, flush=True)
+    progress = _progress(args, camera.vsize, variant.name, settings)
     compiles, unwatch = _watch_compiles(progress)
     start = time.perf_counter()
     try:
@@ -248,3 +356,16 @@ def run(args: argparse.Namespace) -> int:
     else:
         print(f"rendered in {elapsed:.2f} s -> {output}")
     return 0
+
+
+def _describe(settings: RenderSettings) -> str:
+    """The settings for the line that starts a render: the book's integrator as before
+    (depth, epsilon, samples); the path integrator's with its seed and roulette."""
+    samples = f"{settings.samples} sample{'s' if settings.samples > 1 else ''} per pixel"
+    if settings.integrator != PATH:
+        return f"depth {settings.depth}, epsilon {settings.epsilon:g}, {samples}"
+    roulette = f"from bounce {settings.roulette}" if settings.roulette else "off"
+    return (
+        f"path tracing: depth {settings.depth}, {samples}, seed {settings.seed}, roulette "
+        f"{roulette}, epsilon {settings.epsilon:g}"
+    )

@@ -1,9 +1,9 @@
 """The top level of a scene file: a list of ``- add:`` and ``- define:`` items, read in order.
 
 ``- add: camera`` (one), ``- add: light`` and ``- add: area_light`` (any number: published
-scenes use several), shapes added to the world as they come, and ``- define: NAME`` for
-materials, transforms and shapes used further down (``extend: OTHER`` builds on an earlier
-definition).
+scenes use several), ``- add: sky`` and ``- add: render`` (one each: ``scene.path_items``),
+shapes added to the world as they come, and ``- define: NAME`` for materials, transforms and
+shapes used further down (``extend: OTHER`` builds on an earlier definition).
 
 The result is a ``Scene``: a description (pbrt's ``BasicScene``), not a world. Its camera and
 lights are the variant's values; its shapes are ``ShapeSpec`` entities, OBJ models read into
@@ -33,6 +33,7 @@ from scene.context import Context, Definition, Kind, updated
 from scene.errors import SceneError
 from scene.limits import Limits, limits_from_environment
 from scene.materials import read_material_properties
+from scene.path_items import read_render, read_sky
 from scene.reader import Entry, Reader, compose, describe, line_of
 from scene.shapes import SCENE_ITEMS, SHAPES, ShapeSpec, read_shape, with_meshes
 from scene.transforms import read_transform, transform_problem
@@ -47,6 +48,7 @@ DEFINE_KEYS = ("define", "value", "extend")
 # the most of a scene file read: YAML of this size already takes minutes to read
 MAX_SCENE_BYTES = 64 << 20
 
+
 @dataclass
 class Scene:
     """A loaded scene file: what it describes, nothing built.
@@ -57,7 +59,9 @@ class Scene:
     build the book's world); camera_line, light_line: where the camera and the first light
     are; obj_files: the OBJ models the scene reads; warnings: what the file asks that is
     allowed but probably not meant (``rtc render`` prints them); notes: what the loader did
-    beyond the file (triangles left out), and what building a world did (groups divided).
+    beyond the file (triangles left out), and what building a world did (groups divided);
+    sky: the variant's sky (``- add: sky``) or None; render: the settings ``- add: render``
+    gives, by ``RenderSettings`` field name.
     """
 
     path: Path
@@ -71,6 +75,8 @@ class Scene:
     obj_files: tuple[Path, ...] = ()
     warnings: tuple[str, ...] = ()
     notes: list[str] = field(default_factory=list)
+    sky: Any = None
+    render: dict[str, Any] = field(default_factory=dict)
     _world: Any = field(default=None, repr=False, compare=False)
 
     def resized(self, width: int, height: int) -> Scene:
@@ -113,8 +119,10 @@ class Scene:
 
 def _empty_world(scene: Scene) -> Any:
     """A world holding the scene's lights (a variant whose world has a single ``light``
-    takes the one)."""
+    takes the one) and its sky."""
     world = scene.api["world"]()
+    if scene.sky is not None:
+        world.sky = scene.sky
     lights = getattr(world, "lights", None)
     if lights is None:
         if scene.lights:
@@ -136,6 +144,10 @@ class _Loading:
     light_line: int = 0
     obj_files: list[Path] = field(default_factory=list)
     warnings: list[str] = field(default_factory=list)
+    sky: Any = None
+    render: dict[str, Any] = field(default_factory=dict)
+    sky_line: int = 0
+    render_line: int = 0
 
 
 def load_scene(
@@ -205,7 +217,7 @@ def _load(
             None, "the scene has no camera; expected '- add: camera' with width, height, "
             "field-of-view, from, to and up"
         )  # fmt: skip
-    if state.light_line == 0:
+    if state.light_line == 0 and state.sky is None and state.render.get("integrator") != "path":
         state.warnings.append(
             f"{path}: the scene has no light, so every surface renders black; add one with "
             "'- add: light' (at, intensity)"
@@ -215,7 +227,8 @@ def _load(
     return Scene(
         path, state.camera, [light for light in lights if light is not None],
         tuple(state.objects), variant, api, state.camera_line, state.light_line,
-        tuple(state.obj_files), tuple(state.warnings), list(ctx.notes),
+        tuple(state.obj_files), tuple(state.warnings), list(ctx.notes), state.sky,
+        state.render,
     )  # fmt: skip
 
 
@@ -405,7 +418,28 @@ def _area_light(state: _Loading, node: Node, entries: dict[str, Entry]) -> None:
     )
 
 
-RESERVED = ("camera", "light", "area_light", *SHAPES)
+def _sky(state: _Loading, node: Node, entries: dict[str, Entry]) -> None:
+    """``- add: sky`` (``scene.path_items``): one per scene."""
+    _only_one(state, node, "sky", state.sky_line)
+    state.sky = read_sky(state.ctx, node, entries)
+    state.sky_line = line_of(node)
+
+
+def _render(state: _Loading, node: Node, entries: dict[str, Entry]) -> None:
+    """``- add: render`` (``scene.path_items``): one per scene."""
+    _only_one(state, node, "render", state.render_line)
+    state.render = read_render(state.ctx, node, entries)
+    state.render_line = line_of(node)
+
+
+def _only_one(state: _Loading, node: Node, item: str, first: int) -> None:
+    if first:
+        state.ctx.reader.fail(
+            node, f"a second '- add: {item}' (the first is at line {first}); a scene has one"
+        )
+
+
+RESERVED = (*SCENE_ITEMS, *SHAPES)
 
 
 def _define(ctx: Context, node: Node, entries: dict[str, Entry]) -> None:
@@ -463,4 +497,4 @@ def _kind_of(ctx: Context, value: Node, name: str) -> Kind:
     )
 
 
-ITEM_READERS.update(zip(SCENE_ITEMS, (_camera, _light, _area_light), strict=True))
+ITEM_READERS.update(zip(SCENE_ITEMS, (_camera, _light, _area_light, _sky, _render), strict=True))

@@ -30,7 +30,7 @@ NUMBER_PROPERTIES = {
     "transparency": "transparency",
     "refractive-index": "refractive_index",
 }
-MATERIAL_KEYS = ("color", *NUMBER_PROPERTIES, "pattern")
+MATERIAL_KEYS = ("color", *NUMBER_PROPERTIES, "pattern", "emissive")
 # the format's pattern type -> the book's factory (the pattern table, ``scene.pattern_kinds``)
 PATTERNS = {k.key: k.name for k in PATTERN_KINDS if k.key is not None}
 MAP = "map"  # a texture map (the bonus chapter): ``scene.textures``
@@ -101,8 +101,8 @@ def read_material_properties(ctx: Context, node: Node, what: str) -> dict[str, A
     reader.check_keys(entries, MATERIAL_KEYS, what)
     properties: dict[str, Any] = {}
     for key, entry in entries.items():
-        if key == "color":
-            properties["color"] = read_color(ctx, entry.value, f"{what}: color")
+        if key in ("color", "emissive"):  # emissive: the path integrator's (chapter 21)
+            properties[key] = read_color(ctx, entry.value, f"{what}: {key}")
         elif key == "pattern":
             properties["pattern"] = read_pattern(ctx, entry.value)
         else:

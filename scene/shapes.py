@@ -33,7 +33,7 @@ from scene.obj_mesh import Mesh, read_mesh
 from scene.reader import Entry, line_of
 from scene.transforms import read_transform, transform_problem
 
-SCENE_ITEMS = ("camera", "light", "area_light")
+SCENE_ITEMS = ("camera", "light", "area_light", "sky", "render")
 """What a scene file adds besides shapes (``scene.loader`` reads each)."""
 COMMON_KEYS = ("add", "transform", "material", "shadow")
 STRUCTURES: dict[str, tuple[str, ...]] = {

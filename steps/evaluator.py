@@ -87,8 +87,17 @@ def group_named(parser: Any, name: str) -> Any:
     return groups[name]
 
 
+def mean(values: Any) -> float:
+    """``mean(xs)``: the arithmetic mean of a list of numbers (summed in order)."""
+    items = list(values)
+    if not items:
+        raise EvaluationError("mean() of an empty list")
+    return sum(items) / len(items)
+
+
 NOTATION_FUNCTIONS: dict[str, Callable[..., Any]] = {
     "sqrt": math.sqrt,
+    "mean": mean,
     "nth_object": nth_object,
     "nth_child": nth_child,
     "group_named": group_named,

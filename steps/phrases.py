@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import ast
 import re
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -190,6 +190,42 @@ def _set_every_pixel(book: Book, m: re.Match[str], _: Table | None, __: str | No
         book.assign(m["canvas"], canvas)
 
 
+# ``... for each NAME from FIRST to LAST`` (whole numbers, both included) or ``... for each
+# NAME in LIST``: a step repeated with NAME bound to each value in turn (chapter 21's
+# statistics over many samples)
+_EACH = (
+    r"\s+for each (?P<name>[A-Za-z_]\w*)"
+    r" (?:from (?P<first>-?\d+) to (?P<last>-?\d+)|in (?P<items>.+))"
+)
+
+
+def _each(book: Book, m: re.Match[str]) -> Iterator[Any]:
+    """Bind ``m["name"]`` to each value of the loop in turn (restoring what it was)."""
+    if m["items"] is not None:
+        values = list(book.evaluate(m["items"]))
+    else:
+        values = list(range(int(m["first"]), int(m["last"]) + 1))
+    name = m["name"]
+    before = book.variables.get(name, _UNBOUND)
+    try:
+        for value in values:
+            book.variables[name] = value
+            yield value
+    finally:
+        if before is _UNBOUND:
+            book.variables.pop(name, None)
+        else:
+            book.variables[name] = before
+
+
+_UNBOUND = object()
+
+
+@phrase(r"(?P<target>[^←]+?)\s*←\s*(?P<expr>.+?)" + _EACH)
+def _assign_each(book: Book, m: re.Match[str], _: Table | None, __: str | None) -> None:
+    book.assign(m["target"], [book.evaluate(m["expr"]) for _ in _each(book, m)])
+
+
 @phrase(r"(?P<target>[^←]+?)\s*←\s*(?P<expr>.+)")
 def _assign(book: Book, m: re.Match[str], _: Table | None, __: str | None) -> None:
     book.assign(m["target"], book.evaluate(m["expr"]))
@@ -208,6 +244,7 @@ GIVEN_WHEN: list[Phrase] = [
     _has,
     _added_to,
     _set_every_pixel,
+    _assign_each,
     _assign,
     _call,
 ]
@@ -351,10 +388,24 @@ def _is_state(book: Book, m: re.Match[str], _: Table | None, __: str | None) -> 
     _check(ok, book, what, describe(value))
 
 
+@phrase(r"(?P<condition>.+?)" + _EACH)
+def _comparison_each(book: Book, m: re.Match[str], _: Table | None, __: str | None) -> None:
+    for value in _each(book, m):
+        try:
+            _compare(book, m["condition"])
+        except CheckFailed as error:
+            raise CheckFailed(f"{error}\n  for {m['name']} = {describe(value)}") from None
+
+
 @phrase(r"(?P<condition>.+)")
 def _comparison(book: Book, m: re.Match[str], _: Table | None, __: str | None) -> None:
+    _compare(book, m["condition"])
+
+
+def _compare(book: Book, condition: str) -> None:
+    __tracebackhide__ = True
     try:
-        parts = split_comparison(m["condition"])
+        parts = split_comparison(condition)
     except NotationError as error:
         raise UndefinedStep(f"{book.step}: cannot read it: {error}") from None
     if parts is None:
@@ -410,6 +461,7 @@ THEN: list[Phrase] = [
     _invertible,
     _point_or_vector,
     _is_state,
+    _comparison_each,
     _comparison,
 ]
 

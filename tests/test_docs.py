@@ -19,7 +19,8 @@ from rtc.cmd_stability import GROUPS
 from rtc.cmd_variants import markdown_table
 from scene import loader
 from scene.kinds import ADDABLE
-from scene.materials import NUMBER_PROPERTIES, PATTERNS
+from scene.materials import MATERIAL_KEYS, NUMBER_PROPERTIES, PATTERNS
+from scene.path_items import RENDER_KEYS, SKY_KEYS
 from scene.shapes import KEYS, SCENE_ITEMS, STRUCTURES
 from scene.textures import MAPPINGS, UV_KEYS
 from scene.transforms import TRANSFORMS
@@ -108,14 +109,20 @@ def test_the_scene_format_page_names_every_item_shape_and_key() -> None:
     mentioned = " ".join(words)
     for item in SCENE_ITEMS:
         assert item in words, item
-    for keys in (loader.CAMERA_KEYS, loader.LIGHT_KEYS, loader.AREA_LIGHT_KEYS):
+    for keys in (
+        loader.CAMERA_KEYS,
+        loader.LIGHT_KEYS,
+        loader.AREA_LIGHT_KEYS,
+        SKY_KEYS,
+        RENDER_KEYS,
+    ):
         for key in keys:
             assert key in words, key
     for kind in [*(k.name for k in ADDABLE), *STRUCTURES]:
         assert kind in mentioned, kind
         for key in KEYS[kind]:
             assert key in words, f"{kind}: {key}"
-    for name in [*TRANSFORMS, *NUMBER_PROPERTIES, *PATTERNS, *MAPPINGS, *UV_KEYS]:
+    for name in [*TRANSFORMS, *NUMBER_PROPERTIES, *MATERIAL_KEYS, *PATTERNS, *MAPPINGS, *UV_KEYS]:
         assert name in mentioned, name
 
 

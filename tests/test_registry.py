@@ -8,7 +8,7 @@ from typing import Any
 
 import pytest
 
-from raytracer.tracer import BOOK_STEPS
+from raytracer.tracer import BOOK_STEPS, PATH_STEPS
 from rtc.cli import main
 from steps.plugin import select_variants
 from variants import registry
@@ -147,8 +147,9 @@ def test_pooled_alone_wraps_naive_and_overrides_only_render() -> None:
     assert pooled.overrides == {"render"} and pooled.steps == ("render_into",)
     assert isinstance(pooled.tracer, PooledTracer) and pooled.tracer.inner is naive.tracer
     differing = {name for name in naive.api if pooled.api[name] is not naive.api[name]}
-    assert differing == set(BOOK_STEPS)  # bound to the wrapper, which forwards all but render
-    assert all(pooled.api[name].__self__ is pooled.tracer for name in BOOK_STEPS)
+    steps = set(BOOK_STEPS) | set(PATH_STEPS)
+    assert differing == steps  # bound to the wrapper, which forwards all but render
+    assert all(pooled.api[name].__self__ is pooled.tracer for name in steps)
     over_cached = load_variant("pooled[workers=2]:cached")
     assert over_cached.overrides == load_variant("cached").overrides | {"render"}
 

@@ -125,9 +125,20 @@ def test_bad_yaml_is_one_line_too(tmp_path: Path, capsys: pytest.CaptureFixture[
         (["--size", "20000x10"], "rtc render: bad --size '20000x10': width and height must be"),
         (["--size=-3x4"], "rtc render: bad --size '-3x4': expected WIDTHxHEIGHT"),
         (["--size", "big"], "rtc render: bad --size 'big': expected WIDTHxHEIGHT"),
-        (["--depth", "-1"], "rtc render: bad option: depth must be a whole number 0 to 100"),
-        (["--epsilon", "0"], "rtc render: bad option: epsilon must be a number between 0 and 1"),
-        (["--samples", "0"], "rtc render: bad option: samples must be a whole number 1 to"),
+        (
+            ["--depth", "-1"],
+            "rtc render: bad option --depth: depth must be a whole number 0 to 100",
+        ),
+        (["--depth", "101"], "rtc render: bad option --depth: depth must be a whole number 0 to"),
+        (["--epsilon", "0"], "rtc render: bad option --epsilon: epsilon must be a number between"),
+        (["--samples", "0"], "rtc render: bad option --samples: samples must be a whole number 1"),
+        (["--samples", "2000000"], "rtc render: bad option --samples: samples must be a whole"),
+        (
+            ["--integrator", "photon"],
+            "rtc render: bad option --integrator 'photon': expected whitted or path",
+        ),
+        (["--roulette", "-1"], "rtc render: bad option --roulette: roulette must be a whole"),
+        (["--seed", "-1"], "rtc render: bad option --seed: seed must be a whole number 0 to"),
     ],
 )
 def test_bad_options_are_one_line(
@@ -204,3 +215,84 @@ def test_explain_asks_the_variants_tracer(
     monkeypatch.setattr(cmd_render, "load_variant", lambda _name: learner)
     status, out, _ = render(capsys, str(tiny), "--variant", "mine", "--explain", "-o", str(output))
     assert status == 0 and "mine: nothing to explain" in out
+
+
+FURNACE = Path(__file__).resolve().parent.parent / "scenes" / "furnace.yml"
+
+
+def test_a_path_traced_render_takes_the_scene_files_settings_and_the_flags_win(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    # furnace.yml says integrator path, 4 samples: its sphere vanishes in the sky
+    output = tmp_path / "furnace.png"
+    status, out, _ = render(capsys, str(FURNACE), "-o", str(output), "--size", "6x5")
+    assert status == 0
+    assert "(path tracing: depth 5, 4 samples per pixel, seed 0, roulette off" in out
+    assert set(read_png(output)[2]) == {128}  # 0.5 everywhere: the sky
+    # the flags win: the book's integrator ignores the sky (black), more samples, a seed
+    status, out, _ = render(
+        capsys, str(FURNACE), "-o", str(tmp_path / "whitted.png"), "--size", "6x5",
+        "--integrator", "whitted", "--samples", "2",
+    )  # fmt: skip
+    assert status == 0 and "(depth 5, epsilon 0.0001, 2 samples per pixel)" in out
+    assert set(read_png(tmp_path / "whitted.png")[2]) == {0}
+    status, out, _ = render(
+        capsys, str(FURNACE), "-o", str(tmp_path / "again.png"), "--size", "6x5",
+        "--depth", "2", "--seed", "9", "--roulette", "1",
+    )  # fmt: skip
+    assert status == 0
+    assert "(path tracing: depth 2, 4 samples per pixel, seed 9, roulette from bounce 1" in out
+
+
+def test_the_integrator_flag_path_traces_a_scene_without_a_render_item(
+    tiny: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    output = tmp_path / "tiny.png"
+    status, out, _ = render(
+        capsys, str(tiny), "-o", str(output), "--integrator", "path", "--seed", "3"
+    )
+    assert status == 0 and "path tracing" in out
+    variant = load_variant("naive")
+    scene = load_scene(tiny, variant.api)
+    settings = RenderSettings(integrator="path", seed=3)
+    expected = canvas_to_rgb8(variant.api["render"](scene.camera, scene.world, settings))
+    assert read_png(output)[2] == expected
+    whitted = canvas_to_rgb8(variant.api["render"](scene.camera, scene.world, RenderSettings()))
+    assert expected != whitted
+
+
+def test_a_long_path_traced_render_says_so_before_it_starts(
+    tiny: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from rtc import cmd_render
+
+    ticks = iter(range(0, 10**6, 20))  # every look at the clock: 20 s later
+    monkeypatch.setattr(cmd_render, "_clock", lambda: float(next(ticks)))
+    status, _, err = render(
+        capsys, str(tiny), "-o", str(tmp_path / "out.png"), "--integrator", "path",
+        "--samples", "3", "--progress", "none",
+    )  # fmt: skip
+    assert status == 0
+    first = err.splitlines()[0]
+    assert first.startswith("rtc render: naive will take about ")
+    assert "path-traced render (3 rays per pixel, up to 6 hits each; timed on 1 pixel)" in first
+    # the book's integrator: no probe, no such line before it starts
+    ticks = iter(range(0, 10**6, 20))
+    status, _, err = render(capsys, str(tiny), "-o", str(tmp_path / "w.png"), "--progress", "none")
+    assert status == 0 and "path-traced" not in err
+
+
+def test_a_variant_without_a_tracer_refuses_the_path_integrator_in_one_line(
+    tiny: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # a learner's tracer answers through its API alone: its render() knows no integrator
+    from variants import registry
+
+    own = registry.Variant("own", "a learner's", load_variant("naive").api)
+    monkeypatch.setattr(registry, "load_variant", lambda name: own)
+    output = tmp_path / "out.png"
+    line = one_line_error(
+        capsys, str(tiny), "-o", str(output), "--variant", "own", "--integrator", "path"
+    )
+    assert line.startswith("rtc render: own renders with a render() of its own, which takes no")
+    assert not output.exists()

@@ -454,7 +454,8 @@ def test_an_unknown_thing_to_add_lists_the_known_ones(tmp_path: Path, api: Any) 
     message = error(tmp_path, api, "- add: sphere\n- add: spere\n")
     assert message == (
         f"{tmp_path / 'scene.yml'}:12: unknown thing to add: 'spere'; known: camera, light, "
-        "area_light, sphere, plane, cube, cylinder, cone, torus, group, obj, csg, fir_branch"
+        "area_light, sky, render, sphere, plane, cube, cylinder, cone, torus, group, obj, csg, "
+        "fir_branch"
     )
 
 

@@ -34,7 +34,7 @@ from importlib.metadata import entry_points
 from typing import Any
 
 from raytracer.api import naive_api
-from raytracer.tracer import BOOK_STEPS, RENDER_LOOP, Tracer
+from raytracer.tracer import BOOK_STEPS, PATH_STEPS, RENDER_LOOP, Tracer
 from variants.stubs import is_stub
 from variants.wrapper import steps_overridden
 
@@ -121,10 +121,10 @@ def tracer_variant(
     with every pipeline name bound to ``tracer``; ``overrides`` adds the book names the
     variant changes outside the tracer (constructors of its own shapes ...)."""
     mapping = dict(api if api is not None else naive_api())
-    for step in BOOK_STEPS:
+    for step in (*BOOK_STEPS, *PATH_STEPS):
         mapping[step] = getattr(tracer, step)
     steps = steps_overridden(tracer)
-    book = {step for step in steps if step in BOOK_STEPS}
+    book = {step for step in steps if step in BOOK_STEPS or step in PATH_STEPS}
     if set(steps) & set(RENDER_LOOP):  # chapter 7's render runs this variant's own loop
         book.add("render")
     return Variant(

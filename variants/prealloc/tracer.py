@@ -11,8 +11,9 @@ the reference's ``render_region`` calls it for every pixel.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from typing import Any
 
-from raytracer.camera import Camera, RenderSettings
+from raytracer.camera import WHITTED, Camera, RenderSettings
 from raytracer.colors import Color
 from raytracer.intersections import Computations, Intersection
 from raytracer.lights import Light, describe_lights
@@ -166,8 +167,12 @@ class PreallocTracer(Tracer):
         ray_for_pixel_into(CameraRecord(c), px, py, out)
         return ray_out(out)
 
-    def prepare(self, c: Camera, w: World, settings: RenderSettings) -> PixelTracer:
-        """Chapter 7: one frame's records and buffers, reused for every pixel."""
+    def prepare(self, c: Camera, w: World, settings: RenderSettings) -> Any:
+        """Chapter 7: one frame's records and buffers, reused for every pixel. The path
+        integrator (chapter 21) renders through the reference's pixel loop, over this
+        tracer's steps."""
+        if settings.integrator != WHITTED:
+            return super().prepare(c, w, settings)
         return PixelTracer(c, w, settings)
 
     def explain(self, w: World) -> str:

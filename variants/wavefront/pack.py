@@ -36,6 +36,7 @@ from variants.wavefront.scene import (
     PATTERN_KINDS,
     SLOTS,
     SPHERE,
+    WHITTED_IGNORES,
     Bunch,
     Combine,
     CsgTree,
@@ -92,7 +93,7 @@ def _check_material(m: object, where: str) -> Material:
     if not isinstance(m, Material):
         raise Unsupported(f"wavefront: {where} has no material (got {type(m).__name__})")
     for f in dataclasses.fields(m):
-        if f.name in MATERIAL_FIELDS:
+        if f.name in MATERIAL_FIELDS or f.name in WHITTED_IGNORES:
             continue
         default = f.default if f.default is not dataclasses.MISSING else None
         if getattr(m, f.name) != default:

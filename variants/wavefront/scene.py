@@ -60,6 +60,9 @@ MATERIAL_FIELDS = frozenset(
         "refractive_index", "pattern",
     )
 )  # fmt: skip
+# the Material fields the book's integrator ignores (the path integrator's, which the passes
+# refuse: ``WavefrontTracer.check_settings``), so a render may leave them out
+WHITTED_IGNORES = frozenset(("emissive",))
 
 BOX_PAD = 1e-9  # boxes grow by this much (relative, plus absolute) so rounding loses no hit
 

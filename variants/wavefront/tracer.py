@@ -28,6 +28,7 @@ from raytracer.tracer import Progress, Region, light_and_point
 from raytracer.tuples import Tuple, magnitude, normalize
 from raytracer.world import World
 from variants.arrays.canvas import ArrayCanvas, ArrayCanvasTracer
+from variants.integrators import whitted_only
 from variants.wavefront.camera import lens
 from variants.wavefront.hits import blocked, index, records
 from variants.wavefront.pack import pack, pack_scene
@@ -146,8 +147,14 @@ class WavefrontTracer(ArrayCanvasTracer):
     # -- chapter 7: the render
 
     def prepare(self, c: Camera, w: World, settings: RenderSettings) -> Frame:
-        """The frame: the world packed and indexed, the camera's numbers, the batch size."""
+        """The frame: the world packed and indexed, the camera's numbers, the batch size.
+        The book's integrator only (``check_settings``)."""
+        self.check_settings(settings)
         return self._make_frame(w, settings, c)
+
+    def check_settings(self, settings: RenderSettings) -> None:
+        """The book's integrator only: the path integrator is not ported to the passes."""
+        whitted_only("wavefront", settings)
 
     def render_region(
         self, c: Camera, w: World, settings: RenderSettings, region: Region
