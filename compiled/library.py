@@ -59,7 +59,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from compiled import KernelFolderError
+from compiled import KernelFolderError, compile_log
 
 _lock = threading.RLock()
 
@@ -220,6 +220,7 @@ def private_numba_cache() -> None:
         if config is not None:  # it is already, what it decorates from now on uses this
             config.CACHE_DIR = str(folder)  # type: ignore[attr-defined]
     _damaged_cache_is_a_miss()
+    compile_log.watch_numba()
 
 
 def _damaged_cache_is_a_miss() -> None:
@@ -425,7 +426,8 @@ def load_once(
                 say(f"{what} in {path.parent}: {why}: building it again")
             announce(what)
             try:
-                build()
+                with compile_log.timed("library", what):
+                    build()
             except BuildError as error:
                 problem = str(error)
             else:
