@@ -115,8 +115,8 @@ def watch_numba() -> None:
 
 
 def _describe(data: Any) -> str:
-    """A dispatcher's function and its kernel module's first docstring line (the feature
-    set and configuration of a generated kernel module)."""
+    """A dispatcher's function, its argument types and its kernel module's first docstring
+    line (the feature set and configuration of a generated kernel module)."""
     function = getattr(data.get("dispatcher"), "py_func", None)
     module = getattr(function, "__module__", "?")
     name = getattr(function, "__qualname__", "?")
@@ -126,7 +126,8 @@ def _describe(data: Any) -> str:
         if (module.startswith("rtc_numba_") and doc)
         else ""
     )
-    return f"{module}.{name}{about}"
+    args = ", ".join(str(arg) for arg in data.get("args", ()))
+    return f"{module}.{name}({args}){about}"
 
 
 def summary(lines: list[dict[str, Any]], top: int = 15) -> list[str]:
@@ -156,7 +157,7 @@ def summary(lines: list[dict[str, Any]], top: int = 15) -> list[str]:
     out.append(f"the {top} costliest (CPU s, times compiled, what):")
     ranked = sorted(by_what.items(), key=lambda item: -sum(x["cpu"] for x in item[1]))
     for what, found in ranked[:top]:
-        out.append(f"  {sum(x['cpu'] for x in found):7.1f} {len(found):3d}x {what[:150]}")
+        out.append(f"  {sum(x['cpu'] for x in found):7.1f} {len(found):3d}x {what[:300]}")
     by_test: dict[str, float] = defaultdict(float)
     for line in compiles:
         by_test[line["test"] or "(outside a test)"] += line["cpu"]

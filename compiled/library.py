@@ -54,7 +54,7 @@ import sys
 import tempfile
 import threading
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -419,20 +419,24 @@ def load_once(
             return found
         problem = ""
         library, why = verify(path)
-        compiling = library is None
+        compiling = False
         started = time.perf_counter()
-        if compiling:
-            if why:
-                say(f"{what} in {path.parent}: {why}: building it again")
-            announce(what)
-            try:
-                with compile_log.timed("library", what):
-                    build()
-            except BuildError as error:
-                problem = str(error)
-            else:
+        if library is None:
+            with one_builder(path, what):  # another process's build of it: waited for
                 library, why = verify(path)
-                problem = why or ("" if library is not None else "it was not written")
+                compiling = library is None
+                if compiling:
+                    if why:
+                        say(f"{what} in {path.parent}: {why}: building it again")
+                    announce(what)
+                    try:
+                        with compile_log.timed("library", what):
+                            build()
+                    except BuildError as error:
+                        problem = str(error)
+                    else:
+                        library, why = verify(path)
+                        problem = why or ("" if library is not None else "it was not written")
         loaded = None
         if library is not None:
             try:
@@ -444,6 +448,37 @@ def load_once(
             announce(what, time.perf_counter() - started)
         cache[key] = found
         return found
+
+
+@contextlib.contextmanager
+def one_builder(path: Path, what: str) -> Iterator[None]:
+    """Hold the lock of the library known as ``path`` (``.<name>.lock`` beside it, an
+    ``flock``): the processes that need a library that is not built yet (the test workers of
+    one run, a bench's children) build it one at a time, and the ones that waited then find
+    it built. The lock goes with the process that holds it, however it ends. Where no lock
+    can be had (no ``fcntl``, a lock file that cannot be made), each builds it as before."""
+    try:
+        import fcntl
+    except ImportError:  # not a POSIX system
+        yield
+        return
+    lock = path.parent / f".{path.stem}.lock"
+    try:
+        fd = os.open(lock, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW, 0o600)
+    except OSError:
+        yield
+        return
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:  # another process builds it: wait
+            started = time.time(), time.perf_counter(), time.process_time()
+            fcntl.flock(fd, fcntl.LOCK_EX)
+            waited, cpu = time.perf_counter() - started[1], time.process_time() - started[2]
+            compile_log.record("wait", what, waited, cpu, started[0])
+        yield
+    finally:
+        os.close(fd)  # releases the lock
 
 
 UNREACHABLE = """

@@ -49,6 +49,7 @@ from compiled.library import (
     load,
     load_once,
     on_compile,
+    one_builder,
     private_numba_cache,
 )
 from compiled.library import (
@@ -165,7 +166,33 @@ def load_kernels(config: KernelConfig) -> ModuleType:
         except BaseException:
             del sys.modules[name]
             raise
+        _first_calls_one_at_a_time(module, path)
         return module
+
+
+def _first_calls_one_at_a_time(module: ModuleType, path: Path) -> None:
+    """Each book-API entry point's first call in this process (which compiles it, or loads
+    it from numba's disk cache) holds the kernel module's build lock (``one_builder``):
+    processes that start together (a test run's workers) compile an entry point once, and
+    the others load what it wrote. Later calls go straight to numba."""
+    for name, dispatcher in list(vars(module).items()):
+        if name.startswith("api_") and hasattr(dispatcher, "py_func"):
+            setattr(module, name, _locked_first_call(dispatcher, path))
+
+
+def _locked_first_call(dispatcher: Any, path: Path) -> Any:
+    called: list[bool] = []
+
+    def first_call(*arguments: Any) -> Any:
+        if called:
+            return dispatcher(*arguments)
+        with one_builder(path, f"{path.stem}.{dispatcher.py_func.__name__}"):
+            found = dispatcher(*arguments)
+        called.append(True)
+        return found
+
+    functools.update_wrapper(first_call, dispatcher.py_func)
+    return first_call
 
 
 # ------------------------------------------------------------------------ the render entry
