@@ -144,25 +144,21 @@ CONSTRAINTS_HEADER = """\
 
 
 def upgrade() -> int:
-    """Install the project with the newest dependencies pyproject.toml allows into a scratch
-    environment and write their versions to constraints.txt (the next job reinstalls .venv
-    from it)."""
+    """Install the newest dependencies pyproject.toml allows into a scratch environment and
+    write their versions to constraints.txt (the next job reinstalls .venv from it)."""
     with tempfile.TemporaryDirectory(prefix="rtc-upgrade-") as folder:
         print(f"run.py: a scratch environment in {folder}: the newest versions", flush=True)
         venv.EnvBuilder(with_pip=True).create(folder)
         python = Path(folder) / BIN.name / "python"
         _pip("install", "--upgrade", "pip", python=python)
-        _pip("install", f"{ROOT}[dev]", python=python)
+        project = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["project"]
+        wanted = project["dependencies"] + project["optional-dependencies"]["dev"]
+        _pip("install", *wanted, python=python)  # what the project needs, not the project
         frozen = subprocess.run(
             [str(python), "-m", "pip", "freeze", "--all", "--disable-pip-version-check"],
             capture_output=True, text=True, check=True,
         ).stdout.splitlines()  # fmt: skip
-    ours = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["project"]["name"]
-
-    def name(line: str) -> str:
-        return line.split("==")[0].split(" @ ")[0].strip().lower().replace("_", "-")
-
-    pins = sorted((line for line in frozen if line.strip() and name(line) != ours), key=name)
+    pins = sorted((line for line in frozen if line.strip()), key=str.lower)
     CONSTRAINTS.write_text(CONSTRAINTS_HEADER + "\n".join(pins) + "\n", encoding="utf-8")
     print(f"run.py: wrote {len(pins)} versions to constraints.txt; git diff shows what changed")
     return 0
