@@ -30,6 +30,7 @@ from variants.numba.kernel_flags import (
     HAS_TEST_SHAPE,
     HAS_TORUS,
     HAS_TRIANGLE,
+    INLINE_HELPERS,
     F,
 )
 from variants.numba.layout import (
@@ -83,7 +84,7 @@ from variants.numba.layout import (
 # arrays they are passed, and they allocate nothing. ``pf``, ``pi`` ... are flat (see
 # ``layout``): numpy arrays in the book-API kernels, raw pointers in the render.
 INLINE: dict[str, Any] = {
-    "forceinline": True,
+    "forceinline": INLINE_HELPERS,
     "_nrt": False,
     "fastmath": FASTMATH,
     "error_model": "numpy",

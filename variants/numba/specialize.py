@@ -78,11 +78,13 @@ class KernelConfig:
     float32: bool = False
     fastmath: bool = False
     count_rays: bool = False
+    inline: bool = True  # False: the book API's entry points (``INLINE_HELPERS``)
 
     def describe(self) -> str:
         precision = "float32" if self.float32 else "float64"
         counting = ", counting rays" if self.count_rays else ""
-        return f"{precision}, fastmath {'on' if self.fastmath else 'off'}{counting}"
+        calls = "" if self.inline else ", the book API's"
+        return f"{precision}, fastmath {'on' if self.fastmath else 'off'}{counting}{calls}"
 
 
 def _body(part: str) -> str:
@@ -109,6 +111,7 @@ def module_source(config: KernelConfig) -> str:
         # every fast-math flag but nnan and ninf: the kernels use infinity (no bound, no hit)
         f"FASTMATH = {FAST_FLAGS if config.fastmath else False}",
         f"COUNT_RAYS = {config.count_rays}",
+        f"INLINE_HELPERS = {config.inline}",
         *[f"{flag} = {flag in config.features.flags}" for flag in ALL_FLAGS],
         "# the kind table: " + ", ".join(f"{k.name}={k.number}" for k in KINDS),
     ]
