@@ -5,9 +5,14 @@
     python3 run.py test    # every feature for every variant, the unit tests (on every core),
                            # ruff, the import contracts (lint-imports) and mypy
     python3 run.py rtc ARGS...   # any rtc command inside the environment
+    python3 run.py upgrade       # newer dependencies: rewrite constraints.txt (see below)
 
-Needs only Python 3.11 or newer. The environment is (re)built when pyproject.toml or the
-C extension's sources (setup.py, harness/instruments/_alloccount.c) change.
+Needs only Python 3.11 or newer. The environment is (re)built when pyproject.toml,
+constraints.txt or the C extension's sources (setup.py, harness/instruments/_alloccount.c) change.
+Every package is installed at the version constraints.txt pins, so that a new release of a
+dependency (hypothesis, numba, pytest ...) changes nothing until it is asked for: `upgrade`
+installs the newest versions pyproject.toml allows into a scratch environment and writes
+them to constraints.txt; the next `test` reinstalls .venv from it.
 """
 
 from __future__ import annotations
@@ -17,6 +22,7 @@ import os
 import queue
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 import tomllib
@@ -29,8 +35,10 @@ ROOT = Path(__file__).resolve().parent
 VENV = ROOT / ".venv"
 BIN = VENV / ("Scripts" if os.name == "nt" else "bin")
 STAMP = VENV / "installed-from.sha256"
-BUILD_INPUTS = (  # a change reinstalls
-    "pyproject.toml", "setup.py", "harness/instruments/_alloccount.c",
+CONSTRAINTS = ROOT / "constraints.txt"
+# a change reinstalls
+BUILD_INPUTS = (
+    "pyproject.toml", "constraints.txt", "setup.py", "harness/instruments/_alloccount.c",
 )
 STATUS_EVERY = 5.0  # seconds: while pip works, its latest line is shown at most this often
 SILENT_EVERY = 10.0  # seconds between two lines saying that a quiet step (mypy) still runs
@@ -70,11 +78,12 @@ def _relay(stream: IO[str], lines: queue.Queue[str | None]) -> None:
     lines.put(None)
 
 
-def _pip(*args: str) -> None:
-    """``pip ARGS`` in .venv, alive on screen: its warnings and errors as they come, its
-    latest line every ``STATUS_EVERY`` seconds (a long download or unpacking included),
-    how many packages it installed, and its last lines if it fails (SystemExit)."""
-    command = [str(BIN / "python"), "-m", "pip", *args, "--disable-pip-version-check"]
+def _pip(*args: str, python: Path = BIN / "python") -> None:
+    """``pip ARGS`` in .venv (or ``python``'s environment), alive on screen: its warnings
+    and errors as they come, its latest line every ``STATUS_EVERY`` seconds (a long download
+    or unpacking included), how many packages it installed, and its last lines if it fails
+    (SystemExit)."""
+    command = [str(python), "-m", "pip", *args, "--disable-pip-version-check"]
     process = subprocess.Popen(
         command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, errors="replace"
     )
@@ -116,15 +125,45 @@ def ensure_environment() -> None:
     if not (BIN / "python").exists():
         print("run.py: creating .venv (Python's venv, with pip)", flush=True)
         venv.EnvBuilder(with_pip=True).create(VENV)
+    pinned = ["--constraint", str(CONSTRAINTS)] if CONSTRAINTS.exists() else []
     print("run.py: updating pip in .venv", flush=True)
-    _pip("install", "--upgrade", "pip")
+    _pip("install", "--upgrade", "pip", *pinned)
     print(
         "run.py: installing the project (editable: your edits count at once) into .venv, "
-        f"with what it needs: {_requirements()} (a few minutes the first time)",
+        f"with what it needs: {_requirements()}, at the versions constraints.txt pins "
+        "(a few minutes the first time)",
         flush=True,
     )
-    _pip("install", "-e", f"{ROOT}[dev]")
+    _pip("install", *pinned, "-e", f"{ROOT}[dev]")
     STAMP.write_text(_wanted_stamp())
+
+
+CONSTRAINTS_HEADER = """\
+# The version of every package the project installs (run.py installs with --constraint):
+# a new release changes nothing until `python3 run.py upgrade` rewrites this file from the
+# newest versions pyproject.toml allows. Commit it once the gate passes with it.
+"""
+
+
+def upgrade() -> int:
+    """Install the newest dependencies pyproject.toml allows into a scratch environment and
+    write their versions to constraints.txt (the next job reinstalls .venv from it)."""
+    with tempfile.TemporaryDirectory(prefix="rtc-upgrade-") as folder:
+        print(f"run.py: a scratch environment in {folder}: the newest versions", flush=True)
+        venv.EnvBuilder(with_pip=True).create(folder)
+        python = Path(folder) / BIN.name / "python"
+        _pip("install", "--upgrade", "pip", python=python)
+        project = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["project"]
+        wanted = project["dependencies"] + project["optional-dependencies"]["dev"]
+        _pip("install", *wanted, python=python)  # what the project needs, not the project
+        frozen = subprocess.run(
+            [str(python), "-m", "pip", "freeze", "--all", "--disable-pip-version-check"],
+            capture_output=True, text=True, check=True,
+        ).stdout.splitlines()  # fmt: skip
+    pins = sorted((line for line in frozen if line.strip()), key=str.lower)
+    CONSTRAINTS.write_text(CONSTRAINTS_HEADER + "\n".join(pins) + "\n", encoding="utf-8")
+    print(f"run.py: wrote {len(pins)} versions to constraints.txt; git diff shows what changed")
+    return 0
 
 
 def _run(*argv: str, silent: str | None = None) -> int:
@@ -186,9 +225,11 @@ def test(extra: list[str]) -> int:
 
 
 def main(argv: list[str]) -> int:
-    if not argv or argv[0] not in {"bench", "test", "rtc"}:
+    if not argv or argv[0] not in {"bench", "test", "rtc", "upgrade"}:
         print(__doc__)
         return 2
+    if argv[0] == "upgrade":
+        return upgrade()
     ensure_environment()
     job, extra = argv[0], argv[1:]
     if job == "bench":

@@ -14,7 +14,7 @@ import threading
 from pathlib import Path
 from typing import Any
 
-from compiled import KernelFolderError
+from compiled import KernelFolderError, compile_log
 from compiled.notices import say
 
 _lock = threading.Lock()
@@ -145,6 +145,7 @@ def private_numba_cache() -> None:
         if config is not None:  # it is already, what it decorates from now on uses this
             config.CACHE_DIR = str(folder)  # type: ignore[attr-defined]
     _damaged_cache_is_a_miss()
+    compile_log.watch_numba()
 
 
 def _damaged_cache_is_a_miss() -> None:

@@ -45,6 +45,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from compiled import compile_log
+from compiled.build_lock import one_builder
 from compiled.entry import entry_stub
 from compiled.folder import private_numba_cache
 from compiled.linking import BuildError, compiler, link
@@ -74,19 +76,24 @@ def load_once(
             return found
         problem = ""
         library, why = verify(path)
-        compiling = library is None
+        compiling = False
         started = time.perf_counter()
-        if compiling:
-            if why:
-                say(f"{what} in {path.parent}: {why}: building it again")
-            announce(what)
-            try:
-                build()
-            except BuildError as error:
-                problem = str(error)
-            else:
+        if library is None:
+            with one_builder(path, what):  # another process's build of it: waited for
                 library, why = verify(path)
-                problem = why or ("" if library is not None else "it was not written")
+                compiling = library is None
+                if compiling:
+                    if why:
+                        say(f"{what} in {path.parent}: {why}: building it again")
+                    announce(what)
+                    try:
+                        with compile_log.timed("library", what):
+                            build()
+                    except BuildError as error:
+                        problem = str(error)
+                    else:
+                        library, why = verify(path)
+                        problem = why or ("" if library is not None else "it was not written")
         loaded = None
         if library is not None:
             try:

@@ -16,7 +16,8 @@ A test's own ``@settings(max_examples=...)`` still wins over the profile's count
 from hypothesis import HealthCheck, settings
 from hypothesis.database import DirectoryBasedExampleDatabase
 
-pytest_plugins = ["steps.plugin"]
+# tracebacks: a failure pytest cannot format is still one failure (tests/tracebacks.py)
+pytest_plugins = ["steps.plugin", "tracebacks"]
 
 settings.register_profile("default", max_examples=40, deadline=None, derandomize=True)
 # named in full: a profile registered without a parent inherits the loaded one's (default's

@@ -509,9 +509,9 @@ MESH_IN_A_FRESH_PROCESS = (
 def test_a_mesh_render_needs_no_numba_once_the_builder_is_built() -> None:
     """The hierarchy's builder is a shared library too: a fresh process packs a mesh scene,
     builds its hierarchy and loads its render without importing numba."""
-    api = load_variant("numba").api  # the libraries exist after one render of this scene
-    scene = load_scene(SCENES / "mesh.yml", api).resized(16, 10)
-    api["render"](scene.camera, scene.world, RenderSettings())
+    numba = load_variant("numba")  # the libraries exist once this process did the same
+    scene = load_scene(SCENES / "mesh.yml", numba.api).resized(16, 10)
+    numba.tracer.prepare(scene.camera, numba.world_for(scene), RenderSettings())
     done = subprocess.run(
         [sys.executable, "-c", MESH_IN_A_FRESH_PROCESS], cwd=ROOT, capture_output=True,
         text=True,

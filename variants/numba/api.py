@@ -74,6 +74,12 @@ def _ray(r: Ray) -> np.ndarray:
     return np.array([o.x, o.y, o.z, d.x, d.y, d.z], dtype=np.float64)
 
 
+def _floats(*values: Any) -> tuple[float, ...]:
+    """Numbers as floats: an entry point is compiled once per argument types, so a point
+    given with integers (``point(1, 0, 0)``) would compile it again."""
+    return tuple(float(value) for value in values)
+
+
 def _xyz(t: Tuple) -> np.ndarray:
     return np.array([t.x, t.y, t.z], dtype=np.float64)
 
@@ -212,7 +218,8 @@ class NumbaTracer(ArrayCanvasTracer):
         u, v = _uv(shape, hit, "normal_at")
         pf, pi = pack_surface(shape, self.dtype)
         p = world_point
-        return _vector(*self.k.api_normal(pf, pi, 0, p.x, p.y, p.z, u, v, epsilon(), True))
+        normal = self.k.api_normal(pf, pi, 0, *_floats(p.x, p.y, p.z, u, v), epsilon(), True)
+        return _vector(*normal)
 
     def local_normal_at(
         self, shape: Shape, local_point: Tuple, hit: Intersection | None = None
@@ -222,18 +229,19 @@ class NumbaTracer(ArrayCanvasTracer):
         u, v = _uv(shape, hit, "local_normal_at")
         pf, pi = pack_surface(shape, self.dtype)
         p = local_point
-        return _vector(*self.k.api_normal(pf, pi, 0, p.x, p.y, p.z, u, v, epsilon(), False))
+        normal = self.k.api_normal(pf, pi, 0, *_floats(p.x, p.y, p.z, u, v), epsilon(), False)
+        return _vector(*normal)
 
     def world_to_object(self, shape: Shape, p: Tuple) -> Tuple:
         """Chapter 14: a world-space point in ``shape``'s object space."""
         pf, _ = pack_surface(shape, self.dtype, leaf=False)
-        x, y, z = self.k.api_world_to_object(pf, 0, p.x, p.y, p.z, p.w)
+        x, y, z = self.k.api_world_to_object(pf, 0, *_floats(p.x, p.y, p.z, p.w))
         return Tuple(float(x), float(y), float(z), float(p.w))
 
     def normal_to_world(self, shape: Shape, n: Tuple) -> Tuple:
         """Chapter 14: an object-space normal in world space, normalized."""
         pf, _ = pack_surface(shape, self.dtype, leaf=False)
-        return _vector(*self.k.api_normal_to_world(pf, 0, n.x, n.y, n.z))
+        return _vector(*self.k.api_normal_to_world(pf, 0, *_floats(n.x, n.y, n.z)))
 
     # -- chapters 6, 10: lighting and patterns
 
@@ -269,14 +277,14 @@ class NumbaTracer(ArrayCanvasTracer):
         textures = TextureTable()
         pf, pi = pack_surface(None, self.dtype, pattern=pattern, textures=textures)
         ti, tf = textures.arrays(self.dtype)
-        return _color(self.k.api_pattern(pf, pi, ti, tf, 0, p.x, p.y, p.z, False))
+        return _color(self.k.api_pattern(pf, pi, ti, tf, 0, *_floats(p.x, p.y, p.z), False))
 
     def pattern_at_shape(self, pattern: Pattern, shape: Shape, p: Tuple) -> Color:
         """Chapters 10, 14: the color on ``shape`` at a world-space point."""
         textures = TextureTable()
         pf, pi = pack_surface(shape, self.dtype, pattern=pattern, leaf=False, textures=textures)
         ti, tf = textures.arrays(self.dtype)
-        return _color(self.k.api_pattern(pf, pi, ti, tf, 0, p.x, p.y, p.z, True))
+        return _color(self.k.api_pattern(pf, pi, ti, tf, 0, *_floats(p.x, p.y, p.z), True))
 
     # -- chapters 7, 8, 11: shading
 
@@ -288,7 +296,7 @@ class NumbaTracer(ArrayCanvasTracer):
         _no_surface(shape, "normal_at")
         u, v = _uv(shape, hit, "normal_at")
         pf, pi = pack_surface(shape, self.dtype)
-        values = self.k.api_prepare(pf, pi, 0, _ray(r), hit.t, u, v, epsilon())
+        values = self.k.api_prepare(pf, pi, 0, _ray(r), *_floats(hit.t, u, v), epsilon())
         px, py, pz, ex, ey, ez, nx, ny, nz, inside, ox, oy, oz, ux, uy, uz, rx, ry, rz = values
         n1, n2 = self._refractive_indices(hit, [hit] if xs is None else xs)
         return Computations(

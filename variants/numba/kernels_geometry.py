@@ -22,6 +22,7 @@ from numba import njit
 from variants.numba.kernel_flags import (
     FASTMATH,
     HAS_SPHERE,
+    INLINE_HELPERS,
     F,
 )
 from variants.numba.layout import (
@@ -46,7 +47,7 @@ from variants.numba.layout import (
 # arrays they are passed, and they allocate nothing. ``pf``, ``pi`` ... are flat (see
 # ``layout``): numpy arrays in the book-API kernels, raw pointers in the render.
 INLINE: dict[str, Any] = {
-    "forceinline": True,
+    "forceinline": INLINE_HELPERS,
     "_nrt": False,
     "fastmath": FASTMATH,
     "error_model": "numpy",

@@ -81,8 +81,9 @@ class Options:
         return KernelConfig(chosen, self.float32, self.fastmath, count_rays)
 
     def generic(self) -> KernelConfig:
-        """The kernel module the book-API calls use: every feature, this precision."""
-        return KernelConfig(FeatureSet.everything(), self.float32, self.fastmath)
+        """The kernel module the book-API calls use: every feature, this precision, its
+        helpers called rather than inlined (compiled faster; the calls are not timed)."""
+        return KernelConfig(FeatureSet.everything(), self.float32, self.fastmath, inline=False)
 
 
 def render_threads(options: Options) -> int:

@@ -38,6 +38,7 @@ from pathlib import Path
 from types import ModuleType
 from typing import Any
 
+from compiled.build_lock import one_builder
 from compiled.folder import kernel_folder, private_numba_cache
 from compiled.library import load_once
 from compiled.linking import BuildError, compiler, link
@@ -70,11 +71,13 @@ class KernelConfig:
     float32: bool = False
     fastmath: bool = False
     count_rays: bool = False
+    inline: bool = True  # False: the book API's entry points (``INLINE_HELPERS``)
 
     def describe(self) -> str:
         precision = "float32" if self.float32 else "float64"
         counting = ", counting rays" if self.count_rays else ""
-        return f"{precision}, fastmath {'on' if self.fastmath else 'off'}{counting}"
+        calls = "" if self.inline else ", the book API's"
+        return f"{precision}, fastmath {'on' if self.fastmath else 'off'}{counting}{calls}"
 
 
 def _body(part: str) -> str:
@@ -101,6 +104,7 @@ def module_source(config: KernelConfig) -> str:
         # every fast-math flag but nnan and ninf: the kernels use infinity (no bound, no hit)
         f"FASTMATH = {FAST_FLAGS if config.fastmath else False}",
         f"COUNT_RAYS = {config.count_rays}",
+        f"INLINE_HELPERS = {config.inline}",
         *[f"{flag} = {flag in config.features.flags}" for flag in ALL_FLAGS],
         "# the kind table: " + ", ".join(f"{k.name}={k.number}" for k in KINDS),
         "# the pattern table: " + ", ".join(f"{k.name}={k.number}" for k in PATTERN_KINDS),
@@ -159,7 +163,33 @@ def load_kernels(config: KernelConfig) -> ModuleType:
         except BaseException:
             del sys.modules[name]
             raise
+        _first_calls_one_at_a_time(module, path)
         return module
+
+
+def _first_calls_one_at_a_time(module: ModuleType, path: Path) -> None:
+    """Each book-API entry point's first call in this process (which compiles it, or loads
+    it from numba's disk cache) holds the kernel module's build lock (``one_builder``):
+    processes that start together (a test run's workers) compile an entry point once, and
+    the others load what it wrote. Later calls go straight to numba."""
+    for name, dispatcher in list(vars(module).items()):
+        if name.startswith("api_") and hasattr(dispatcher, "py_func"):
+            setattr(module, name, _locked_first_call(dispatcher, path))
+
+
+def _locked_first_call(dispatcher: Any, path: Path) -> Any:
+    called: list[bool] = []
+
+    def first_call(*arguments: Any) -> Any:
+        if called:
+            return dispatcher(*arguments)
+        with one_builder(path, f"{path.stem}.{dispatcher.py_func.__name__}"):
+            found = dispatcher(*arguments)
+        called.append(True)
+        return found
+
+    functools.update_wrapper(first_call, dispatcher.py_func)
+    return first_call
 
 
 # ------------------------------------------------------------------------ the render entry
