@@ -2,9 +2,8 @@
 import graph grimp builds (the one import-linter checks the floors on, ``lint-imports`` in
 the gate), imports inside functions and under ``TYPE_CHECKING`` included.
 
-``KNOWN`` lists the circles that remain, each with where it is being taken apart. A new
-circle fails the test; so does a known one that is gone (strike it from the list, so that it
-cannot come back unnoticed)."""
+The last circles (the reference's shapes, the registry, numba's and prealloc's packing) were
+taken apart; any circle fails the test, naming its modules."""
 
 from __future__ import annotations
 
@@ -14,27 +13,6 @@ import grimp
 import pytest
 
 PACKAGES = ("rtc", "harness", "steps", "variants", "scene", "compiled", "groundwork", "raytracer")
-
-KNOWN: tuple[frozenset[str], ...] = (
-    # the book's reference: a shape holds its material, whose pattern needs the shape's space
-    frozenset({
-        "raytracer.intersections", "raytracer.materials", "raytracer.patterns",
-        "raytracer.shapes.shape", "raytracer.shapes.space",
-    }),
-    # the registry finds a learner's variant and wraps another's steps
-    frozenset({"variants.learner", "variants.registry", "variants.wrapper"}),
-    # numba's packing: PackError and the kind names defined where the packer needs them
-    frozenset({
-        "variants.numba.bvh", "variants.numba.features", "variants.numba.lights",
-        "variants.numba.pack", "variants.numba.specialize", "variants.numba.textures",
-    }),
-    # prealloc's records, shapes, patterns and geometry
-    frozenset({
-        "variants.prealloc.geometry", "variants.prealloc.patterns", "variants.prealloc.records",
-        "variants.prealloc.shapes",
-    }),
-)  # fmt: skip
-"""Circles still to take apart (in ``variants/`` and ``raytracer/``): strike each when it is."""
 
 
 def circles(imports: Mapping[str, Iterable[str]]) -> list[frozenset[str]]:
@@ -96,11 +74,5 @@ def project_circles() -> list[frozenset[str]]:
     return circles(imports)
 
 
-def test_no_new_import_circle(project_circles: list[frozenset[str]]) -> None:
-    new = [sorted(c) for c in project_circles if c not in KNOWN]
-    assert not new, f"new import circles: {new}"
-
-
-def test_every_known_circle_is_still_there(project_circles: list[frozenset[str]]) -> None:
-    gone = [sorted(c) for c in KNOWN if c not in project_circles]
-    assert not gone, f"taken apart: strike them from KNOWN in {__file__}: {gone}"
+def test_no_import_circle(project_circles: list[frozenset[str]]) -> None:
+    assert not project_circles, f"import circles: {[sorted(c) for c in project_circles]}"
