@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from raytracer.camera import Camera, RenderSettings
+from raytracer.camera import WHITTED, Camera, RenderSettings
 from raytracer.canvas import Canvas
 from raytracer.colors import Color
 from raytracer.intersections import Intersection
@@ -28,7 +28,6 @@ from raytracer.tracer import Progress, Region, light_and_point
 from raytracer.tuples import Tuple, magnitude, normalize
 from raytracer.world import World
 from variants.arrays.canvas import ArrayCanvas, ArrayCanvasTracer
-from variants.integrators import whitted_only
 from variants.wavefront.camera import lens
 from variants.wavefront.hits import blocked, index, records
 from variants.wavefront.pack import pack, pack_scene
@@ -81,6 +80,8 @@ class WavefrontTracer(ArrayCanvasTracer):
         shading: bool = True,
     ) -> Frame:  # fmt: skip
         scene = w if isinstance(w, Scene) else pack(w, self.options.dtype, shading)
+        if settings.integrator == WHITTED:
+            scene.refuse_for_whitted()
         return Frame(
             index(scene),
             lens(c) if c is not None else None,
@@ -147,14 +148,9 @@ class WavefrontTracer(ArrayCanvasTracer):
     # -- chapter 7: the render
 
     def prepare(self, c: Camera, w: World, settings: RenderSettings) -> Frame:
-        """The frame: the world packed and indexed, the camera's numbers, the batch size.
-        The book's integrator only (``check_settings``)."""
-        self.check_settings(settings)
+        """The frame: the world packed and indexed, the camera's numbers, the batch size
+        (either integrator: ``render_block`` follows ``settings.integrator``)."""
         return self._make_frame(w, settings, c)
-
-    def check_settings(self, settings: RenderSettings) -> None:
-        """The book's integrator only: the path integrator is not ported to the passes."""
-        whitted_only("wavefront", settings)
 
     def render_region(
         self, c: Camera, w: World, settings: RenderSettings, region: Region
