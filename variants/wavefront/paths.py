@@ -104,8 +104,8 @@ def bounce_paths(march: March, paths: Paths, bounce: int) -> Paths | None:
     if not found.all():
         missed = np.flatnonzero(~found)
         if scene.sky is not None:
-            gone = paths.take(missed)
-            march.add(gone.pixel, _times(gone.throughput, sky_colors(scene.sky, gone.ray[3:])))
+            sky = sky_colors(scene.sky, _pick(paths.ray[3:], missed))
+            march.add(paths.pixel[missed], _times(_pick(paths.throughput, missed), sky))
         rows = np.flatnonzero(found)
         if not len(rows):
             return None
@@ -155,62 +155,65 @@ def take_hits(hits: Hits, rows: Any) -> Hits:
 
 def _scatter(march: March, paths: Paths, hit: Nearest, hits: Hits, bounce: int) -> Paths | None:
     """``raytracer.path.scatter`` for every path (lobes as in ``raytracer.scatter``), then
-    the lights at the diffuse hits; the paths that go on, with their new rays and weights."""
+    the lights at the diffuse hits; the paths that go on, with their new rays and weights
+    (the mirror's ray and a white weight unless the lobe says otherwise)."""
     scene = march.idx.scene
     r, t = scene.reflective[hits.mat], scene.transparency[hits.mat]
     s = r + t
     lobe_u = path_numbers(paths.key, bounce, LOBE)
     glass = lobe_u < np.where(s > 1.0, t / s, t)
-    mirror = ~glass & (lobe_u < np.minimum(s, 1.0))
-    # every ray the mirror's by default (over point, reflectv), weight white
-    origin = [c.copy() for c in hits.over]
-    direction = [c.copy() for c in hits.reflectv]
-    weight = [c.copy() for c in paths.throughput]
-    rows = np.flatnonzero(glass)
-    if len(rows):
-        _refract(march, paths, hit, hits, bounce, rows, origin, direction)
-    diffuse = np.flatnonzero(~glass & ~mirror)
-    if len(diffuse):
-        lit = take_hits(hits, diffuse)
-        color = surface(scene, lit)
-        kd = scene.diffuse[lit.mat]
-        u1 = path_numbers(paths.key[diffuse], bounce, DIRECTION)
-        u2 = path_numbers(paths.key[diffuse], bounce, DIRECTION + 1)
-        bent = cosine_directions(lit.normal, u1, u2)
-        for c in range(3):
-            direction[c][diffuse] = bent[c]
-            weight[c][diffuse] = weight[c][diffuse] * (color[c] * kd)
+    diffuse = ~glass & ~(lobe_u < np.minimum(s, 1.0))
+    lambert = np.flatnonzero(diffuse)
+    weight = paths.throughput
+    if len(lambert):
+        color, kd = surface(scene, hits), scene.diffuse[hits.mat]
+        weight = _where(diffuse, _times(weight, (color[0] * kd, color[1] * kd, color[2] * kd)),
+                        weight)  # fmt: skip
     alive = (weight[0] != 0) | (weight[1] != 0) | (weight[2] != 0)
-    if len(diffuse):
-        shine = diffuse[alive[diffuse]]
-        if len(shine) and len(scene.light_pos):
-            light = direct_light(march, take_hits(hits, shine), _pick(weight, shine),
-                                 paths.key[shine], bounce)  # fmt: skip
-            march.add(paths.pixel[shine], light)
     go = np.flatnonzero(alive)
     if not len(go):
         return None
-    ray = (*_pick(origin, go), *_pick(direction, go))
+    place = np.cumsum(alive) - 1  # each row's place among the paths that go on
+    origin, direction = _pick(hits.over, go), _pick(hits.reflectv, go)
+    rows = np.flatnonzero(glass & alive)
+    if len(rows):
+        through, bent = _refract(march, paths, hit, hits, bounce, rows)
+        for c in range(3):
+            origin[c][place[through]] = hits.under[c][through]
+            direction[c][place[through]] = bent[c]
+    shine = lambert[alive[lambert]]
+    if len(shine):
+        keys = paths.key[shine]
+        normal = _pick(hits.normal, shine)
+        turned = cosine_directions(normal, path_numbers(keys, bounce, DIRECTION),
+                                   path_numbers(keys, bounce, DIRECTION + 1))  # fmt: skip
+        for c in range(3):
+            direction[c][place[shine]] = turned[c]
+        if len(scene.light_pos):
+            over = _pick(hits.over, shine)
+            light = direct_light(march, over, normal, _pick(weight, shine), keys, bounce)
+            march.add(paths.pixel[shine], light)
+    ray = (*origin, *direction)
     return Paths(ray, _pick(weight, go), paths.pixel[go], paths.key[go])
 
 
+def _where(mask: np.ndarray, a: Three, b: Three) -> Three:
+    return np.where(mask, a[0], b[0]), np.where(mask, a[1], b[1]), np.where(mask, a[2], b[2])
+
+
 def _refract(
-    march: March, paths: Paths, hit: Nearest, hits: Hits, bounce: int, rows: np.ndarray,
-    origin: list[Any], direction: list[Any],
-) -> None:  # fmt: skip
-    """The glass lobe at ``rows``: reflect (kept: the default) when the path's Fresnel
-    number is below Schlick's reflectance or under total internal reflection, else the
-    book's refracted ray from the under point."""
+    march: March, paths: Paths, hit: Nearest, hits: Hits, bounce: int, rows: np.ndarray
+) -> tuple[np.ndarray, Three]:
+    """The glass lobe at ``rows``: the rows that refract (the others reflect: their
+    Fresnel number is below Schlick's reflectance, or the light is totally reflected) and
+    the book's refracted directions of those, which leave from the under point."""
     n1, n2 = indices_in_parts(march.idx, sub(paths.ray, rows), hit.take(rows), march.eps,
                               march.cap)  # fmt: skip
     eyev, normal = _pick(hits.eyev, rows), _pick(hits.normal, rows)
     reflects = path_numbers(paths.key[rows], bounce, FRESNEL) < schlick(eyev, normal, n1, n2)
     possible, bent = refraction(eyev, normal, n1, n2)
     through = ~reflects & possible
-    refracted = rows[through]
-    for c in range(3):
-        origin[c][refracted] = hits.under[c][refracted]
-        direction[c][refracted] = bent[c][through]
+    return rows[through], _pick(bent, through)
 
 
 def cosine_directions(n: Three, u1: np.ndarray, u2: np.ndarray) -> Three:
@@ -232,12 +235,14 @@ def cosine_directions(n: Three, u1: np.ndarray, u2: np.ndarray) -> Three:
     )
 
 
-def direct_light(march: March, hits: Hits, weight: Three, keys: np.ndarray, bounce: int) -> Three:
-    """``raytracer.path.direct_light`` at many diffuse hits: for each light, its point (an
-    area light's drawn from the path's numbers), and where it is in front of the surface
-    a batched shadow query; the lit hits add weight * intensity * cosine."""
+def direct_light(
+    march: March, over: Three, normal: Three, weight: Three, keys: np.ndarray, bounce: int
+) -> Three:
+    """``raytracer.path.direct_light`` at many diffuse hits (their over points and normals):
+    for each light, its point (an area light's drawn from the path's numbers), and where it
+    is in front of the surface a batched shadow query; the lit hits add weight * intensity
+    * cosine."""
     scene: Scene = march.idx.scene
-    over, normal = hits.over, hits.normal
     n = len(keys)
     total = [np.zeros(n) for _ in range(3)]
     for k in range(len(scene.light_pos)):
