@@ -397,9 +397,7 @@ def _sky(sky: Any) -> np.ndarray | None:
     return np.array([rgb(sky.horizon), rgb(sky.zenith)], dtype=np.float64)
 
 
-def _tables(
-    nodes: list[F.Node], lights: list[Any], sky: Any, dtype: Any, shading: bool
-) -> Scene:
+def _tables(nodes: list[F.Node], lights: list[Any], sky: Any, dtype: Any, shading: bool) -> Scene:
     packer = _Packer(shading)
     for node in nodes:
         packer.add(node)

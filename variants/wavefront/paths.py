@@ -77,8 +77,8 @@ def _times(a: Three, b: Three) -> Three:
 
 
 def trace_paths(
-    idx: Index, settings: RenderSettings, eps: float, cap: int, ray: Ray, keys: np.ndarray,
-    pixel: np.ndarray, pixels: int,
+    idx: Index, settings: RenderSettings, eps: float, cap: int, ray: tuple[Any, ...],
+    keys: np.ndarray, pixel: np.ndarray, pixels: int,
 ) -> np.ndarray:  # fmt: skip
     """Chapter 21's ``path_color_at`` for a batch of camera rays (at most ``cap``), with
     their sample keys (``camera.sample_keys``) and pixels (0 .. pixels - 1): the colours
@@ -112,7 +112,7 @@ def bounce_paths(march: March, paths: Paths, bounce: int) -> Paths | None:
         paths, hit = paths.take(rows), hit.take(rows)
     hits = prepare(scene, paths.ray[:3], paths.ray[3:], hit, eps)
     if scene.emissive.any():
-        march.add(paths.pixel, _times(paths.throughput, _pick(scene.emissive, hits.mat)))
+        march.add(paths.pixel, _times(paths.throughput, tuple(e[hits.mat] for e in scene.emissive)))
     settings = march.settings
     if bounce >= settings.depth:
         return None

@@ -23,7 +23,7 @@ import numpy as np
 
 from raytracer.camera import PATH, RenderSettings
 from variants.wavefront.camera import Lens, camera_rays, sample_keys, sample_offsets
-from variants.wavefront.hits import Index, Nearest, Ray, blocked, nearest, sub
+from variants.wavefront.hits import Index, blocked, nearest, sub
 from variants.wavefront.indices import indices_in_parts
 from variants.wavefront.paths import trace_paths
 from variants.wavefront.shading import (
