@@ -11,6 +11,7 @@ and ``threads`` and ``max_mb`` changing how the work is cut, never a bit of the 
 from __future__ import annotations
 
 import math
+import tracemalloc
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
@@ -152,6 +153,26 @@ def test_the_hierarchy_csg_and_every_kind_path_trace_as_naive() -> None:
         images.append(_pixels(variant.api["render"](camera, world, settings)))
     assert images[0].max() > 0.1
     assert _worst(images[1], images[0]) <= FLOAT64_WORST
+
+
+def test_a_path_traced_pass_stays_within_max_mb() -> None:
+    """The batch of a pass only shrinks from bounce to bounce: max_mb bounds the path
+    integrator's memory as it bounds the book's (96x72 pixels, 4 samples, 5 bounces)."""
+    peaks = {}
+    for mb in (2, 64):
+        variant = load_variant(f"wavefront[max_mb={mb}]")
+        scene = load_scene(SCENES / "cpp-spheres.yml", variant.api).resized(96, 72)
+        world, tracer = variant.world_for(scene), variant.tracer
+        settings = RenderSettings(integrator="path", samples=4, depth=5, seed=1)
+        tracer.render(scene.camera, world, replace(settings, samples=1, depth=1))
+        image = tracer.new_canvas(scene.camera)
+        tracemalloc.start()
+        tracer.render_into(image, scene.camera, world, settings)
+        _, peaks[mb] = tracemalloc.get_traced_memory()
+        tracemalloc.stop()
+        tracer.forget()
+    assert peaks[2] < 2 * 2**20
+    assert peaks[64] > 2 * peaks[2]
 
 
 # ------------------------------------------------------------------------ the integrators
