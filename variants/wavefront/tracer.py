@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from raytracer.camera import WHITTED, Camera, RenderSettings
+from raytracer.camera import PATH, WHITTED, Camera, RenderSettings
 from raytracer.canvas import Canvas
 from raytracer.colors import Color
 from raytracer.intersections import Intersection
@@ -220,8 +220,9 @@ class WavefrontTracer(ArrayCanvasTracer):
     # -- what the harness asks of a tracer
 
     def explain(self, w: World) -> str:
-        """What a render of ``w`` would run (``rtc render --explain``)."""
-        frame = self._make_frame(w, RenderSettings())
+        """What a render of ``w`` would run (``rtc render --explain``): its packing, which
+        holds area lights for the path integrator (the book's refuses them as it renders)."""
+        frame = self._make_frame(w, RenderSettings(integrator=PATH))
         scene, hierarchy = frame.idx.scene, frame.idx.hierarchy
         kinds = np.bincount(scene.kind, minlength=len(KIND_NAMES))
         shapes = ", ".join(f"{n} {KIND_NAMES[k]}" for k, n in enumerate(kinds.tolist()) if n)
