@@ -187,3 +187,20 @@ def test_an_area_light_is_path_traced_and_refused_by_the_books_integrator() -> N
         variant.api["render"](scene.camera, world, RenderSettings())
     image = variant.api["render"](scene.camera, world, RenderSettings(integrator="path"))
     assert _pixels(image).max() > 0
+
+
+def test_rtc_render_explains_and_path_traces_an_area_lit_scene(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from rtc.cli import main
+
+    output = tmp_path / "soft.png"
+    scene = str(SCENES / "soft-shadows.yml")
+    args = ["render", scene, "--variant", "wavefront", "--size", "8x6", "--explain"]
+    status = main([*args, "--integrator", "path", "-o", str(output)])
+    out, err = capsys.readouterr()
+    assert status == 0, err
+    assert "WavefrontTracer: passes of up to" in out + err and output.exists()
+    assert main([*args, "-o", str(tmp_path / "book.png")]) == 2  # the book's: refused
+    _, err = capsys.readouterr()
+    assert err.count("\n") == 1 and "is an AreaLight" in err, err
