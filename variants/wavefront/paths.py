@@ -110,10 +110,13 @@ def bounce_paths(march: March, paths: Paths, bounce: int) -> Paths | None:
         if not len(rows):
             return None
         paths, hit = paths.take(rows), hit.take(rows)
-    hits = prepare(scene, paths.ray[:3], paths.ray[3:], hit, eps)
-    if scene.emissive.any():
-        march.add(paths.pixel, _times(paths.throughput, tuple(e[hits.mat] for e in scene.emissive)))
     settings = march.settings
+    emits = bool(scene.emissive.any())
+    if bounce >= settings.depth and not emits:
+        return None  # at the cap only emission counts, and nothing emits
+    hits = prepare(scene, paths.ray[:3], paths.ray[3:], hit, eps)
+    if emits:
+        march.add(paths.pixel, _times(paths.throughput, tuple(e[hits.mat] for e in scene.emissive)))
     if bounce >= settings.depth:
         return None
     if 0 < settings.roulette <= bounce:
