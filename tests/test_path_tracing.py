@@ -2,8 +2,9 @@
 variant path-traces through the reference ``Tracer``'s steps over its own hit-finding code
 and draws the same picture as ``naive`` for the same seed, whatever its worker count or tile
 split (the random numbers are a pure function of the sample, not of who traces it); the
-white furnace is the sky in every pixel through each; numba and wavefront, whose render
-loops are their own, refuse it in one line; and the book's pictures are unchanged by a sky.
+white furnace is the sky in every pixel through each; numba, whose render loop is its own,
+refuses it in one line (wavefront's passes: ``tests/test_wavefront_path.py``); and the
+book's pictures are unchanged by a sky.
 """
 
 from __future__ import annotations
@@ -135,7 +136,7 @@ def test_another_seed_draws_another_picture(naive_small: list[tuple[float, ...]]
     assert sum(p != q for p, q in zip(pixels, naive_small, strict=True)) > len(pixels) // 2
 
 
-@pytest.mark.parametrize("name", ["numba", "wavefront"])
+@pytest.mark.parametrize("name", ["numba"])
 def test_a_compiled_variant_refuses_the_path_integrator_naming_itself(name: str) -> None:
     variant = load_variant(name)
     scene = load_scene(FURNACE, variant.api).resized(4, 4)
@@ -144,7 +145,7 @@ def test_a_compiled_variant_refuses_the_path_integrator_naming_itself(name: str)
         variant.api["render"](scene.camera, world, RenderSettings(integrator="path"))
 
 
-@pytest.mark.parametrize("name", ["numba", "wavefront", "pooled[workers=2]:numba"])
+@pytest.mark.parametrize("name", ["numba", "pooled[workers=2]:numba"])
 def test_rtc_render_of_a_path_traced_scene_with_numba_or_wavefront_is_one_line(
     name: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

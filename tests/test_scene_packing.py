@@ -59,12 +59,16 @@ def test_wavefront_packs_a_description_as_it_packs_the_book_world(name: str) -> 
     assert a.n_prims > 0 and all(shape is None for shape in a.shapes)
 
 
-def test_wavefront_refuses_what_it_cannot_vectorize_from_a_description_too() -> None:
+def test_wavefront_packs_an_area_light_of_a_description_for_the_path_integrator() -> None:
     from variants.wavefront.scene import Unsupported
 
     scene = load_scene(SCENES / "soft-shadows.yml", load_variant("wavefront").api)
+    packed = wavefront_scene(scene)
+    light = scene.lights[0]
+    assert packed.light_steps.tolist() == [[light.usteps, light.vsteps]]
+    assert _equal(packed.light_pos, wavefront_world(scene.book_world()).light_pos)
     with pytest.raises(Unsupported, match="light 0 of the world is an AreaLight"):
-        wavefront_scene(scene)
+        packed.refuse_for_whitted()
 
 
 def test_compact_triangles_draw_what_a_row_per_triangle_draws() -> None:

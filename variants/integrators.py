@@ -2,8 +2,8 @@
 built on the reference ``Tracer`` renders with both, the book's Whitted integrator and the
 path integrator (chapter 21 here, beyond the book: ``raytracer.path``), since the path steps
 reach the hits through the steps the variant keeps or overrides. A variant with a render
-loop of its own (numba's kernels, wavefront's passes) says in one line that it has no path
-integrator yet, instead of rendering the book's picture in its place.
+loop of its own that has no path integrator yet (numba's kernels) says so in one line,
+instead of rendering the book's picture in its place.
 """
 
 from __future__ import annotations

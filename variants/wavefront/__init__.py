@@ -17,14 +17,18 @@ kind's intersection and normal over arrays), ``bvh`` (a linear hierarchy walked 
 passes), ``hits`` (nearest hit, shadow rays, every intersection along a line; CSG trees),
 ``shading`` (computations, patterns, lights, Schlick, refraction), ``indices`` (n1 and n2
 without sorted lists), ``camera`` (camera rays and the project's samples in uint64 NumPy),
-``wave`` (the loop over depth and the passes), ``tracer`` (``WavefrontTracer``). Its
+``wave`` (the loop over depth and the passes), ``paths`` (the path integrator: every ray
+of a pass carries its throughput, the pass goes one bounce at a time, finished rays are
+dropped), ``tracer`` (``WavefrontTracer``). Its
 benchmark section is ``rtc bench --sections pass-size`` (``harness.sections.pass_size.measure``).
 
 Same pictures: at float64 each step is the reference's arithmetic in the reference's
 order, so most pixels are naive's bits; sums differ in their last bits where the book's
 recursion adds reflected and refracted colors (here weights carried on the rays), where a
 shape sits in transformed groups (its transforms composed once) and where the canvas
-stores float32.
+stores float32; path-traced pictures add each bounce's light as it comes rather than nested,
+and draw the reference's random numbers from each ray's sample key, so they too are the
+reference's to rounding, whatever ``threads`` and ``max_mb`` cut.
 """
 
 from __future__ import annotations

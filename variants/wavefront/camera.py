@@ -1,6 +1,7 @@
-"""Camera rays for many pixels at once (chapter 7's ``ray_for_pixel``) and the project's
-sample positions (``raytracer.sampling.sample_offset``) in unsigned 64-bit NumPy integers,
-so that both are the reference's, bit for bit."""
+"""Camera rays for many pixels at once (chapter 7's ``ray_for_pixel``), the project's
+sample positions (``raytracer.sampling.sample_offset``) and the path integrator's random
+numbers (``raytracer.sampling.path_random``) in unsigned 64-bit NumPy integers, so that all
+three are the reference's, bit for bit."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from raytracer.camera import Camera
-from raytracer.sampling import GAMMA, MASK64, MAX_COORDINATE, MAX_SAMPLES
+from raytracer.sampling import GAMMA, MASK64, MAX_COORDINATE, MAX_SAMPLES, PATH_TAG
 from raytracer.tuples import point
 
 _GAMMA = np.uint64(GAMMA)
@@ -26,10 +27,8 @@ def _mix64(z: np.ndarray) -> np.ndarray:
     return z ^ (z >> np.uint64(31))
 
 
-def sample_offsets(
-    seed: int, x: np.ndarray, y: np.ndarray, i: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    """``sample_offset(seed, x, y, i)`` for arrays of pixels and sample indices."""
+def sample_keys(seed: int, x: np.ndarray, y: np.ndarray, i: np.ndarray) -> np.ndarray:
+    """``sample_key(seed, x, y, i)`` for arrays of pixels and sample indices (uint64)."""
     if len(x) and not (
         int(x.min()) >= 0 and int(x.max()) < MAX_COORDINATE
         and int(y.min()) >= 0 and int(y.max()) < MAX_COORDINATE
@@ -40,12 +39,29 @@ def sample_offsets(
     if not 0 <= seed <= MASK64:
         raise ValueError(f"sample_offset: seed {seed} is outside 0..2**64-1")
     u = np.uint64
-    key = u((seed * GAMMA) & MASK64) ^ (
+    return u((seed * GAMMA) & MASK64) ^ (
         (y.astype(u) << u(34)) | (x.astype(u) << u(20)) | i.astype(u)
     )
-    first = _mix64(key + _GAMMA)
-    second = _mix64(key + _GAMMA + _GAMMA)
-    return (first >> u(11)).astype(np.float64) * _UNIT, (second >> u(11)).astype(np.float64) * _UNIT
+
+
+def _unit(z: np.ndarray) -> np.ndarray:
+    """The top 53 bits of ``z`` as a float64 in [0, 1)."""
+    return (z >> np.uint64(11)).astype(np.float64) * _UNIT
+
+
+def sample_offsets(
+    seed: int, x: np.ndarray, y: np.ndarray, i: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """``sample_offset(seed, x, y, i)`` for arrays of pixels and sample indices."""
+    key = sample_keys(seed, x, y, i)
+    return _unit(_mix64(key + _GAMMA)), _unit(_mix64(key + _GAMMA + _GAMMA))
+
+
+def path_numbers(keys: np.ndarray, bounce: int, dimension: int) -> np.ndarray:
+    """``path_random_key(key, bounce, dimension)`` for an array of sample keys (uint64):
+    the path integrator's numbers, float64 in [0, 1)."""
+    step = np.uint64(((1 + (bounce << 32) + dimension) * GAMMA) & MASK64)
+    return _unit(_mix64((keys ^ np.uint64(PATH_TAG)) + step))
 
 
 @dataclass(frozen=True)

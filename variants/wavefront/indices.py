@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from variants.wavefront.hits import INF, Index, Nearest, Ray, direct_lists, records
+from variants.wavefront.hits import INF, Index, Nearest, Ray, direct_lists, records, sub
 
 
 @dataclass
@@ -145,3 +145,23 @@ def refractive_indices(
     n1 = np.where(found.inside, np.where(later, outside, own), outside)
     n2 = np.where(found.inside, outside, own)
     return n1, n2
+
+
+RECORDS_PER_RAY = 16
+"""n1 and n2 need every intersection along a ray: they are found for ``cap`` /
+``RECORDS_PER_RAY`` rays at a time, so that their lists stay within the pass's budget."""
+
+
+def indices_in_parts(idx: Index, ray: Ray, hit: Nearest, eps: float, cap: int) -> tuple[Any, Any]:
+    """``refractive_indices`` a part of the rays at a time (``RECORDS_PER_RAY``)."""
+    n = len(hit.t)
+    step = max(1, cap // RECORDS_PER_RAY)
+    if n <= step:
+        return refractive_indices(idx, ray, hit, eps, cap)
+    parts = [
+        refractive_indices(
+            idx, sub(ray, slice(k, k + step)), hit.take(slice(k, k + step)), eps, cap
+        )
+        for k in range(0, n, step)
+    ]
+    return np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts])

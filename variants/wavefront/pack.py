@@ -8,9 +8,10 @@ at once with NumPy (``_Packer.triangles``), so that a million triangles pack in 
 of a second.
 
 Only what the vectorized passes know is packed: the kinds of ``scene.kinds`` but the test
-shape, the reference's pattern, material and point-light classes. Anything else (an area
-light, a texture map, a shape of another kind) is refused with an ``Unsupported`` error
-naming it, never approximated.
+shape, the reference's pattern, material and light classes, the sky. Anything else (a
+texture map, a shape of another kind) is refused with an ``Unsupported`` error naming it,
+never approximated; an area light is packed for the path integrator and refused by the
+book's (``Scene.refuse_for_whitted``).
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from raytracer.lights import PointLight
+from raytracer.lights import AreaLight, PointLight
 from raytracer.materials import Material
 from raytracer.matrices import Matrix
 from raytracer.patterns import Pattern
@@ -36,7 +37,6 @@ from variants.wavefront.scene import (
     PATTERN_KINDS,
     SLOTS,
     SPHERE,
-    WHITTED_IGNORES,
     Bunch,
     Combine,
     CsgTree,
@@ -93,7 +93,7 @@ def _check_material(m: object, where: str) -> Material:
     if not isinstance(m, Material):
         raise Unsupported(f"wavefront: {where} has no material (got {type(m).__name__})")
     for f in dataclasses.fields(m):
-        if f.name in MATERIAL_FIELDS or f.name in WHITTED_IGNORES:
+        if f.name in MATERIAL_FIELDS:
             continue
         default = f.default if f.default is not dataclasses.MISSING else None
         if getattr(m, f.name) != default:
@@ -210,7 +210,7 @@ class _Packer:
         values = [
             *rgb(m.color), float(m.ambient), float(m.diffuse), float(m.specular),
             float(m.shininess), float(m.reflective), float(m.transparency),
-            float(m.refractive_index),
+            float(m.refractive_index), *rgb(m.emissive),
         ]  # fmt: skip
         pattern = NO_PATTERN
         pat = [0.0] * 18
@@ -332,6 +332,11 @@ class _Packer:
         return Leaf(self.prim(node)), F.leaf_box(node)
 
 
+MATERIAL_WIDTH = 31
+"""A material's row: colour (3), ambient, diffuse, specular, shininess, reflective,
+transparency, refractive index, emissive (3), the pattern's inverse (12) and colours (6)."""
+
+
 def _table(rows: list[list[float]], width: int) -> np.ndarray:
     if not rows:
         return np.zeros((0, width))
@@ -344,13 +349,15 @@ def pack(world: World, dtype: Any = np.float64, shading: bool = True) -> Scene:
     ``intersect_world`` and ``is_shadowed`` need, whatever lights the world has)."""
     if not isinstance(world, World):
         raise Unsupported(f"wavefront: expected a World, got {type(world).__name__}")
-    return _tables(_flattened(F.from_world, world), list(world.lights), dtype, shading)
+    nodes = _flattened(F.from_world, world)
+    return _tables(nodes, list(world.lights), world.sky, dtype, shading)
 
 
 def pack_scene(scene: Any, dtype: Any = np.float64) -> Scene:
     """Chapter 7: a scene description (``scene.Scene``) as tables, straight from its
     entities and arrays: no book shape built."""
-    return _tables(_flattened(F.from_description, scene), list(scene.lights), dtype, True)
+    nodes = _flattened(F.from_description, scene)
+    return _tables(nodes, list(scene.lights), scene.sky, dtype, True)
 
 
 def _flattened(make: Any, *args: Any) -> Any:
@@ -360,21 +367,42 @@ def _flattened(make: Any, *args: Any) -> Any:
         raise _refusal(error) from None
 
 
-def _tables(nodes: list[F.Node], lights: list[Any], dtype: Any, shading: bool) -> Scene:
+def _lights(lights: list[Any]) -> tuple[list[list[float]], ...]:
+    """The lights' tables, in the world's order: a point light's position or an area
+    light's corner, intensity, an area light's one-cell edges uvec and vvec (zeros for a
+    point light) and its usteps and vsteps (0 for a point light)."""
+    positions, intensities, edges, steps = [], [], [], []
+    for k, light in enumerate(lights):
+        if type(light) is AreaLight:
+            positions.append(xyz(light.corner))
+            edges.append(xyz(light.uvec) + xyz(light.vvec))
+            steps.append([float(light.usteps), float(light.vsteps)])
+        elif type(light) is PointLight:
+            positions.append(xyz(light.position))
+            edges.append([0.0] * 6)
+            steps.append([0.0, 0.0])
+        else:
+            raise Unsupported(
+                f"wavefront: light {k} of the world is {_a(type(light).__name__)}; the passes "
+                "vectorize point lights and (path-traced) area lights only"
+            )
+        intensities.append(rgb(light.intensity))
+    return positions, intensities, edges, steps
+
+
+def _sky(sky: Any) -> np.ndarray | None:
+    """The sky's horizon and zenith colours, (2, 3) float64; None: no sky."""
+    if sky is None:
+        return None
+    return np.array([rgb(sky.horizon), rgb(sky.zenith)], dtype=np.float64)
+
+
+def _tables(nodes: list[F.Node], lights: list[Any], sky: Any, dtype: Any, shading: bool) -> Scene:
     packer = _Packer(shading)
     for node in nodes:
         packer.add(node)
-    positions: list[list[float]] = []
-    intensities: list[list[float]] = []
-    for k, light in enumerate(lights if shading else ()):
-        if type(light) is not PointLight:
-            raise Unsupported(
-                f"wavefront: light {k} of the world is {_a(type(light).__name__)}; the passes "
-                "vectorize point lights only"
-            )
-        positions.append(xyz(light.position))
-        intensities.append(rgb(light.intensity))
-    mats = _table(packer.mat_rows, 28)
+    positions, intensities, edges, steps = _lights(lights if shading else [])
+    mats = _table(packer.mat_rows, MATERIAL_WIDTH)
     boxes = packer.unit_box.array(np.float64)
 
     def f(a: np.ndarray) -> np.ndarray:
@@ -405,10 +433,11 @@ def _tables(nodes: list[F.Node], lights: list[Any], dtype: Any, shading: bool) -
         reflective=f(reflective),
         transparency=f(transparency),
         refractive=f(mats[:, 9]),
+        emissive=columns(mats[:, 10:13]),
         pattern=np.array(packer.pattern_kinds, dtype=np.int64),
-        pat_inv=columns(mats[:, 10:22]),
-        pat_a=columns(mats[:, 22:25]),
-        pat_b=columns(mats[:, 25:28]),
+        pat_inv=columns(mats[:, 13:25]),
+        pat_a=columns(mats[:, 25:28]),
+        pat_b=columns(mats[:, 28:31]),
         caps=columns(packer.caps.array(np.float64)),
         tri=columns(packer.tri.array(np.float64)),
         smooth=columns(packer.smooth.array(np.float64)),
@@ -420,6 +449,9 @@ def _tables(nodes: list[F.Node], lights: list[Any], dtype: Any, shading: bool) -
         trees=packer.trees,
         light_pos=f(_table(positions, 3)),
         light_int=f(_table(intensities, 3)),
+        light_edges=f(_table(edges, 6)),
+        light_steps=_table(steps, 2).astype(np.int64),
+        sky=_sky(sky) if shading else None,
         shapes=packer.shapes,
         opaque=not bool((transparency != 0).any()),
         mirrors=bool(((transparency != 0) | (reflective != 0)).any()),

@@ -11,6 +11,11 @@ world, so comparing indices orders ties as the reference's stable sort does), wi
 - ``mat``, its row in the material tables (chapters 6, 10, 11), pattern included;
 - ``shadow``: whether it casts a shadow.
 
+Lights are tables in the world's order (``light_*``): a point light's position or an area
+light's corner, its intensity, and an area light's cell edges and counts, which the path
+integrator samples (one point over the whole light); the book's integrator refuses area
+lights (``refuse_for_whitted``). ``emissive`` and ``sky`` are the path integrator's.
+
 Shapes that share a transform chain (a mesh's triangles) share a row of ``inv``, shapes that
 share a ``Material`` share its row. What a ray is tested against is a *unit*: a primitive
 outside CSG, or a whole CSG tree (chapter 16, ``CsgTree``); a unit has a world-space box
@@ -53,16 +58,14 @@ STRIPES, GRADIENT, RINGS, CHECKERS, TEST_PATTERN = (
 # CSG operations (chapter 16)
 OPERATIONS = {"union": 0, "intersection": 1, "difference": 2}
 
-# the Material fields the passes read; any other field must keep its default
+# the Material fields the passes read; any other field must keep its default (``emissive``:
+# the path integrator's, which the book's integrator ignores)
 MATERIAL_FIELDS = frozenset(
     (
         "color", "ambient", "diffuse", "specular", "shininess", "reflective", "transparency",
-        "refractive_index", "pattern",
+        "refractive_index", "pattern", "emissive",
     )
 )  # fmt: skip
-# the Material fields the book's integrator ignores (the path integrator's, which the passes
-# refuse: ``WavefrontTracer.check_settings``), so a render may leave them out
-WHITTED_IGNORES = frozenset(("emissive",))
 
 BOX_PAD = 1e-9  # boxes grow by this much (relative, plus absolute) so rounding loses no hit
 
@@ -141,6 +144,7 @@ class Scene:
     reflective: np.ndarray
     transparency: np.ndarray
     refractive: np.ndarray
+    emissive: np.ndarray
     pattern: np.ndarray
     pat_inv: np.ndarray
     pat_a: np.ndarray
@@ -157,6 +161,9 @@ class Scene:
     trees: list[CsgTree]
     light_pos: np.ndarray
     light_int: np.ndarray
+    light_edges: np.ndarray  # per light: an area light's uvec, vvec (a point light: zeros)
+    light_steps: np.ndarray  # per light: an area light's usteps, vsteps (a point light: 0)
+    sky: np.ndarray | None  # horizon and zenith colours, (2, 3) float64; None: no sky
     shapes: list[Any] = field(repr=False)  # the book's shape of each primitive, if any
     opaque: bool = True  # no material is transparent (n1/n2 never needed)
     mirrors: bool = False  # some material reflects or is transparent (secondary rays)
@@ -168,3 +175,14 @@ class Scene:
     @property
     def n_units(self) -> int:
         return len(self.unit_prim)
+
+    def refuse_for_whitted(self) -> None:
+        """``Unsupported`` if an area light is among the lights: the book's integrator in
+        passes shades point lights only (the soft shadows chapter's cells are not
+        vectorized)."""
+        area = np.flatnonzero(self.light_steps[:, 0] > 0)
+        if len(area):
+            raise Unsupported(
+                f"wavefront: light {int(area[0])} of the world is an AreaLight; the passes "
+                "vectorize point lights only (area lights: path-traced, --integrator path)"
+            )

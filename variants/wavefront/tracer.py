@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from raytracer.camera import Camera, RenderSettings
+from raytracer.camera import PATH, WHITTED, Camera, RenderSettings
 from raytracer.canvas import Canvas
 from raytracer.colors import Color
 from raytracer.intersections import Intersection
@@ -28,7 +28,6 @@ from raytracer.tracer import Progress, Region, light_and_point
 from raytracer.tuples import Tuple, magnitude, normalize
 from raytracer.world import World
 from variants.arrays.canvas import ArrayCanvas, ArrayCanvasTracer
-from variants.integrators import whitted_only
 from variants.wavefront.camera import lens
 from variants.wavefront.hits import blocked, index, records
 from variants.wavefront.pack import pack, pack_scene
@@ -39,7 +38,8 @@ MIB = 1 << 20
 BYTES_PER_RAY = {8: 2048, 4: 1280}
 """What one ray of a batch costs at the peak of a pass, by float size (the batch's arrays,
 the temporaries of its queries and shading, the batches waiting on the stack): measured
-with ``tracemalloc`` on the reference scene, rounded up."""
+with ``tracemalloc`` on the reference scene, rounded up. A path-traced pass takes about a
+third of it (its batch only shrinks from bounce to bounce, and nothing waits on a stack)."""
 MIN_CAP = 64  # rays per batch at the least, whatever max_mb says
 
 
@@ -81,6 +81,8 @@ class WavefrontTracer(ArrayCanvasTracer):
         shading: bool = True,
     ) -> Frame:  # fmt: skip
         scene = w if isinstance(w, Scene) else pack(w, self.options.dtype, shading)
+        if settings.integrator == WHITTED:
+            scene.refuse_for_whitted()
         return Frame(
             index(scene),
             lens(c) if c is not None else None,
@@ -147,14 +149,9 @@ class WavefrontTracer(ArrayCanvasTracer):
     # -- chapter 7: the render
 
     def prepare(self, c: Camera, w: World, settings: RenderSettings) -> Frame:
-        """The frame: the world packed and indexed, the camera's numbers, the batch size.
-        The book's integrator only (``check_settings``)."""
-        self.check_settings(settings)
+        """The frame: the world packed and indexed, the camera's numbers, the batch size
+        (either integrator: ``render_block`` follows ``settings.integrator``)."""
         return self._make_frame(w, settings, c)
-
-    def check_settings(self, settings: RenderSettings) -> None:
-        """The book's integrator only: the path integrator is not ported to the passes."""
-        whitted_only("wavefront", settings)
 
     def render_region(
         self, c: Camera, w: World, settings: RenderSettings, region: Region
@@ -224,8 +221,9 @@ class WavefrontTracer(ArrayCanvasTracer):
     # -- what the harness asks of a tracer
 
     def explain(self, w: World) -> str:
-        """What a render of ``w`` would run (``rtc render --explain``)."""
-        frame = self._make_frame(w, RenderSettings())
+        """What a render of ``w`` would run (``rtc render --explain``): its packing, which
+        holds area lights for the path integrator (the book's refuses them as it renders)."""
+        frame = self._make_frame(w, RenderSettings(integrator=PATH))
         scene, hierarchy = frame.idx.scene, frame.idx.hierarchy
         kinds = np.bincount(scene.kind, minlength=len(KIND_NAMES))
         shapes = ", ".join(f"{n} {KIND_NAMES[k]}" for k, n in enumerate(kinds.tolist()) if n)

@@ -8,8 +8,9 @@ reflected and refracted rays of all hits gathered into the next batch with their
 stack, cut to at most ``cap`` rays, so memory stays bounded whatever the depth.
 
 A pass is a block of consecutive pixels of a region (row-major) with all their samples
-(``blocks``); its camera rays go through ``trace`` and the block's pixels come out in
-float64 (``render_block``).
+(``blocks``); its camera rays go through ``trace`` (the book's integrator) or
+``paths.trace_paths`` (the path integrator) and the block's pixels come out in float64
+(``render_block``).
 """
 
 from __future__ import annotations
@@ -20,10 +21,11 @@ from typing import Any
 
 import numpy as np
 
-from raytracer.camera import RenderSettings
-from variants.wavefront.camera import Lens, camera_rays, sample_offsets
-from variants.wavefront.hits import Index, Nearest, Ray, blocked, nearest, sub
-from variants.wavefront.indices import refractive_indices
+from raytracer.camera import PATH, RenderSettings
+from variants.wavefront.camera import Lens, camera_rays, sample_keys, sample_offsets
+from variants.wavefront.hits import Index, blocked, nearest, sub
+from variants.wavefront.indices import indices_in_parts
+from variants.wavefront.paths import trace_paths
 from variants.wavefront.shading import (
     Three,
     prepare,
@@ -46,26 +48,6 @@ class Frame:
     dtype: Any
     eps: float
     cap: int
-
-
-RECORDS_PER_RAY = 16
-"""n1 and n2 need every intersection along a ray: they are found for ``cap`` /
-``RECORDS_PER_RAY`` rays at a time, so that their lists stay within the pass's budget."""
-
-
-def _indices(idx: Index, ray: Ray, hit: Nearest, eps: float, cap: int) -> tuple[Any, Any]:
-    """``refractive_indices`` a part of the rays at a time."""
-    n = len(hit.t)
-    step = max(1, cap // RECORDS_PER_RAY)
-    if n <= step:
-        return refractive_indices(idx, ray, hit, eps, cap)
-    parts = [
-        refractive_indices(
-            idx, sub(ray, slice(k, k + step)), hit.take(slice(k, k + step)), eps, cap
-        )
-        for k in range(0, n, step)
-    ]
-    return np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts])
 
 
 def _pick(arrays: Three, rows: Any) -> Three:
@@ -117,7 +99,7 @@ def _trace(
         refracted_weight = weight * transparency
         parts = []
         if len(glass):
-            n1, n2 = _indices(idx, sub(ray, glass), hit.take(glass), eps, cap)
+            n1, n2 = indices_in_parts(idx, sub(ray, glass), hit.take(glass), eps, cap)
             eyev, normal = _pick(hits.eyev, glass), _pick(hits.normal, glass)
             both = (reflective[glass] > 0) & (transparency[glass] > 0)
             if both.any():
@@ -197,10 +179,16 @@ def _trace_samples(
     pixel = first + local
     x = x0 + pixel % width
     y = y0 + pixel // width
-    if frame.settings.samples == 1:
+    settings = frame.settings
+    sample = s0 + k % per
+    if settings.samples == 1:
         ray = camera_rays(frame.lens, x, y, frame.dtype)
     else:
-        dx, dy = sample_offsets(frame.settings.seed, x, y, s0 + k % per)
+        dx, dy = sample_offsets(settings.seed, x, y, sample)
         ray = camera_rays(frame.lens, x + dx - 0.5, y + dy - 0.5, frame.dtype)
+    if settings.integrator == PATH:
+        keys = sample_keys(settings.seed, x, y, sample)
+        return trace_paths(frame.idx, settings, frame.eps, frame.cap, ray, keys, local,
+                           end - first)  # fmt: skip
     weight = np.ones(len(k), dtype=frame.dtype)
-    return trace(frame, ray, weight, local, frame.settings.depth, end - first)
+    return trace(frame, ray, weight, local, settings.depth, end - first)
