@@ -23,9 +23,9 @@ from harness.engine.plan import (
 )
 from harness.scenery.presets import resolve_scene
 from harness.sections import DEFAULTS, NAMES, help_text, measuring, measuring_order
+from raytracer.camera import INTEGRATORS, WHITTED
 from rtc.cli import UserError, add_results_dir, cannot_write, check_memory, check_writable
 from scene import SceneError
-from raytracer.camera import INTEGRATORS, WHITTED
 from variants.registry import VariantError, load_variant, parse_variant_name
 
 if TYPE_CHECKING:

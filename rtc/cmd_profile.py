@@ -12,11 +12,11 @@ import tempfile
 from pathlib import Path
 
 from groundwork.sizes import Size
+from harness.engine.plan import refusal
 from harness.scenery.make_meshes import provide
+from raytracer.camera import INTEGRATORS, WHITTED
 from rtc.cli import UserError, check_memory
 from rtc.cmd_demo import parse_size
-from harness.engine.plan import refusal
-from raytracer.camera import INTEGRATORS, WHITTED
 from scene import SceneError, load_scene
 from variants.registry import load_variant
 

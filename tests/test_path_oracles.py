@@ -80,7 +80,9 @@ def test_the_scaled_box_scales_the_camera_and_every_shape_not_the_sky() -> None:
     items = yaml.safe_load(cases_path.scaled_box_text(1e3))
     unit = yaml.safe_load(cases_path.BOX_SCENE.read_text(encoding="utf-8"))
     camera = next(i for i in items if i.get("add") == "camera")
-    assert camera["from"] == [1e3 * v for v in next(i for i in unit if i.get("add") == "camera")["from"]]
+    assert camera["from"] == [
+        1e3 * v for v in next(i for i in unit if i.get("add") == "camera")["from"]
+    ]
     shapes = [i for i in items if i.get("add") == "sphere"]
     assert shapes and all(s["transform"][-1] == ["scale", 1e3, 1e3, 1e3] for s in shapes)
     assert all("transform" not in i for i in items if i.get("add") in ("sky", "render", "camera"))

@@ -478,7 +478,7 @@ class Bench:
                 if point.get("threads"):
                     name += f" {point['threads']} threads"
                 if entry["section"] == "convergence":  # a series per scene, and its truth
-                    name += f" {entry['scene']}" + (f" {entry['part']}" if entry.get("part") else "")
+                    name += f" {entry['scene']} {entry.get('part') or ''}".rstrip()
                 metadata = {
                     **common,
                     "variant": entry["name"],

@@ -62,23 +62,26 @@ class Mode:
     preset_size: Size
     compare_pixels: int
     side_repeat: int
-    convergence_scenes: tuple[str, ...] = ("spheres-box",)
-    convergence_size: Size = Size(24, 24)
-    convergence_compiled_size: Size = Size(96, 96)
-    convergence_samples: tuple[int, ...] = (1, 2, 4, 8, 16)
-    convergence_truth: int = 256
+    convergence_scenes: tuple[str, ...]
+    convergence_size: Size
+    convergence_compiled_size: Size
+    convergence_samples: tuple[int, ...]
+    convergence_truth: int
 
 
 QUICK = Mode(
     name="quick", size=Size(160, 120), repeat=3, budget=6.0, sweep_size=Size(64, 48),
     sweep_samples=(1, 2, 4, 8, 16), truth_samples=64, scaling_steps=4,
     preset_size=Size(500, 500), compare_pixels=300, side_repeat=1,
+    convergence_scenes=("cpp-spheres",), convergence_size=Size(16, 16),
+    convergence_compiled_size=Size(96, 96), convergence_samples=(1, 2, 4, 8, 16),
+    convergence_truth=256,
 )  # fmt: skip
 FULL = Mode(
     name="full", size=Size(640, 480), repeat=5, budget=300.0, sweep_size=Size(160, 120),
     sweep_samples=(1, 2, 4, 8, 16, 32, 64), truth_samples=256, scaling_steps=5,
     preset_size=Size(500, 500), compare_pixels=19200, side_repeat=3,
-    convergence_scenes=("spheres-box", "cpp-spheres"), convergence_size=Size(48, 48),
+    convergence_scenes=("cpp-spheres", "spheres-box"), convergence_size=Size(32, 32),
     convergence_compiled_size=Size(200, 200), convergence_samples=(1, 2, 4, 8, 16, 32, 64),
     convergence_truth=2048,
 )  # fmt: skip

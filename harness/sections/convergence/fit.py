@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 TARGET_RMSE = 0.01  # the headline: the time to this RMSE against the converged picture
+LONGEST = 1e9  # seconds (about 32 years): a time to the target beyond this is "beyond"
 
 
 @dataclass(frozen=True)
@@ -53,11 +54,14 @@ def power_law(xs: Sequence[float], ys: Sequence[float]) -> PowerLaw | None:
 
 def time_to(law: PowerLaw | None, target: float = TARGET_RMSE) -> dict[str, object] | None:
     """The wall time at which the time fit ``law`` reaches ``target``, and whether that lies
-    outside the measured times (``extrapolated``); None without a falling fit."""
+    outside the measured times (``extrapolated``); None without a falling fit. A time over
+    ``LONGEST`` is kept as ``seconds`` None, ``beyond`` ``LONGEST``."""
     if law is None:
         return None
     seconds = law.solve(target)
     if seconds is None:
         return None
+    if seconds > LONGEST:
+        return {"target": target, "seconds": None, "beyond": LONGEST, "extrapolated": True}
     inside = law.low <= seconds <= law.high
     return {"target": target, "seconds": seconds, "extrapolated": not inside}

@@ -2,7 +2,7 @@
 for each path-traced scene of the mode (``Mode.convergence_scenes``), every variant's default
 that path-traces renders it with 1, 2, 4 ... samples per pixel (one timed render each, in a
 fresh process); the fastest of them per sample then renders a converged picture (part
-``truth``: ``Mode.convergence_truth`` samples, or fewer within four budgets) with another
+``truth``: ``Mode.convergence_truth`` samples, or fewer within ten budgets) with another
 seed, so its noise is independent of theirs; each picture's RMSE against it is fitted as a
 power law of the samples and of the wall time (``fit``), with the time to an RMSE of 0.01.
 
@@ -33,6 +33,7 @@ if TYPE_CHECKING:
 
 SECTION = "convergence"
 DEPTH = 5  # the C++ report's bounces
+TRUTH_BUDGETS = 10  # the converged picture may take this many row budgets
 TRUTH_SEED_STEP = 1_000_003  # the converged picture's seed: the run's plus this
 COMPILED = ("variants.numba", "variants.wavefront")  # their tracers render compiled code
 
@@ -83,11 +84,12 @@ def per_sample(entry: dict[str, Any]) -> float:
 
 
 def truth_samples(bench: Bench, size: Size, seconds_per_sample: float) -> int:
-    """The converged picture's samples: the mode's, halved until it fits four budgets."""
+    """The converged picture's samples: the mode's, halved until it fits ``TRUTH_BUDGETS``
+    budgets (16 at the least)."""
     samples = bench.settings.mode.convergence_truth
     budget = bench.settings.budget
     if budget is not None:
-        while samples > 16 and seconds_per_sample * size.pixels * samples > 4 * budget:
+        while samples > 16 and seconds_per_sample * size.pixels * samples > TRUTH_BUDGETS * budget:
             samples //= 2
     return samples
 
@@ -98,8 +100,9 @@ def _truth(
     """The converged picture at ``size`` by ``name``: its entry (part ``truth``) and the
     picture (None when it failed)."""
     samples = truth_samples(bench, size, seconds_per_sample)
-    extra = {"part": "truth", "samples": samples, "seed": bench.settings.seed + TRUTH_SEED_STEP}
-    entry, outcome = _job(bench, name, scene, [(size, samples)], None, extra, extra["seed"])
+    seed = (bench.settings.seed + TRUTH_SEED_STEP) % 2**64
+    extra = {"part": "truth", "samples": samples, "seed": seed}
+    entry, outcome = _job(bench, name, scene, [(size, samples)], None, extra, seed)
     point = entry["points"][0] if entry.get("points") else {}
     picture = None
     if outcome.ok and point.get("image"):

@@ -39,6 +39,8 @@ def headline(entry: Mapping[str, Any]) -> str:
     found = (entry.get("fit") or {}).get("time_to")
     if not found:
         return "-" if entry.get("status") == "ok" else "failed"
+    if found["seconds"] is None:
+        return f"over {found['beyond']:.0e} s (extrapolated)"
     text = figures.seconds_text(found["seconds"])
     return f"{text} (extrapolated)" if found["extrapolated"] else text
 
