@@ -2,9 +2,10 @@
 for each path-traced scene of the mode (``Mode.convergence_scenes``), every variant's default
 that path-traces renders it with 1, 2, 4 ... samples per pixel (one timed render each, in a
 fresh process); the fastest of them per sample then renders a converged picture (part
-``truth``: ``Mode.convergence_truth`` samples, or fewer within ten budgets) with another
+``truth``: ``Mode.convergence_truth`` samples, or fewer within 20 budgets) with another
 seed, so its noise is independent of theirs; each picture's RMSE against it is fitted as a
-power law of the samples and of the wall time (``fit``), with the time to an RMSE of 0.01.
+power law of the samples and of the wall time (``fit``), with the time to an RMSE of 0.01
+(points with more than a quarter of the converged picture's samples are kept, not fitted).
 
 Python variants render at ``Mode.convergence_size``, compiled ones (numba, wavefront) at
 ``Mode.convergence_compiled_size``, each against a converged picture of its own size. A
@@ -33,7 +34,8 @@ if TYPE_CHECKING:
 
 SECTION = "convergence"
 DEPTH = 5  # the C++ report's bounces
-TRUTH_BUDGETS = 10  # the converged picture may take this many row budgets
+TRUTH_BUDGETS = 20  # the converged picture may take this many row budgets
+TRUTH_OVER = 4  # a point is fitted when the converged picture has this many times its samples
 TRUTH_SEED_STEP = 1_000_003  # the converged picture's seed: the run's plus this
 COMPILED = ("variants.numba", "variants.wavefront")  # their tracers render compiled code
 
@@ -114,10 +116,14 @@ def _truth(
     return entry, picture
 
 
-def fitted(entry: dict[str, Any]) -> None:
+def fitted(entry: dict[str, Any], truth: int) -> None:
     """The entry's fits (``fit``): RMSE against samples and against wall time, and the
-    headline, the time to an RMSE of 0.01."""
+    headline, the time to an RMSE of 0.01, over the points with at most 1/``TRUTH_OVER``
+    of the converged picture's ``truth`` samples (nearer it, its own noise is the error)."""
     done = [p for p in entry.get("points", []) if "wall" in p and p.get("error")]
+    for p in done:
+        p["fitted"] = p["samples"] * TRUTH_OVER <= truth
+    done = [p for p in done if p["fitted"]]
     rmse = [p["error"]["rmse"] for p in done]
     by_samples = power_law([p["samples"] for p in done], rmse)
     by_time = power_law([p["wall"] for p in done], rmse)
@@ -142,12 +148,14 @@ def measure_scene(bench: Bench, scene: SceneRef) -> None:
         return
     fastest = min(measured, key=lambda m: per_sample(m[0]))
     pictures: dict[Size, Any] = {}
+    truths: dict[Size, int] = {}
     for size in sorted({m[2] for m in measured}, key=lambda s: s.pixels):
         entry, picture = _truth(bench, scene, fastest[0]["name"], size, per_sample(fastest[0]))
         if picture is None:
             bench.notes.append(f"convergence of {scene.name} at {size}: the converged picture "
                                f"failed ({entry.get('error')})")  # fmt: skip
         pictures[size] = picture
+        truths[size] = int(entry.get("samples", 0))
     for entry, outcome, size in measured:
         reference = pictures.get(size)
         for point in entry.get("points", []):
@@ -156,7 +164,7 @@ def measure_scene(bench: Bench, scene: SceneRef) -> None:
                 point["error"] = imagediff.image_error(image, reference).as_dict()
             point["image"] = None
         outcome.discard()
-        fitted(entry)
+        fitted(entry, truths.get(size, 0))
         bench.series.append(entry)
 
 

@@ -26,6 +26,9 @@ def _panel(axes: Any, entries: list[Mapping[str, Any]], key: str, label: str) ->
         law = (entry.get("fit") or {}).get(key)
         slope = "" if not law else f" (slope {law['slope']:+.2f})"
         axes.plot(xs, ys, "o", color=colour, label=f"{entry['name']}{slope}")
+        loose = [(x, y) for p, x, y in zip(done, xs, ys, strict=True) if not p.get("fitted", True)]
+        if loose:  # too near the converged picture's samples: shown, not fitted
+            axes.plot(*zip(*loose, strict=True), "o", color="white", markeredgecolor=colour)
         if law:
             low, high = law["low"], law["high"]
             line = [low * (high / low) ** (k / 20) for k in range(21)]

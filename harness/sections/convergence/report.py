@@ -19,12 +19,14 @@ ABOUT = (
     "Each variant that path-traces renders the scene with 1, 2, 4 ... samples per pixel (one "
     "timed render each); its RMSE against the converged picture is fitted as a power law of "
     "the samples and of the wall time (least squares on log-log axes). Every sample's pixel "
-    "position and path numbers are independent uniform numbers (a hash of seed, pixel, "
+    "position (one sample: the pixel's centre, as in the book) and path numbers are "
+    "independent uniform numbers (a hash of seed, pixel, "
     "sample, bounce and dimension; no stratification or jitter grid), so the slope against "
     "samples is about -1/2; stratified samples would fall faster only where the pixel's area "
     "matters (edges), not in the path's noise. The converged picture has its own seed, so "
     "its noise is independent of the others'; its RMSE against the true picture is a floor "
-    "under theirs. The headline is the time to an RMSE of "
+    "under theirs, so only points with at most a quarter of its samples are fitted. The "
+    "headline is the time to an RMSE of "
     f"{TARGET_RMSE:g}, read off the time fit: extrapolated when outside the times measured."
 )
 
@@ -59,7 +61,9 @@ def _row(entry: Mapping[str, Any]) -> list[str]:
     skipped = [str(p["samples"]) for p in entry.get("points", []) if p.get("skipped")]
     size = "x".join(map(str, last["size"]))
     return [
-        f"`{entry['name']}`", size, ", ".join(str(p["samples"]) for p in done),
+        f"`{entry['name']}`", size,
+        ", ".join(f"{p['samples']}{'' if p.get('fitted', True) else ' (not fitted)'}"
+                  for p in done),
         f"{last['error']['rmse']:.4g} in {figures.seconds_text(last['wall'])}",
         _slope(entry, "samples"), _slope(entry, "time"),
         headline(entry) + (f"; {', '.join(skipped)} spp over the budget" if skipped else ""),
