@@ -5,6 +5,7 @@ on ``rtc bench`` and ``rtc profile``. No verdict depends on a time."""
 
 from __future__ import annotations
 
+import argparse
 import dataclasses
 import math
 from pathlib import Path
@@ -25,9 +26,10 @@ from harness.sections.convergence.fit import power_law, time_to
 from harness.sections.convergence.report import headline
 from raytracer.camera import PATH, WHITTED, RenderSettings
 from raytracer.tracer import Tracer
+from rtc import cmd_bench
 from rtc.cli import main
 from variants.integrators import whitted_only
-from variants.registry import tracer_variant
+from variants.registry import load_variant, tracer_variant
 
 TINY = dataclasses.replace(
     QUICK, convergence_scenes=("cpp-spheres",), convergence_size=Size(4, 3),
@@ -144,3 +146,18 @@ def test_an_unknown_integrator_is_a_one_line_error(command: str, capsys, tmp_pat
         main(args)
     err = capsys.readouterr().err
     assert stopped.value.code == 2 and "--integrator" in err and "photon" in err
+
+
+def test_bench_integrator_path_lists_a_refusing_variant_as_unavailable(tmp_path) -> None:
+    parser = argparse.ArgumentParser()
+    cmd_bench.add_arguments(parser)
+    args = ["--integrator", "path", "--variants", "naive,cached,numba", "--results-dir"]
+    settings = cmd_bench.settings_from(parser.parse_args([*args, str(tmp_path)]))
+    assert settings.integrator == PATH
+    numba = load_variant("numba")
+    why = refusal(numba, PATH)
+    if why is None:  # numba path-traces: measured like the others
+        assert settings.variants == ["naive", "cached", "numba"]
+    else:
+        assert settings.variants == ["naive", "cached"]
+        assert settings.unavailable == {"numba": why}
