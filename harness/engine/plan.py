@@ -74,8 +74,8 @@ QUICK = Mode(
     sweep_samples=(1, 2, 4, 8, 16), truth_samples=64, scaling_steps=4,
     preset_size=Size(500, 500), compare_pixels=300, side_repeat=1,
     convergence_scenes=("cpp-spheres",), convergence_size=Size(16, 16),
-    convergence_compiled_size=Size(96, 96), convergence_samples=(1, 2, 4, 8, 16),
-    convergence_truth=256,
+    convergence_compiled_size=Size(96, 96), convergence_samples=(1, 2, 4, 8),
+    convergence_truth=128,
 )  # fmt: skip
 FULL = Mode(
     name="full", size=Size(640, 480), repeat=5, budget=300.0, sweep_size=Size(160, 120),
