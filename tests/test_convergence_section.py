@@ -14,6 +14,7 @@ from typing import Any
 import pytest
 
 from groundwork.sizes import Size
+from harness.document.model import Bullets
 from harness.document.runinfo import REPORT_DIR
 from harness.engine import figures
 from harness.engine.bench import run_bench
@@ -22,6 +23,7 @@ from harness.engine.results import load_run
 from harness.report.build import build_report
 from harness.scenery.presets import SceneRef
 from harness.sections import measuring
+from harness.sections.convergence import report as convergence_report
 from harness.sections.convergence.fit import power_law, time_to
 from harness.sections.convergence.report import headline
 from raytracer.camera import PATH, WHITTED, RenderSettings
@@ -161,3 +163,13 @@ def test_bench_integrator_path_lists_a_refusing_variant_as_unavailable(tmp_path)
     else:
         assert settings.variants == ["naive", "cached"]
         assert settings.unavailable == {"numba": why}
+
+
+def test_the_report_lists_a_refusing_variant_with_its_line(tiny_run) -> None:
+    _, rtc = tiny_run
+    why = "numba has no path integrator yet (its render loop is the book's Whitted tracer)"
+    refused = {"section": "convergence", "part": "refused", "name": "numba",
+               "scene": "cpp-spheres", "status": "refused", "error": why}  # fmt: skip
+    run = {**rtc, "series": [*rtc["series"], refused]}
+    found = [b for b in convergence_report.blocks(run, None, "context") if isinstance(b, Bullets)]
+    assert found and found[-1].items == [f"`numba`: {why}"]
