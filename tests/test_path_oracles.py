@@ -84,5 +84,5 @@ def test_the_scaled_box_scales_the_camera_and_every_shape_not_the_sky() -> None:
         1e3 * v for v in next(i for i in unit if i.get("add") == "camera")["from"]
     ]
     shapes = [i for i in items if i.get("add") == "sphere"]
-    assert shapes and all(s["transform"][-1] == ["scale", 1e3, 1e3, 1e3] for s in shapes)
+    assert shapes and all(s["transform"][-2] == ["scale", 1e3, 1e3, 1e3] for s in shapes)
     assert all("transform" not in i for i in items if i.get("add") in ("sky", "render", "camera"))

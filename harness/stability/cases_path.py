@@ -27,6 +27,7 @@ from harness.engine.plan import refusal
 from harness.instruments.imagediff import canvas_array, image_error
 from harness.scenery import SCENES
 from harness.stability.model import Case, Outcome, Probe, Verdict, graded
+from harness.stability.scenes import scaled_scene_text
 from raytracer.camera import MAX_DEPTH, PATH, RenderSettings
 from scene import load_scene_text
 
@@ -66,19 +67,8 @@ def furnace_text(spheres: list[dict[str, Any]]) -> str:
 
 
 def scaled_box_text(factor: float) -> str:
-    """``scenes/spheres-box.yml`` as if written ``factor`` times larger: the camera's
-    ``from`` and ``to`` scaled, every shape's transform list extended by the scaling."""
-    items = yaml.safe_load(BOX_SCENE.read_text(encoding="utf-8"))
-    for item in items:
-        kind = item.get("add")
-        if kind == "camera":
-            item["from"] = [factor * v for v in item["from"]]
-            item["to"] = [factor * v for v in item["to"]]
-        elif kind == "light":
-            item["at"] = [factor * v for v in item["at"]]
-        elif kind not in (None, "sky", "render"):
-            item["transform"] = [*(item.get("transform") or []), ["scale", factor, factor, factor]]
-    return yaml.safe_dump(items, sort_keys=False)
+    """``scenes/spheres-box.yml`` as if written ``factor`` times larger."""
+    return scaled_scene_text(BOX_SCENE.read_text(encoding="utf-8"), factor)
 
 
 def path_render(probe: Probe, text: str, name: str, samples: int, depth: int) -> np.ndarray:
@@ -175,7 +165,7 @@ def energy_case() -> Case:
 
 
 def _box(probe: Probe, factor: float) -> np.ndarray:
-    text = BOX_SCENE.read_text(encoding="utf-8") if factor == 1 else scaled_box_text(factor)
+    text = scaled_box_text(factor)
     return path_render(probe, text, "spheres-box.yml", BOX_SAMPLES, BOX_DEPTH)
 
 
