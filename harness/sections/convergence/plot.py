@@ -8,6 +8,8 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from matplotlib.ticker import NullFormatter
+
 from harness.document.plotting import caption, plt, save
 from harness.document.runinfo import part
 from harness.sections.convergence.fit import TARGET_RMSE
@@ -37,6 +39,10 @@ def _panel(axes: Any, entries: list[Mapping[str, Any]], key: str, label: str) ->
     axes.axhline(TARGET_RMSE, color="grey", linewidth=0.8, linestyle=":")
     axes.set_xscale("log")
     axes.set_yscale("log")
+    if key == "samples":  # the counts themselves, as plain numbers
+        axes.xaxis.set_minor_formatter(NullFormatter())
+        counts = sorted({p["samples"] for e in entries for p in e["points"] if "wall" in p})
+        axes.set_xticks(counts, [str(n) for n in counts])
     axes.set_xlabel(label)
     axes.set_ylabel("RMSE against the converged picture")
     axes.grid(True, which="both", alpha=0.3)

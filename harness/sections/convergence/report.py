@@ -9,7 +9,7 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 from harness.document.model import Block, Bullets, Heading, Para, Picture, Table
-from harness.document.runinfo import part
+from harness.document.runinfo import part, skip_reason
 from harness.engine import figures
 from harness.sections.convergence.fit import TARGET_RMSE
 from harness.sections.convergence.measure import SECTION
@@ -55,8 +55,11 @@ def _slope(entry: Mapping[str, Any], key: str) -> str:
 def _row(entry: Mapping[str, Any]) -> list[str]:
     done = [p for p in entry.get("points", []) if "wall" in p and p.get("error")]
     if entry["status"] != "ok" or not done:
-        why = entry.get("error") or "no point measured within the budget"
-        return [f"`{entry['name']}`", "-", "-", "-", "-", "-", str(why)[:120]]
+        skipped = [p for p in entry.get("points", []) if p.get("skipped")]
+        why = entry.get("error") or (
+            f"not run: {skip_reason(skipped)}" if skipped else "no point measured"
+        )
+        return [f"`{entry['name']}`", "-", "-", "-", "-", "-", str(why)[:200]]
     last = done[-1]
     skipped = [str(p["samples"]) for p in entry.get("points", []) if p.get("skipped")]
     size = "x".join(map(str, last["size"]))

@@ -40,7 +40,7 @@ def _body(found: Sequence[Mapping[str, Any]]) -> list[list[str]]:
     body = []
     for row in found:
         if row["status"] == "refused":
-            body.append([f"`{row['name']}`", "not run", row.get("error", "")[:160], "-", "-", "-"])
+            body.append([f"`{row['name']}`", "not run", "-", "-", "-", row.get("error", "")])
             continue
         if row["status"] != "ok":
             body.append([f"`{row['name']}`", "failed", row.get("error", "")[:120], "-", "-", "-"])
@@ -93,7 +93,7 @@ def console_lines(run: Run) -> list[str]:
     for row in rows(run, SECTION):
         if row["status"] == "ok":
             lines.append(
-                f"{row['scene']} {row['name']:<32} {size_text(row):>9} "
+                f"{row['scene']:<16} {row['name']:<28} {size_text(row):>9} "
                 f"{figures.seconds_text(figures.median_wall(row)):>9} {'':>14} "
                 f"{figures.mrays(row):>8.3g}"
             )
