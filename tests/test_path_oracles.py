@@ -86,3 +86,12 @@ def test_the_scaled_box_scales_the_camera_and_every_shape_not_the_sky() -> None:
     shapes = [i for i in items if i.get("add") == "sphere"]
     assert shapes and all(s["transform"][-2] == ["scale", 1e3, 1e3, 1e3] for s in shapes)
     assert all("transform" not in i for i in items if i.get("add") in ("sky", "render", "camera"))
+
+
+def test_the_box_renders_at_most_its_pixels_whatever_the_probe() -> None:
+    probe = Probe(tracer_variant("reference", "test", Tracer(), base="naive"), (32, 24))
+    picture = cases_path.path_render(
+        probe, cases_path.scaled_box_text(1.0), "box.yml", 1, 1, cases_path.BOX_PIXELS
+    )
+    height, width, _ = picture.shape
+    assert width * height <= cases_path.BOX_PIXELS and width * 3 == height * 4

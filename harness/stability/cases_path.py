@@ -8,15 +8,16 @@ path tracing, whatever its random numbers.
 - Energy never created: surfaces that keep less than all (grey diffuse, a mirror, glass)
   under the same sky: no pixel brighter than L, and the grey sphere darker.
 - The closed box of radius-1e5 walls (``scenes/spheres-box.yml``, lit only by its glowing
-  spheres) scaled as a whole by 1e-3 and 1e3: finite, not black, and the unit-scale
-  picture (the random numbers are a function of the pixel and the sample, never of the
-  scene, so only rounding may differ).
+  spheres; rendered at most ``BOX_PIXELS`` pixels) scaled as a whole by 1e-3 and 1e3:
+  finite, not black, and the unit-scale picture (the random numbers are a function of the
+  pixel and the sample, never of the scene, so only rounding may differ).
 
 A variant without a path integrator is listed as such (its one line), not failed.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from typing import Any
 
@@ -37,6 +38,7 @@ FURNACE_DEPTH = MAX_DEPTH  # glass may reflect inside many times: no path is cut
 BOX_SCENE = SCENES / "spheres-box.yml"
 BOX_SAMPLES = 2
 BOX_DEPTH = 5
+BOX_PIXELS = 192  # the box's renders: the probe's size scaled down to at most this many pixels
 BOX_TOLERANCE = 0.05  # RMSE against the unit-scale picture
 BLACK_MEAN = 0.01  # a box picture darker than this on average has lost its light
 ROUNDING_ULPS = 64  # the furnace's tolerance: this many unit roundoffs of L
@@ -71,10 +73,17 @@ def scaled_box_text(factor: float) -> str:
     return scaled_scene_text(BOX_SCENE.read_text(encoding="utf-8"), factor)
 
 
-def path_render(probe: Probe, text: str, name: str, samples: int, depth: int) -> np.ndarray:
-    """The variant's path-traced picture of a scene file's ``text`` at the probe's size."""
+def path_render(
+    probe: Probe, text: str, name: str, samples: int, depth: int, pixels: int | None = None
+) -> np.ndarray:
+    """The variant's path-traced picture of a scene file's ``text`` at the probe's size
+    (scaled down to at most ``pixels`` pixels, when given)."""
     api = probe.api
-    scene = load_scene_text(text, api, path=name).resized(*probe.size)
+    width, height = probe.size
+    if pixels is not None and width * height > pixels:
+        shrink = math.sqrt(pixels / (width * height))
+        width, height = max(1, int(width * shrink)), max(1, int(height * shrink))
+    scene = load_scene_text(text, api, path=name).resized(width, height)
     world = probe.variant.world_for(scene)
     settings = RenderSettings(depth=depth, samples=samples, integrator=PATH)
     return canvas_array(api["render"](scene.camera, world, settings), api["pixel_at"])
@@ -166,7 +175,7 @@ def energy_case() -> Case:
 
 def _box(probe: Probe, factor: float) -> np.ndarray:
     text = scaled_box_text(factor)
-    return path_render(probe, text, "spheres-box.yml", BOX_SAMPLES, BOX_DEPTH)
+    return path_render(probe, text, "spheres-box.yml", BOX_SAMPLES, BOX_DEPTH, BOX_PIXELS)
 
 
 def box_case(factor: float | None) -> Case:
