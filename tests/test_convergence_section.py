@@ -25,6 +25,7 @@ from harness.scenery.presets import SceneRef
 from harness.sections import measuring
 from harness.sections.convergence import report as convergence_report
 from harness.sections.convergence.fit import power_law, time_to
+from harness.sections.convergence.measure import is_compiled
 from harness.sections.convergence.report import headline
 from raytracer.camera import PATH, WHITTED, RenderSettings
 from raytracer.tracer import Tracer
@@ -173,3 +174,8 @@ def test_the_report_lists_a_refusing_variant_with_its_line(tiny_run) -> None:
     run = {**rtc, "series": [*rtc["series"], refused]}
     found = [b for b in convergence_report.blocks(run, None, "context") if isinstance(b, Bullets)]
     assert found and found[-1].items == [f"`numba`: {why}"]
+
+
+def test_compiled_variants_render_the_larger_size() -> None:
+    assert is_compiled("numba") and is_compiled("wavefront")
+    assert not is_compiled("cached") and not is_compiled("pooled")
