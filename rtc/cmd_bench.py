@@ -18,13 +18,15 @@ from harness.engine.plan import (
     QUICK,
     BenchSettings,
     expand_variants,
+    refusal,
     split_names,
 )
 from harness.scenery.presets import resolve_scene
 from harness.sections import DEFAULTS, NAMES, help_text, measuring, measuring_order
+from raytracer.camera import INTEGRATORS, WHITTED
 from rtc.cli import UserError, add_results_dir, cannot_write, check_memory, check_writable
 from scene import SceneError
-from variants.registry import VariantError, parse_variant_name
+from variants.registry import VariantError, load_variant, parse_variant_name
 
 if TYPE_CHECKING:
     from harness.engine.plan import BenchSettings
@@ -63,6 +65,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--spp", type=int, default=1, metavar="N", help="samples per pixel")
     parser.add_argument("--depth", type=int, default=5, metavar="N", help="recursion depth")
     parser.add_argument("--seed", type=int, default=0, metavar="N", help="sampling seed")
+    parser.add_argument(
+        "--integrator", default=WHITTED, choices=INTEGRATORS,
+        help="how the table's and the other sections' renders gather light: whitted (the "
+        "book's, the default) or path (Monte Carlo path tracing); a variant that has no such "
+        "integrator is listed as unavailable with its reason (the convergence section and the "
+        "path preset always path-trace)",
+    )  # fmt: skip
     parser.add_argument(
         "--epsilon", type=float, default=None, metavar="E",
         help="the over/under-point offset (default: the book's 0.0001; the Go renderer the "
@@ -179,6 +188,7 @@ def settings_from(args: argparse.Namespace) -> BenchSettings:
         names, unavailable = expand_variants(args.variants)
     except LookupError as error:
         raise UserError(f"--variants: {error.args[0]}") from None
+    names = _integrating(names, args.integrator, unavailable)
     budget = mode.budget if args.budget is None else (args.budget or None)
     if budget is None:  # every row renders at the size asked (a budget shrinks slow rows)
         for name in (BASELINE, *names):
@@ -206,7 +216,21 @@ def settings_from(args: argparse.Namespace) -> BenchSettings:
         pass_variant=args.pass_variant,
         sweep_on=_sweep_on(args.sweep_on, sections),
         again=args.again,
+        integrator=args.integrator,
     )
+
+
+def _integrating(names: list[str], integrator: str, unavailable: dict[str, str]) -> list[str]:
+    """Of ``names``, those that render with ``integrator``; the others go to ``unavailable``
+    with their one-line reason. Naive (the reference) renders with every integrator."""
+    kept = []
+    for name in names:
+        why = refusal(load_variant(name), integrator)
+        if why is None:
+            kept.append(name)
+        else:
+            unavailable[name] = why
+    return kept
 
 
 def _sweep_on(text: str | None, sections: tuple[str, ...]) -> str | None:

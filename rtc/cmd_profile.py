@@ -12,7 +12,9 @@ import tempfile
 from pathlib import Path
 
 from groundwork.sizes import Size
+from harness.engine.plan import refusal
 from harness.scenery.make_meshes import provide
+from raytracer.camera import INTEGRATORS, WHITTED
 from rtc.cli import UserError, check_memory
 from rtc.cmd_demo import parse_size
 from scene import SceneError, load_scene
@@ -40,6 +42,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--spp", type=int, default=1, metavar="N", help="samples per pixel (default: 1)"
     )
+    parser.add_argument(
+        "--integrator", default=WHITTED, choices=INTEGRATORS,
+        help="whitted (the book's, the default) or path (Monte Carlo path tracing)",
+    )  # fmt: skip
     parser.add_argument(
         "--top", type=int, default=15, metavar="N",
         help="functions in each table (default: 15)",
@@ -81,6 +87,9 @@ def run(args: argparse.Namespace) -> int:
         variant = load_variant(args.variant)
     except LookupError as error:
         raise UserError(f"--variant: {error.args[0] if error.args else error}") from None
+    why = refusal(variant, args.integrator)
+    if why is not None:
+        raise UserError(f"--integrator {args.integrator}: {why}")
     try:
         scene = load_scene(args.scene, variant.api, variant=variant.name, provide_mesh=provide)
     except SceneError as error:
@@ -94,11 +103,13 @@ def run(args: argparse.Namespace) -> int:
     request = Request(
         variant=variant.name, scene=args.scene.resolve(), size=size, folder=folder,
         stem=f"profile-{slug(args.scene.stem)}-{slug(variant.name)}", samples=args.spp,
-        top=args.top, flame=not args.no_flame, compiled=is_compiled(variant),
+        integrator=args.integrator, top=args.top, flame=not args.no_flame,
+        compiled=is_compiled(variant),
     )  # fmt: skip
     print(
         f"profiling {args.scene} at {size} with {variant.name} ({args.spp} sample"
-        f"{'s' if args.spp > 1 else ''} per pixel, depth {request.depth})",
+        f"{'s' if args.spp > 1 else ''} per pixel, depth {request.depth}, the {args.integrator} "
+        "integrator)",
         flush=True,
     )
 

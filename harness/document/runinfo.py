@@ -78,6 +78,7 @@ def settings_line(run: Run, section: str = "table") -> str:
     return (
         f"Settings: scene `{s['scene']['name']}`, requested {s['size'][0]}x{s['size'][1]}, "
         f"{s['samples']} sample(s) per pixel, depth {s['depth']}, seed {s['seed']}, "
+        f"the {s.get('integrator', 'whitted')} integrator, "
         f"epsilon {s.get('epsilon') or 'the book default (0.0001)'}, "
         f"{s['repeat']} timed renders per row, budget {budget} per row (naive: 3x), mode "
         f"{s['mode']['name']}, CPUs: {threads}."

@@ -163,16 +163,19 @@ class Bench:
     # ------------------------------------------------------------------ plumbing
 
     def _job(
-        self, variant: str, scene: SceneRef, tasks: list[dict[str, Any]], depth: int | None = None
-    ) -> JobOutcome:
+        self, variant: str, scene: SceneRef, tasks: list[dict[str, Any]], depth: int | None = None,
+        **settings: Any,
+    ) -> JobOutcome:  # fmt: skip
         if self.watch is not None:
             self.watch.sample()
-        return run_job(*self.job_spec(variant, scene, tasks, depth))
+        return run_job(*self.job_spec(variant, scene, tasks, depth, **settings))
 
     def job_spec(
-        self, variant: str, scene: SceneRef, tasks: list[dict[str, Any]], depth: int | None = None
-    ) -> tuple[Path, dict[str, Any]]:
-        """A job's folder (numbered in the run's staging folder) and the job."""
+        self, variant: str, scene: SceneRef, tasks: list[dict[str, Any]], depth: int | None = None,
+        **settings: Any,
+    ) -> tuple[Path, dict[str, Any]]:  # fmt: skip
+        """A job's folder (numbered in the run's staging folder) and the job; ``settings``
+        replace the run's ``seed`` or ``integrator`` for this job."""
         self._jobs += 1
         job = {
             "variant": variant,
@@ -181,8 +184,13 @@ class Bench:
             "seed": self.settings.seed,
             "epsilon": self.settings.epsilon,
             "threads": self.settings.threads,
+            "integrator": self.settings.integrator,
             "tasks": tasks,
         }
+        unknown = set(settings) - {"seed", "integrator"}
+        if unknown:
+            raise TypeError(f"job_spec: no setting {', '.join(sorted(unknown))}")
+        job.update(settings)
         return self.writer.staging / "jobs" / f"{self._jobs:03d}", job
 
     def image_name(self, section: str, name: str, suffix: str = "") -> str:
@@ -227,6 +235,8 @@ class Bench:
         extra: dict[str, Any] | None = None,
         depth: int | None = None,
         picture: bool = True,
+        integrator: str | None = None,
+        tag: str = "",
     ) -> dict[str, Any]:
         """Run one row's job; keep its picture (unless ``picture`` is False: a row whose
         picture another row already shows), its error against naive and its figures. A
@@ -234,9 +244,11 @@ class Bench:
         to ``settings.again`` times (``--again``), each after waiting up to ``QUIET_WAIT`` s
         for a quieter machine (``sharing.wait_for_quiet``); the least busy measurement is
         kept, every one is listed in ``attempts``, and the row stays busy only if that one
-        was."""
+        was. ``integrator``: the row's, when not the run's (the path preset's); ``tag``: added to
+        its pictures' names, for a second row of the same variant in the section."""
         self.log(f"{section}: {name}")
-        outcome = self._job(name, scene, [task], depth)
+        chosen = {} if integrator is None else {"integrator": integrator}
+        outcome = self._job(name, scene, [task], depth, **chosen)
         row: dict[str, Any] = {
             "section": section,
             "name": name,
@@ -255,23 +267,24 @@ class Bench:
         kept: dict[str, np.ndarray] = {}
         if picture:
             image = outcome.image(measured["image"])
-            row["image"] = self.save_image(image, self.image_name(section, name))
+            row["image"] = self.save_image(image, self.image_name(section, name, tag))
             kept[_size_key(row["size"])] = image
         if measured.get("compare_image"):
             compare = outcome.image(measured["compare_image"])
-            self._compare(section, name, row, compare)
+            self._compare(section, name, row, compare, tag)
             kept[_size_key(row["compare_size"])] = compare
         outcome.discard()
         if name in self.keep_pictures:
             self.pictures[(section, name)] = kept
         if figures.is_busy(row) and self.settings.again > 0:
-            self._measure_again(row, scene, task, depth)
+            self._measure_again(row, scene, task, depth, chosen)
         self.rows.append(row)
         return row
 
     def _measure_again(
-        self, row: dict[str, Any], scene: SceneRef, task: dict[str, Any], depth: int | None
-    ) -> None:
+        self, row: dict[str, Any], scene: SceneRef, task: dict[str, Any], depth: int | None,
+        chosen: dict[str, Any],
+    ) -> None:  # fmt: skip
         """Time a busy row again (see ``measure_row``), in place."""
         name = str(row["name"])
         asked = figures.cores_asked(name, int(row.get("cores") or available_cores()))
@@ -290,7 +303,7 @@ class Bench:
                 f"{row['section']}: {name} again: it got {figures.cpu_share(best):.2f} of "
                 f"{asked} cores ({quiet})"
             )
-            outcome = self._job(name, scene, [timing], depth)
+            outcome = self._job(name, scene, [timing], depth, **chosen)
             if not outcome.ok:
                 outcome.discard()
                 attempts.append({"error": str(outcome.result.get("error", ""))[:200]})
@@ -306,12 +319,16 @@ class Bench:
         row.update({key: best[key] for key in TIMING_FIELDS if key in best})
         row["attempts"] = attempts
 
-    def _compare(self, section: str, name: str, row: dict[str, Any], image: np.ndarray) -> None:
+    def _compare(
+        self, section: str, name: str, row: dict[str, Any], image: np.ndarray, tag: str = ""
+    ) -> None:
         """The row's picture at the comparison size against naive's (naive: kept as the
         reference)."""
         key = "x".join(map(str, row["compare_size"]))
         if key != "x".join(map(str, row["size"])):
-            row["compare_image"] = self.save_image(image, self.image_name(section, name, f"-{key}"))
+            row["compare_image"] = self.save_image(
+                image, self.image_name(section, name, f"{tag}-{key}")
+            )
         if name == BASELINE:
             self.naive_images[(section, key)] = image
             row["error_vs_naive"] = None
@@ -323,7 +340,7 @@ class Bench:
         error = imagediff.image_error(image, reference)
         row["error_vs_naive"] = {**error.as_dict(), "size": key}
         heat = imagediff.heat_map(image, reference)
-        row["heatmap"] = self.save_image(heat, self.image_name(section, name, "-diff"))
+        row["heatmap"] = self.save_image(heat, self.image_name(section, name, f"{tag}-diff"))
 
     def finish_section(self, section: str) -> None:
         rows = [r for r in self.rows if r["section"] == section]
@@ -460,6 +477,8 @@ class Bench:
                 name = f"{entry['section']} {entry['name']} {w}x{h} {point['samples']}spp"
                 if point.get("threads"):
                     name += f" {point['threads']} threads"
+                if entry["section"] == "convergence":  # a series per scene, and its truth
+                    name += f" {entry['scene']} {entry.get('part') or ''}".rstrip()
                 metadata = {
                     **common,
                     "variant": entry["name"],

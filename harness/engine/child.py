@@ -41,7 +41,7 @@ from harness.engine.lifeline import watch_parent
 from harness.instruments import alloccount, raycount, usage
 from harness.instruments.imagediff import canvas_array
 from harness.scenery.presets import SceneRef, build_scene
-from raytracer.camera import RenderSettings
+from raytracer.camera import WHITTED, RenderSettings
 from variants.registry import load_variant
 
 PROBE_SECONDS = 0.25  # a probe this long is a good enough estimate
@@ -69,15 +69,15 @@ class Renderer:
         self.depth = int(job["depth"])
         self.seed = int(job["seed"])
         self.epsilon = job.get("epsilon")
+        self.integrator = str(job.get("integrator", WHITTED))
         self._settings = RenderSettings
         self._scenes: dict[Size, Any] = {}
 
     def settings(self, samples: int) -> Any:
-        if self.epsilon is None:
-            return self._settings(depth=self.depth, samples=samples, seed=self.seed)
-        return self._settings(
-            depth=self.depth, samples=samples, seed=self.seed, epsilon=float(self.epsilon)
-        )
+        extra: dict[str, Any] = {"integrator": self.integrator}
+        if self.epsilon is not None:
+            extra["epsilon"] = float(self.epsilon)
+        return self._settings(depth=self.depth, samples=samples, seed=self.seed, **extra)
 
     def scene_at(self, size: Size) -> Any:
         """(camera, world) at ``size``; the world is built once per size and reused."""

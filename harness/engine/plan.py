@@ -17,7 +17,8 @@ from harness.engine.budget import smaller_sizes
 from harness.engine.figures import PARALLEL_OPTIONS
 from harness.scenery.make_meshes import SCALE_MESHES
 from harness.scenery.presets import PRESETS, SceneRef
-from variants.registry import load_variant, parse_variant_name, registry
+from raytracer.camera import INTEGRATORS, WHITTED, RenderSettings
+from variants.registry import Variant, load_variant, parse_variant_name, registry
 
 BASELINE = "naive"
 AGAIN = 2  # a busy row is timed again up to this many times (``--again``)
@@ -45,7 +46,9 @@ class Mode:
     sweep's (ground truth rendered with ``truth_samples``); scaling_steps: how many sizes in
     the pixel-count plot; preset_size: the C++ workload's size (its own is 500x500);
     compare_pixels: the comparison size (allocations, rays, image error) has at most this
-    many pixels; side_repeat: timed renders per row of the preset and scaling sections.
+    many pixels; side_repeat: timed renders per row of the preset and scaling sections;
+    convergence_*: the convergence section's scenes (files of ``scenes/``), its sizes for
+    Python and for compiled variants, its samples per pixel and its converged picture's.
     """
 
     name: str
@@ -59,17 +62,28 @@ class Mode:
     preset_size: Size
     compare_pixels: int
     side_repeat: int
+    convergence_scenes: tuple[str, ...]
+    convergence_size: Size
+    convergence_compiled_size: Size
+    convergence_samples: tuple[int, ...]
+    convergence_truth: int
 
 
 QUICK = Mode(
     name="quick", size=Size(160, 120), repeat=3, budget=6.0, sweep_size=Size(64, 48),
     sweep_samples=(1, 2, 4, 8, 16), truth_samples=64, scaling_steps=4,
     preset_size=Size(500, 500), compare_pixels=300, side_repeat=1,
+    convergence_scenes=("cpp-spheres",), convergence_size=Size(16, 16),
+    convergence_compiled_size=Size(96, 96), convergence_samples=(1, 2, 4, 8),
+    convergence_truth=128,
 )  # fmt: skip
 FULL = Mode(
     name="full", size=Size(640, 480), repeat=5, budget=300.0, sweep_size=Size(160, 120),
     sweep_samples=(1, 2, 4, 8, 16, 32, 64), truth_samples=256, scaling_steps=5,
     preset_size=Size(500, 500), compare_pixels=19200, side_repeat=3,
+    convergence_scenes=("cpp-spheres", "spheres-box"), convergence_size=Size(32, 32),
+    convergence_compiled_size=Size(200, 200), convergence_samples=(1, 2, 4, 8, 16, 32, 64),
+    convergence_truth=2048,
 )  # fmt: skip
 MODES = {"quick": QUICK, "full": FULL}
 
@@ -87,7 +101,9 @@ class BenchSettings:
     section's (``harness.sections.light_samples.measure``); pass_variant: the ``pass-size``
     section's (``harness.sections.pass_size.measure``); sweep_on: the Dask cluster the error sweep's
     configurations run on (``harness.engine.cluster_jobs``; None: here, one after the other); again:
-    how many times a busy row is timed again (``Bench.measure_row``).
+    how many times a busy row is timed again (``Bench.measure_row``); integrator: the renders'
+    (``RenderSettings.integrator``: ``--integrator``; the convergence section and the path
+    preset path-trace whatever it is).
     """
 
     scene: SceneRef
@@ -111,6 +127,7 @@ class BenchSettings:
     pass_variant: str = "wavefront"
     sweep_on: str | None = None
     again: int = AGAIN
+    integrator: str = WHITTED
 
     def as_dict(self) -> dict[str, Any]:
         data = asdict(self)
@@ -120,8 +137,9 @@ class BenchSettings:
             key: [value.width, value.height] if isinstance(value, Size) else value
             for key, value in asdict(self.mode).items()
         }
-        data["mode"]["sweep_size"] = [self.mode.sweep_size.width, self.mode.sweep_size.height]
-        data["mode"]["preset_size"] = [self.mode.preset_size.width, self.mode.preset_size.height]
+        for key, value in vars(self.mode).items():
+            if isinstance(value, Size):
+                data["mode"][key] = [value.width, value.height]
         data["results"] = str(self.results)
         return data
 
@@ -132,6 +150,20 @@ class BenchSettings:
     @property
     def preset_scene(self) -> SceneRef:
         return SceneRef(self.preset, PRESETS[self.preset].path)
+
+
+def refusal(variant: Variant, integrator: str) -> str | None:
+    """Why ``variant`` cannot render with ``integrator`` (its tracer's one line, from
+    ``check_settings``), or None when it can (a tracer-less package: it is not asked)."""
+    if integrator not in INTEGRATORS:
+        raise ValueError(f"integrator must be {' or '.join(INTEGRATORS)}, got {integrator!r}")
+    if variant.tracer is None:
+        return None
+    try:
+        variant.tracer.check_settings(RenderSettings(integrator=integrator))
+    except ValueError as error:
+        return " ".join(str(error).split())
+    return None
 
 
 def split_names(text: str) -> list[str]:

@@ -7,6 +7,8 @@ A preset is a scene file plus the size, samples and depth it is meant to be meas
   640x480, 1 sample per pixel, depth 5.
 - ``cpp-spheres``: the C++ report's workload (``scenes/cpp-spheres.yml``): eight
   spheres and one light, 500x500, 8 samples per pixel, depth 5, reported in MRay/s.
+- ``cpp-spheres-path``: the same scene as the C++ report ran it, path-traced (chapter 21
+  here): 500x500, 8 rays per pixel, 5 bounces, its sky.
 - ``default-world``: the book's chapter 7 test world seen by its chapter 7 camera, built in
   code (no scene file), for fast tests of the harness itself.
 
@@ -24,10 +26,12 @@ from typing import Any
 from groundwork.sizes import Size
 from harness.scenery import SCENES
 from harness.scenery.make_meshes import provide
+from raytracer.camera import PATH, WHITTED
 from scene import load_scene
 from scene.context import updated
 
 BUILTIN_DEFAULT_WORLD = "default-world"
+PATH_PRESET = "cpp-spheres-path"
 
 
 @dataclass(frozen=True)
@@ -35,7 +39,8 @@ class ScenePreset:
     """A named scene with the settings it is measured at.
 
     path: the scene file (None for a scene built in code); size, samples, depth: defaults
-    for ``--full`` (the preset's own workload); about: one line for the report.
+    for ``--full`` (the preset's own workload); about: one line for the report; integrator:
+    how it is rendered (``RenderSettings.integrator``).
     """
 
     name: str
@@ -44,6 +49,7 @@ class ScenePreset:
     samples: int
     depth: int
     about: str
+    integrator: str = WHITTED
 
 
 PRESETS: dict[str, ScenePreset] = {
@@ -64,6 +70,16 @@ PRESETS: dict[str, ScenePreset] = {
             8,
             5,
             "the C++ report's workload: eight spheres, one light, 8 samples per pixel",
+        ),
+        ScenePreset(
+            PATH_PRESET,
+            SCENES / "cpp-spheres.yml",
+            Size(500, 500),
+            8,
+            5,
+            "the C++ report's workload as it ran it: path-traced, 8 rays per pixel, 5 bounces, "
+            "lit by its sky and its light",
+            PATH,
         ),
         ScenePreset(
             BUILTIN_DEFAULT_WORLD,

@@ -76,6 +76,9 @@ SECTIONS = (
     Section("scaling", "time against pixel count, throughput against workers and threads",
             default=True, after=("table",), plot_file="scaling.png"),
     Section("preset", "the C++ report's workload (cpp-spheres) in MRay/s", default=True),
+    Section("convergence", "path tracing: RMSE against a converged picture as samples grow, "
+            "against samples and time, fitted slopes, time to RMSE 0.01", default=True,
+            plot_file="convergence.png"),
     Section("scene-size", "render, load and pack time against a mesh's triangle count "
             "(minutes)", plot_file="time-vs-triangles.png"),
     Section("light-samples", "soft shadows: light cells against pixel samples",

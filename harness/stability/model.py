@@ -9,7 +9,9 @@ Verdicts, from best to worst:
 - ``wrong``: off by more (a lost hit, acne pixels, an error that does not say what is wrong,
   no error where one is due);
 - ``non-finite``: NaN or infinity where a finite answer is due;
-- ``crashed``: an exception the case did not ask for (a ZeroDivisionError deep in a render).
+- ``crashed``: an exception the case did not ask for (a ZeroDivisionError deep in a render);
+- ``not implemented``: the variant says in one line it has not what the case needs (a
+  path integrator), before rendering: no verdict on its numerics.
 """
 
 from __future__ import annotations
@@ -29,6 +31,7 @@ class Verdict(StrEnum):
     WRONG = "wrong"
     NONFINITE = "non-finite"
     CRASHED = "crashed"
+    UNSUPPORTED = "not implemented"
 
 
 PASSING = (Verdict.EXACT, Verdict.WITHIN)

@@ -25,7 +25,14 @@ REFERENCE_SCENE = SCENES / "reference.yml"
 def scaled_reference_text(factor: float, offset: float = 0.0) -> str:
     """The reference scene file scaled by ``factor`` about the origin, then moved by
     ``(offset, offset, offset)``; the unchanged text for factor 1 and offset 0."""
-    text = REFERENCE_SCENE.read_text(encoding="utf-8")
+    return scaled_scene_text(REFERENCE_SCENE.read_text(encoding="utf-8"), factor, offset)
+
+
+def scaled_scene_text(text: str, factor: float, offset: float = 0.0) -> str:
+    """A scene file's ``text`` scaled by ``factor`` about the origin, then moved by
+    ``(offset, offset, offset)``: camera ``from``/``to`` and lights moved, every top-level
+    shape's transform list extended (a sky and the render settings have no place); the
+    unchanged text for factor 1 and offset 0."""
     if factor == 1 and offset == 0:
         return text
     items = yaml.safe_load(text)
@@ -36,7 +43,7 @@ def scaled_reference_text(factor: float, offset: float = 0.0) -> str:
             item["to"] = [factor * v + offset for v in item["to"]]
         elif kind == "light":
             item["at"] = [factor * v + offset for v in item["at"]]
-        elif kind is not None:
+        elif kind not in (None, "sky", "render"):
             moved = [["scale", factor, factor, factor], ["translate", offset, offset, offset]]
             item["transform"] = list(item.get("transform") or []) + moved
     return yaml.safe_dump(items, sort_keys=False)

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from harness.engine.plan import bench_configs, split_names
 from harness.stability import (
     cases_degenerate,
+    cases_path,
     cases_rays,
     cases_refraction,
     cases_scale,
@@ -33,6 +34,7 @@ CASES: list[Case] = [
     *cases_transforms.CASES,
     *cases_refraction.CASES,
     *cases_degenerate.CASES,
+    *cases_path.CASES,
 ]
 ARITHMETIC_OPTIONS = ("float32", "fastmath")
 ROBUST = "robust"

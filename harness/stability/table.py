@@ -21,12 +21,14 @@ SHORT = {
     Verdict.WRONG.value: "WRONG",
     Verdict.NONFINITE.value: "NaN/inf",
     Verdict.CRASHED.value: "CRASH",
+    Verdict.UNSUPPORTED.value: "n/a",
 }
 LEGEND = (
     "exact: the oracle's answer (floats correctly rounded, identical pixels, the expected "
     "clear error); ok E: within the case's tolerance, off by E; WRONG E: outside it (or "
     "what is wrong where there is no number: a lost or extra hit, an unclear or no error); "
-    "NaN/inf: non-finite where a finite answer is due; CRASH: an unexpected exception. "
+    "NaN/inf: non-finite where a finite answer is due; CRASH: an unexpected exception; "
+    "n/a: the variant has not what the case needs (a path integrator) and says so. "
     "Errors are in the case's unit (its 'measure'); px, rays, points: how many were wrong."
 )
 

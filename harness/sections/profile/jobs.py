@@ -18,7 +18,7 @@ from harness.engine.jobs import job_main
 from harness.scenery.make_meshes import provide
 from harness.sections.profile.profiler import is_compiled
 from harness.sections.profile.stats import collect, summarize
-from raytracer.camera import RenderSettings
+from raytracer.camera import WHITTED, RenderSettings
 from scene import load_scene
 from variants.registry import load_variant
 
@@ -31,7 +31,10 @@ def _load(job: Mapping[str, Any], variant: Any) -> Any:
 
 
 def _settings(job: Mapping[str, Any]) -> Any:
-    return RenderSettings(depth=job["depth"], samples=job["samples"], seed=job["seed"])
+    return RenderSettings(
+        depth=job["depth"], samples=job["samples"], seed=job["seed"],
+        integrator=job.get("integrator", WHITTED),
+    )  # fmt: skip
 
 
 def _kernel_files() -> set[str]:

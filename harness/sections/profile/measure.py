@@ -21,6 +21,7 @@ from harness.sections.profile.profiler import (
     slug,
 )
 from harness.sections.profile.stats import findings
+from raytracer.camera import WHITTED
 from variants.registry import load_variant
 
 if TYPE_CHECKING:
@@ -53,6 +54,7 @@ class Plan:
     depth: int = 5
     seed: int = 0
     threads: int | None = None
+    integrator: str = WHITTED
 
 
 def plan_for(settings: Any) -> Plan:
@@ -64,7 +66,7 @@ def plan_for(settings: Any) -> Plan:
         scene = PRESETS["reference"].path
     return Plan(
         scene=Path(scene), size=profile_size(settings.size), depth=settings.depth,
-        seed=settings.seed, threads=settings.threads,
+        seed=settings.seed, threads=settings.threads, integrator=settings.integrator,
     )  # fmt: skip
 
 
@@ -87,7 +89,7 @@ def run(plan: Plan, jobs: Path, log: Log, images: Path, stem: str) -> list[dict[
             variant=variant.name, scene=plan.scene, size=plan.size, folder=work,
             stem=f"{SECTION}-{slug(variant.name)}", samples=plan.samples, depth=plan.depth,
             seed=plan.seed, top=REPORT_TOP * 2, compiled=is_compiled(variant),
-            threads=plan.threads,
+            threads=plan.threads, integrator=plan.integrator,
         )  # fmt: skip
         entry = profile(request, work.parent, lambda m: log(f"{SECTION}: {m}"))
         for key in ("image", "pstats"):

@@ -44,6 +44,7 @@ from typing import Any
 from groundwork.sizes import Size
 from harness.engine.budget import scaled
 from harness.engine.jobs import child_environment, start_child, wait_child
+from raytracer.camera import WHITTED
 
 SECTION = "profile"  # a profile is an entry of the bench's section of that name
 DEFAULT_PIXELS = 768  # the default size: the camera scaled to at most this many (32x24 at 4:3)
@@ -82,7 +83,7 @@ def py_spy() -> str | None:
 @dataclass(frozen=True)
 class Request:
     """One profile: ``variant`` (a canonical name), ``scene`` (a scene file) at ``size``;
-    samples, depth, seed: the render's settings; top: functions per table; folder: where
+    samples, depth, seed, integrator: the render's settings; top: functions per table; folder: where
     the flame graph (``STEM.svg``), the cProfile statistics (``STEM.pstats``) and the
     picture (``STEM.png``) go; flame: whether to sample the flame graph; threads: CPUs for
     a numba render (None: all); flame_seconds: how much rendering the flame graph samples
@@ -96,6 +97,7 @@ class Request:
     samples: int = 1
     depth: int = 5
     seed: int = 0
+    integrator: str = WHITTED
     top: int = 15
     flame: bool = True
     compiled: bool = False
@@ -106,7 +108,8 @@ class Request:
         return {
             "kind": kind, "variant": self.variant, "scene": str(self.scene),
             "size": [self.size.width, self.size.height], "samples": self.samples,
-            "depth": self.depth, "seed": self.seed, "top": self.top,
+            "depth": self.depth, "seed": self.seed, "integrator": self.integrator,
+            "top": self.top,
             "image": str(self.folder / f"{self.stem}.png"),
             "pstats": str(self.folder / f"{self.stem}.pstats"),
             "flame_seconds": self.flame_seconds if self.flame else 0.0,
