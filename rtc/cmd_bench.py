@@ -36,6 +36,18 @@ HELP = "time, count allocations and measure image error per variant; writes resu
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """rtc bench's options, in the order --help lists them."""
+    _what_to_render(parser)
+    _how_to_time(parser)
+    _which_sections(parser)
+    add_results_dir(parser)
+    _gate(parser)
+    _numba_targets(parser)
+
+
+def _what_to_render(parser: argparse.ArgumentParser) -> None:
+    """The scene, its size (or a preset of size, repeats and budget), the variants and how
+    each renders."""
     parser.add_argument(
         "--scene",
         default="reference",
@@ -77,6 +89,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="the over/under-point offset (default: the book's 0.0001; the Go renderer the "
         "reference scene comes from used 0.001)",
     )  # fmt: skip
+
+
+def _how_to_time(parser: argparse.ArgumentParser) -> None:
+    """The CPUs, repeats, retries and time budget of each row."""
     parser.add_argument(
         "--threads",
         type=int,
@@ -99,6 +115,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="seconds the timed renders of one row may take (naive: three times that); a "
         "slower variant is measured at a smaller size and its row says so (0: no limit)",
     )
+
+
+def _which_sections(parser: argparse.ArgumentParser) -> None:
+    """The sections to run, and the variants and meshes of those that take their own."""
     parser.add_argument(
         "--sections",
         default=",".join(DEFAULTS),
@@ -126,7 +146,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--meshes", default="all", metavar="A,B",
         help="the scene-size section's meshes: 1k, 10k, 100k, 1m (default: all)",
     )  # fmt: skip
-    add_results_dir(parser)
+
+
+def _gate(parser: argparse.ArgumentParser) -> None:
+    """The opt-in performance gate: this run against an earlier one."""
     gate = parser.add_argument_group(
         "a performance gate (opt-in; the default CI does not run it: its machine is noisy)",
         "after the run is written, compare it with RUN as rtc compare does and exit 1 when a "
@@ -141,6 +164,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--fail-slower", metavar="PCT", default=None,
         help="the slow-down allowed, e.g. 25%% (with --compare-to; without it: compare only)",
     )  # fmt: skip
+
+
+def _numba_targets(parser: argparse.ArgumentParser) -> None:
+    """rtc bench --numba-targets and its own options."""
     targets = parser.add_argument_group(
         "the numba variant's targets",
         "rtc bench --numba-targets [--runs N] [--skip SECTION] ...: the numba variant's "

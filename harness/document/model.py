@@ -1,4 +1,5 @@
-"""A tiny document model written out as Markdown and as one self-contained HTML page.
+"""A tiny document model written out as Markdown and as one self-contained HTML page, each
+by a Jinja2 template (``templates/``) whose environment escapes every value it prints.
 
 Text uses three inline marks, the same in both outputs: ```code```, ``**bold**`` and
 ``[text](path)``, a link (a path relative to the results folder, or ``#anchor``: a heading of
@@ -11,8 +12,14 @@ from __future__ import annotations
 import base64
 import html
 import re
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import cache
 from pathlib import Path
+from typing import Any
+
+import jinja2
+from markupsafe import Markup
 
 from groundwork.files import read_bytes
 
@@ -84,12 +91,6 @@ _MARKS = re.compile(
 _MD_PUNCTUATION = {ord(c): "\\" + c for c in "\\[]`"}
 
 
-def _one_line(text: str) -> str:
-    """``text`` with every line break a space: a name read from a run file cannot start a
-    heading or a new block of the Markdown (in a paragraph a line break is a space anyway)."""
-    return " ".join(text.splitlines())
-
-
 def _inside(folder: Path | None, relative: str) -> bool:
     """Whether ``relative`` is a plain relative path (letters, digits, ``._+-``, no ``..``)
     that stays inside ``folder`` once links are followed (``folder`` None: the spelling
@@ -109,114 +110,38 @@ def _safe_target(folder: Path | None, target: str) -> bool:
     return bool(_SAFE_ANCHOR.fullmatch(target)) or _inside(folder, target)
 
 
-def _inline(text: str, folder: Path | None, markdown: bool) -> str:
-    """``text`` with its marks (code, bold, link) as Markdown or HTML, and every other
-    character escaped: HTML's special characters by ``html.escape`` in both outputs (GitHub's
-    Markdown shows ``&lt;`` as ``<``), and CommonMark's link and code characters by a
-    backslash in the Markdown. A link that leaves the results folder is shown as text."""
-    out: list[str] = []
+@dataclass(frozen=True)
+class Span:
+    """A piece of text with its mark: ``kind`` is ``text``, ``code``, ``bold`` (``inner``
+    holds its spans) or ``link`` (``inner`` its label, ``target`` a checked target)."""
+
+    kind: str
+    text: str = ""
+    inner: tuple[Span, ...] = ()
+    target: str = ""
+
+
+def spans(text: str, folder: Path | None) -> list[Span]:
+    """``text`` read as its inline marks; a link that leaves the results folder is kept as
+    its label followed by its target in parentheses, as plain text."""
+    out: list[Span] = []
     at = 0
     for match in _MARKS.finditer(text):
-        out.append(_plain(text[at : match.start()], markdown))
+        if match.start() > at:
+            out.append(Span("text", text[at : match.start()]))
         at = match.end()
         if match["code"] is not None:
-            code = _one_line(match["code"]) if markdown else html.escape(match["code"])
-            out.append(f"`{code}`" if markdown else f"<code>{code}</code>")
+            out.append(Span("code", match["code"]))
         elif match["bold"] is not None:
-            inner = _inline(match["bold"], folder, markdown)
-            out.append(f"**{inner}**" if markdown else f"<strong>{inner}</strong>")
+            out.append(Span("bold", inner=tuple(spans(match["bold"], folder))))
+        elif _safe_target(folder, match["target"]):
+            label = tuple(spans(match["label"], folder))
+            out.append(Span("link", inner=label, target=match["target"]))
         else:
-            label, target = _inline(match["label"], folder, markdown), match["target"]
-            if not _safe_target(folder, target):
-                out.append(f"{label} ({_plain(target, markdown)})")
-            elif markdown:
-                out.append(f"[{label}]({target})")
-            else:
-                out.append(f'<a href="{html.escape(target)}">{label}</a>')
-    out.append(_plain(text[at:], markdown))
-    return "".join(out)
-
-
-def _plain(text: str, markdown: bool) -> str:
-    if not markdown:
-        return html.escape(text)
-    return html.escape(_one_line(text), quote=False).translate(_MD_PUNCTUATION)
-
-
-_BLOCK_START = re.compile(r"(#{1,6}|[-+*]|\d{1,9}(?=[.)]))(?=[.)]?(\s|$))")
-
-
-def _md_block(rendered: str) -> str:
-    """A paragraph's, a heading's or a list item's Markdown, which must not start another
-    block: a leading ``#`` (a heading), ``-``, ``+``, ``*`` or ``1.`` (a list) from a name is
-    escaped, and leading blanks (code) dropped."""
-    rendered = rendered.lstrip()
-    match = _BLOCK_START.match(rendered)
-    if match is None:
-        return rendered
-    end = match.end(1)
-    if rendered[:end].isdigit():  # 1. or 1): the dot or parenthesis makes the list
-        return f"{rendered[:end]}\\{rendered[end:]}"
-    return "\\" + rendered
-
-
-def _md_cell(text: str, folder: Path | None) -> str:
-    return _inline(text, folder, markdown=True).replace("|", "\\|")
-
-
-def _md_picture(p: Picture, folder: Path | None) -> str:
-    if not _inside(folder, p.path):
-        return f"*not shown: {_plain(p.path, True)} (not a file of the results folder)*"
-    alt = _plain(p.alt, True)
-    if p.width:
-        return f'<img src="{p.path}" alt="{html.escape(_one_line(p.alt))}" width="{p.width}">'
-    return f"![{alt}]({p.path})"
-
-
-def to_markdown(blocks: list[Block], folder: Path | None = None) -> str:
-    """The blocks as Markdown; pictures and links only to files inside ``folder`` (the
-    results folder the Markdown is written to; None: relative paths without ``..``)."""
-
-    def text(value: str) -> str:
-        return _md_block(_inline(value, folder, markdown=True))
-
-    out: list[str] = []
-    for block in blocks:
-        if isinstance(block, Heading):
-            out.append(f"{'#' * block.level} {text(block.text)}")
-        elif isinstance(block, Para):
-            out.append(text(block.text))
-        elif isinstance(block, Bullets):
-            out.append("\n".join(f"- {text(item)}" for item in block.items))
-        elif isinstance(block, Table):
-            lines = ["| " + " | ".join(_md_cell(h, folder) for h in block.header) + " |"]
-            lines.append(
-                "| "
-                + " | ".join(
-                    "---:" if i in block.right else "---" for i in range(len(block.header))
-                )
-                + " |"
-            )
-            lines += [
-                "| " + " | ".join(_md_cell(c, folder) for c in row) + " |" for row in block.rows
-            ]
-            out.append("\n".join(lines))
-        elif isinstance(block, Picture):
-            out.append(_md_picture(block, folder))
-        elif isinstance(block, Gallery):
-            lines = [
-                "| " + " | ".join(_md_cell(h, folder) for h in block.header) + " |",
-                "|" + " --- |" * len(block.header),
-            ]
-            for caption, pictures in block.rows:
-                cells = [_md_picture(p, folder).replace("|", "\\|") if p else "-" for p in pictures]
-                lines.append("| " + " | ".join([_md_cell(caption, folder), *cells]) + " |")
-            out.append("\n".join(lines))
-    return "\n\n".join(out) + "\n"
-
-
-def _inline_html(text: str, folder: Path | None = None) -> str:
-    return _inline(text, folder, markdown=False)
+            out += [*spans(match["label"], folder), Span("text", f" ({match['target']})")]
+    if at < len(text):
+        out.append(Span("text", text[at:]))
+    return out
 
 
 def _png_data(folder: Path, relative: str) -> bytes | str:
@@ -236,77 +161,113 @@ def _png_data(folder: Path, relative: str) -> bytes | str:
     return data
 
 
-def _html_picture(folder: Path, p: Picture) -> str:
-    width = f' width="{p.width}"' if p.width else ""
-    data = _png_data(folder, p.path)
+def _embedded(folder: Path, picture: Picture) -> tuple[str, str]:
+    """(the picture as a ``data:`` address, "") or ("", why it is not shown)."""
+    data = _png_data(folder, picture.path)
     if isinstance(data, str):
-        return f"<em>{html.escape(data)}: {html.escape(p.path)}</em>"
-    uri = "data:image/png;base64," + base64.b64encode(data).decode("ascii")
-    return f'<img src="{uri}" alt="{html.escape(p.alt)}"{width}>'
+        return "", data
+    return "data:image/png;base64," + base64.b64encode(data).decode("ascii"), ""
 
 
-STYLE = """
-body { font-family: system-ui, sans-serif; margin: 2em auto; max-width: 1200px; padding: 0 1em;
-       color: #222; }
-table { border-collapse: collapse; margin: 1em 0; font-size: 0.85em; }
-th, td { border: 1px solid #ccc; padding: 0.25em 0.5em; vertical-align: top; }
-th { background: #f0f0f0; }
-td.num { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
-table.compact { font-size: 0.78em; }
-img { image-rendering: pixelated; }
-code { background: #f4f4f4; padding: 0 0.2em; }
-"""
+# -------------------------------------------------------------- the Markdown's escaping
+
+
+def _one_line(text: str) -> str:
+    """``text`` with every line break a space: a name read from a run file cannot start a
+    heading or a new block of the Markdown (in a paragraph a line break is a space anyway)."""
+    return " ".join(text.splitlines())
+
+
+def _md_text(value: object) -> str:
+    """The Markdown environment's escaping (its ``finalize``): a value printed as it is
+    becomes plain text, on one line, with HTML's special characters as entities (GitHub's
+    Markdown shows ``&lt;`` as ``<``) and CommonMark's link and code characters after a
+    backslash. A value the template marked ``Markup`` is Markdown already."""
+    if isinstance(value, Markup):
+        return value
+    return html.escape(_one_line(str(value)), quote=False).translate(_MD_PUNCTUATION)
+
+
+_BLOCK_START = re.compile(r"(#{1,6}|[-+*]|\d{1,9}(?=[.)]))(?=[.)]?(\s|$))")
+
+
+def _md_block(rendered: str) -> Markup:
+    """A paragraph's, a heading's or a list item's Markdown, which must not start another
+    block: a leading ``#`` (a heading), ``-``, ``+``, ``*`` or ``1.`` (a list) from a name is
+    escaped, and leading blanks (code) dropped."""
+    rendered = str(rendered).lstrip()
+    match = _BLOCK_START.match(rendered)
+    if match is None:
+        return Markup(rendered)
+    end = match.end(1)
+    if rendered[:end].isdigit():  # 1. or 1): the dot or parenthesis makes the list
+        return Markup(f"{rendered[:end]}\\{rendered[end:]}")
+    return Markup("\\" + rendered)
+
+
+def _md_cell(rendered: str) -> Markup:
+    """A table cell's Markdown: a ``|`` inside (even in code) would end the cell."""
+    return Markup(str(rendered).replace("|", "\\|"))
+
+
+def _md_code(code: str) -> Markup:
+    """A code span's text: on one line, nothing escaped (a backslash is plain in code)."""
+    return Markup(_one_line(code))
+
+
+def _md_attribute(text: str) -> Markup:
+    """The ``alt`` of a picture the Markdown shows as an HTML ``<img>``."""
+    return Markup(html.escape(_one_line(text)))
+
+
+# ------------------------------------------------------------------------ the writers
+
+
+def _is(kind: type) -> Callable[[object], bool]:
+    return lambda value: isinstance(value, kind)
+
+
+@cache
+def _templates(markdown: bool) -> jinja2.Environment:
+    """The environment of one output: HTML autoescaped by Jinja2 (MarkupSafe), the Markdown
+    through ``_md_text``; every block kind a test (``block is table``)."""
+    environment = jinja2.Environment(
+        loader=jinja2.PackageLoader("harness.document", "templates"),
+        autoescape=not markdown,
+        finalize=_md_text if markdown else None,
+        undefined=jinja2.StrictUndefined,
+        trim_blocks=True,
+        lstrip_blocks=True,
+        keep_trailing_newline=True,
+    )
+    kinds = {"heading": Heading, "para": Para, "bullets": Bullets, "table": Table}
+    kinds |= {"picture": Picture, "gallery": Gallery}
+    environment.tests.update({name: _is(kind) for name, kind in kinds.items()})
+    if markdown:
+        environment.filters.update(md_block=_md_block, md_cell=_md_cell, code=_md_code)
+        environment.filters.update(attribute=_md_attribute)
+    return environment
+
+
+def _render(name: str, blocks: list[Block], folder: Path | None, **more: Any) -> str:
+    template = _templates(markdown=name.endswith(".md")).get_template(name)
+    return template.render(
+        blocks=blocks,
+        spans=lambda text: spans(text, folder),
+        inside=lambda relative: _inside(folder, relative),
+        anchor=anchor,
+        **more,
+    )
+
+
+def to_markdown(blocks: list[Block], folder: Path | None = None) -> str:
+    """The blocks as Markdown; pictures and links only to files inside ``folder`` (the
+    results folder the Markdown is written to; None: relative paths without ``..``)."""
+    return _render("page.md", blocks, folder)
 
 
 def to_html(blocks: list[Block], folder: Path, title: str) -> str:
     """One HTML page; images under ``folder`` are inlined, so the page stands alone."""
-    out = [
-        "<!DOCTYPE html>",
-        '<html lang="en"><head><meta charset="utf-8">',
-        f"<title>{html.escape(title)}</title><style>{STYLE}</style></head><body>",
-    ]
-    for block in blocks:
-        if isinstance(block, Heading):
-            ident = html.escape(anchor(block.text))
-            out.append(
-                f'<h{block.level} id="{ident}">{_inline_html(block.text, folder)}</h{block.level}>'
-            )
-        elif isinstance(block, Para):
-            out.append(f"<p>{_inline_html(block.text, folder)}</p>")
-        elif isinstance(block, Bullets):
-            out.append("<ul>" + "".join(f"<li>{_inline_html(i, folder)}</li>" for i in block.items))
-            out.append("</ul>")
-        elif isinstance(block, Table):
-            opening = '<table class="compact">' if block.compact else "<table>"
-            out.append(
-                opening
-                + "<tr>"
-                + "".join(f"<th>{_inline_html(h, folder)}</th>" for h in block.header)
-            )
-            out.append("</tr>")
-            for row in block.rows:
-                cells = [
-                    f'<td class="num">{_inline_html(c, folder)}</td>'
-                    if i in block.right
-                    else f"<td>{_inline_html(c, folder)}</td>"
-                    for i, c in enumerate(row)
-                ]
-                out.append("<tr>" + "".join(cells) + "</tr>")
-            out.append("</table>")
-        elif isinstance(block, Picture):
-            out.append(f"<p>{_html_picture(folder, block)}</p>")
-        elif isinstance(block, Gallery):
-            out.append(
-                "<table><tr>" + "".join(f"<th>{_inline_html(h, folder)}</th>" for h in block.header)
-            )
-            out.append("</tr>")
-            for caption, pictures in block.rows:
-                cells = [_html_picture(folder, p) if p else "-" for p in pictures]
-                out.append(
-                    f"<tr><td>{_inline_html(caption, folder)}</td>"
-                    + "".join(f"<td>{c}</td>" for c in cells)
-                    + "</tr>"
-                )
-            out.append("</table>")
-    out.append("</body></html>")
-    return "\n".join(out) + "\n"
+    return _render(
+        "page.html", blocks, folder, title=title, embedded=lambda p: _embedded(folder, p)
+    )

@@ -60,44 +60,16 @@ def _changes_by_run(runs: list[Run]) -> dict[int, list[Any]]:
     return found
 
 
+HISTORY_HEADER = [
+    "started (UTC)", "run", "mode", "table size", "machine", "commit", "naive per pixel",
+    "fastest (speed-up)", "significant changes",
+]  # fmt: skip
+
+
 def _history_blocks(runs: list[Run], plot: Path | None = None) -> list[Block]:
     """Every run kept, newest first, with the significant changes between them."""
     changes = _changes_by_run(runs)
-    body = []
-    for index in reversed(range(len(runs))):
-        run = runs[index]
-        table = [r for r in rows(run, "table") if r["status"] == "ok"]
-        naive = next((r for r in table if r["name"] == "naive"), None)
-        best = max(
-            (r for r in table if r.get("speedup")),
-            key=lambda r: r["speedup"]["value"],
-            default=None,
-        )
-        s = run["settings"]
-        m = run["machine"]
-        verdicts = [p.change.verdict for p in changes.get(index, []) if p.change is not None]
-        moved = (
-            f"{verdicts.count('slower')} slower, {verdicts.count('faster')} faster"
-            if verdicts
-            else "-"
-        )
-        body.append(
-            [
-                run["started"][:16].replace("T", " "),
-                f"`{run['stem']}`",
-                s["mode"]["name"],
-                f"{s['size'][0]}x{s['size'][1]}, {s['samples']} spp",
-                f"{m['hostname']}, {m.get('cpu_model', '?')}, {m['cores_available']} cores",
-                git_text(run),
-                f"{figures.median_wall(naive) / figures.pixels(naive) * 1e3:.3g} ms"
-                if naive
-                else "-",
-                f"`{best['name']}` {figures.speedup_text(best['speedup']['value'])}"
-                if best
-                else "-",
-                moved,
-            ]
-        )
+    body = [_history_row(runs[i], changes.get(i, [])) for i in reversed(range(len(runs)))]
     blocks: list[Block] = [
         Heading(2, "History"),
         Para(
@@ -111,49 +83,66 @@ def _history_blocks(runs: list[Run], plot: Path | None = None) -> list[Block]:
     ]
     if plot is not None:
         blocks.append(Picture(f"{REPORT_DIR}/{plot.name}", "time per pixel across runs"))
-    blocks.append(
-        Table(
-            [
-                "started (UTC)",
-                "run",
-                "mode",
-                "table size",
-                "machine",
-                "commit",
-                "naive per pixel",
-                "fastest (speed-up)",
-                "significant changes",
-            ],
-            body,
-        )
-    )
-    items = []
-    for index in sorted(changes, reverse=True):
-        run = runs[index]
-        cpu = run["machine"].get("cpu_model")
-        parts = []
-        other_cpus = set()
-        for point in changes[index]:
-            change = point.change
-            assert change is not None
-            marks = ", busy" if change.a.busy or change.b.busy else ""
-            before = runs[point.previous] if point.previous is not None else run
-            if before["machine"].get("cpu_model") != cpu:
-                other_cpus.add(str(before["machine"].get("cpu_model")))
-                marks += ", other CPU"
-            parts.append(
-                f"`{point.measured.key.name}` {change.ratio_text()} ({change.test_text()}{marks})"
-            )
-        where = f"commit {git_text(run)}"
-        if other_cpus:
-            where += f"; on {cpu}, the runs before on {', '.join(sorted(other_cpus))}"
-        items.append(f"`{run['stem']}` ({where}): " + "; ".join(parts) + ".")
+    blocks.append(Table(HISTORY_HEADER, body))
+    items = [_changes_item(runs, i, changes[i]) for i in sorted(changes, reverse=True)]
     if items:
         blocks += [
             Para("Significant changes from each variant's previous run, newest first:"),
             Bullets(items),
         ]
     return blocks
+
+
+def _history_row(run: Run, changes: list[Any]) -> list[str]:
+    """One run's row of the history table; ``changes``: its significant changes."""
+    table = [r for r in rows(run, "table") if r["status"] == "ok"]
+    naive = next((r for r in table if r["name"] == "naive"), None)
+    best = max(
+        (r for r in table if r.get("speedup")),
+        key=lambda r: r["speedup"]["value"],
+        default=None,
+    )
+    s = run["settings"]
+    m = run["machine"]
+    verdicts = [p.change.verdict for p in changes if p.change is not None]
+    moved = (
+        f"{verdicts.count('slower')} slower, {verdicts.count('faster')} faster" if verdicts else "-"
+    )
+    return [
+        run["started"][:16].replace("T", " "),
+        f"`{run['stem']}`",
+        s["mode"]["name"],
+        f"{s['size'][0]}x{s['size'][1]}, {s['samples']} spp",
+        f"{m['hostname']}, {m.get('cpu_model', '?')}, {m['cores_available']} cores",
+        git_text(run),
+        f"{figures.median_wall(naive) / figures.pixels(naive) * 1e3:.3g} ms" if naive else "-",
+        f"`{best['name']}` {figures.speedup_text(best['speedup']['value'])}" if best else "-",
+        moved,
+    ]
+
+
+def _changes_item(runs: list[Run], index: int, changes: list[Any]) -> str:
+    """The bullet naming run ``index``'s significant changes, marking those against a busy
+    row or a run on another CPU."""
+    run = runs[index]
+    cpu = run["machine"].get("cpu_model")
+    parts = []
+    other_cpus = set()
+    for point in changes:
+        change = point.change
+        assert change is not None
+        marks = ", busy" if change.a.busy or change.b.busy else ""
+        before = runs[point.previous] if point.previous is not None else run
+        if before["machine"].get("cpu_model") != cpu:
+            other_cpus.add(str(before["machine"].get("cpu_model")))
+            marks += ", other CPU"
+        parts.append(
+            f"`{point.measured.key.name}` {change.ratio_text()} ({change.test_text()}{marks})"
+        )
+    where = f"commit {git_text(run)}"
+    if other_cpus:
+        where += f"; on {cpu}, the runs before on {', '.join(sorted(other_cpus))}"
+    return f"`{run['stem']}` ({where}): " + "; ".join(parts) + "."
 
 
 def pick_runs(runs: Sequence[Run]) -> dict[str, Run]:

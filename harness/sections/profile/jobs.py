@@ -112,20 +112,29 @@ def stages_job(job: Mapping[str, Any]) -> dict[str, Any]:
         tracer.render_into(again, c, w, settings)
         result["trace_again"] = lap()
     spent = stages.get("trace", 0.0) + stages.get("prepare", 0.0) + stages.get("render", 0.0)
-    renders = 1
-    while spent < float(job.get("flame_seconds") or 0.0):
-        clock = time.perf_counter()
+    wanted = float(job.get("flame_seconds") or 0.0)
+    result["renders"] = 1 + _renders_for_flame(variant, (c, w, settings), wanted - spent)
+    return result
+
+
+def _renders_for_flame(variant: Any, render: tuple[Any, Any, Any], seconds: float) -> int:
+    """Untimed renders of ``render`` (camera, world, settings), again and again until they
+    took ``seconds`` (what the flame graph still needs to sample): how many."""
+    c, w, settings = render
+    tracer = variant.tracer
+    renders = 0
+    while seconds > 0:
+        start = time.perf_counter()
         if tracer is None:
             variant.api["render"](c, w, settings)
         else:
             tracer.forget()
             tracer.render_into(tracer.new_canvas(c), c, w, settings)
-        spent += lap()
+        seconds -= time.perf_counter() - start
         renders += 1
     if tracer is not None:
         tracer.forget()
-    result["renders"] = renders
-    return result
+    return renders
 
 
 def cprofile_job(job: Mapping[str, Any]) -> dict[str, Any]:

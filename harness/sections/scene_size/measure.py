@@ -44,13 +44,14 @@ a million triangles): run it on its own, ``rtc bench --sections scene-size``, an
 from __future__ import annotations
 
 import gc
+import itertools
 import math
 import statistics
 import subprocess
 import sys
 import time
 import tracemalloc
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -241,7 +242,33 @@ def run(
     """
 
     paths = {name: mesh_path(name, plan.folder) for name in plan.meshes}
-    counter = iter(range(1, 1_000_000))
+    folders = (jobs / f"mesh-{n:03d}" for n in itertools.count(1))  # one per job, in turn
+    entries = [_parse_entry(plan, paths, folders, log)]
+    first_images: dict[str, Any] = {}  # per mesh: the first variant's name and picture
+    for variant in plan.variants:
+        entry: dict[str, Any] = {"section": SECTION, "name": variant, "points": []}
+        try:
+            entry["name"] = load_variant(variant).name
+        except LookupError as error:
+            entry.update(status="unavailable", error=str(error.args[0] if error.args else error))
+            log(f"{SECTION}: {variant} not run: {entry['error']}")
+        else:
+            entry["status"] = "ok"
+            for name in plan.meshes:
+                point, picture = _render_point(plan, entry, name, paths, folders, log)
+                if picture is not None:
+                    image = np.load(picture)
+                    _picture(point, image, (entry["name"], name), first_images, save_image)
+                entry["points"].append(point)
+        entries.append(entry)
+    entries.append(commands(plan, paths, jobs, log))
+    return entries
+
+
+def _parse_entry(
+    plan: Plan, paths: dict[str, Path], folders: Iterator[Path], log: Log
+) -> dict[str, Any]:
+    """The ``obj-parse`` entry: each mesh parsed in a fresh process."""
     parse: dict[str, Any] = {"section": PARSE_SECTION, "name": "parse_obj_file", "status": "ok"}
     parse["points"] = []
     for name in plan.meshes:
@@ -252,63 +279,68 @@ def run(
             "repeat": plan.repeat,
             "tracemalloc": CATALOGUE[name].triangles <= TRACEMALLOC_MAX,
         }
-        result = _run_job(jobs / f"mesh-{next(counter):03d}", job, plan.threads)
+        result = _run_job(next(folders), job, plan.threads)
         parse["points"].append({"mesh": name, "triangles": CATALOGUE[name].triangles, **result})
-    entries = [parse]
-    first_images: dict[str, Any] = {}
-    for variant in plan.variants:
-        entry: dict[str, Any] = {"section": SECTION, "name": variant, "points": []}
-        try:
-            entry["name"] = load_variant(variant).name
-        except LookupError as error:
-            entry.update(status="unavailable", error=str(error.args[0] if error.args else error))
-            log(f"{SECTION}: {variant} not run: {entry['error']}")
-            entries.append(entry)
-            continue
-        entry["status"] = "ok"
-        for name in plan.meshes:
-            point: dict[str, Any] = {"mesh": name, "triangles": CATALOGUE[name].triangles}
-            guess = predicted_render(entry["points"], point["triangles"])
-            if plan.budget is not None and guess is not None and guess > plan.budget:
-                point["skipped"] = (
-                    f"a render predicted to take {guess:.3g} s (linear in the triangles from "
-                    f"the largest point measured), over the {plan.budget:g} s budget"
-                )
-                log(f"{SECTION}: {entry['name']} {name} skipped: {point['skipped']}")
-                entry["points"].append(point)
-                continue
-            log(f"{SECTION}: {entry['name']} {name}")
-            job = {
-                "kind": "render",
-                "variant": entry["name"],
-                "mesh": str(paths[name]),
-                "warm_mesh": str(paths[plan.meshes[0]]),
-                "size": [plan.size.width, plan.size.height],
-                "samples": plan.samples,
-                "depth": plan.depth,
-                "seed": plan.seed,
-                "repeat": plan.repeat,
-                "budget": plan.budget,
-            }
-            folder = jobs / f"mesh-{next(counter):03d}"
-            result = _run_job(folder, job, plan.threads)
-            point.update(result)
-            image_file = point.pop("image", None)
-            if image_file and "error" not in point:
-                image = np.load(folder / image_file)
-                if name not in first_images:
-                    first_images[name] = (entry["name"], image)
-                else:
-                    against, reference = first_images[name]
-                    found = image_error(image, reference).as_dict()
-                    point["difference"] = {"against": against, **found}
-                if save_image is not None:
-                    slug = "".join(c if c.isalnum() else "-" for c in entry["name"]).strip("-")
-                    point["image"] = save_image(image, f"{SECTION}-{slug}-{name[:-4]}.png")
-            entry["points"].append(point)
-        entries.append(entry)
-    entries.append(commands(plan, paths, jobs, log))
-    return entries
+    return parse
+
+
+def _render_point(
+    plan: Plan,
+    entry: dict[str, Any],
+    name: str,
+    paths: dict[str, Path],
+    folders: Iterator[Path],
+    log: Log,
+) -> tuple[dict[str, Any], Path | None]:
+    """Mesh ``name`` rendered by ``entry``'s variant in a fresh process, and the file of
+    the picture it wrote; or why not (over the budget, from the points before)."""
+    point: dict[str, Any] = {"mesh": name, "triangles": CATALOGUE[name].triangles}
+    guess = predicted_render(entry["points"], point["triangles"])
+    if plan.budget is not None and guess is not None and guess > plan.budget:
+        point["skipped"] = (
+            f"a render predicted to take {guess:.3g} s (linear in the triangles from "
+            f"the largest point measured), over the {plan.budget:g} s budget"
+        )
+        log(f"{SECTION}: {entry['name']} {name} skipped: {point['skipped']}")
+        return point, None
+    log(f"{SECTION}: {entry['name']} {name}")
+    job = {
+        "kind": "render",
+        "variant": entry["name"],
+        "mesh": str(paths[name]),
+        "warm_mesh": str(paths[plan.meshes[0]]),
+        "size": [plan.size.width, plan.size.height],
+        "samples": plan.samples,
+        "depth": plan.depth,
+        "seed": plan.seed,
+        "repeat": plan.repeat,
+        "budget": plan.budget,
+    }
+    folder = next(folders)
+    point.update(_run_job(folder, job, plan.threads))
+    image_file = point.pop("image", None)
+    return point, folder / image_file if image_file and "error" not in point else None
+
+
+def _picture(
+    point: dict[str, Any],
+    image: Any,
+    rendered: tuple[str, str],
+    first_images: dict[str, Any],
+    save_image: Callable[[Any, str], str] | None,
+) -> None:
+    """The point's picture against the first variant's of the same mesh (``difference``),
+    then kept in the run (``image``: its path there) or dropped; ``rendered``: the variant
+    and the mesh."""
+    variant, mesh = rendered
+    if mesh not in first_images:
+        first_images[mesh] = (variant, image)
+    else:
+        against, reference = first_images[mesh]
+        point["difference"] = {"against": against, **image_error(image, reference).as_dict()}
+    if save_image is not None:
+        slug = "".join(c if c.isalnum() else "-" for c in variant).strip("-")
+        point["image"] = save_image(image, f"{SECTION}-{slug}-{mesh[:-4]}.png")
 
 
 def _rtc_render(scene: Path, output: Path, size: Size, threads: int | None) -> list[str]:
