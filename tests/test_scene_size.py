@@ -321,3 +321,16 @@ def test_rtc_bench_records_the_section_and_rtc_report_draws_it(
     assert "## Cost against scene size" in readme and "| `cached` | ring-1k.obj |" in readme
     assert "### Whole commands beside POV-Ray" in readme
     assert (results / "report" / "time-vs-triangles.png").is_file()
+
+
+def test_the_pov_scene_opens_with_comments_povray_can_parse(tmp_path):
+    """What POV-Ray reads before ``#version``: comment lines only (checked without POV-Ray,
+    which CI does not have; its parser stops at anything else)."""
+    from harness.sections.scene_size.measure import pov_scene
+
+    mesh = tmp_path / "tri.obj"
+    mesh.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    text = pov_scene(mesh, Size(8, 6), tmp_path / "tri.pov").read_text()
+    head = text.split("#version 3.7;")[0].splitlines()
+    assert head and all(line.startswith("//") for line in head)
+    assert "vertex_vectors { 3," in text and "face_indices { 1," in text

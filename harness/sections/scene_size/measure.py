@@ -110,8 +110,9 @@ SCENE = """\
 Log = Callable[[str], None]
 
 
-POV_SCENE = r"""\ // the scene of rtc bench's scene-size section as POV-Ray 3.7 reads it
-(harness/sections/scene_size/measure.py)
+POV_SCENE = """\
+// the scene of rtc bench's scene-size section as POV-Ray 3.7 reads it
+// (harness/sections/scene_size/measure.py)
 #version 3.7;
 global_settings {{ assumed_gamma 1.0 ambient_light rgb <1, 1, 1> }}
 camera {{ perspective location <0, 3, -4> look_at <0, 0, 0> sky <0, 1, 0>
