@@ -286,10 +286,11 @@ def test_a_variant_without_a_tracer_refuses_the_path_integrator_in_one_line(
     tiny: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
     # a learner's tracer answers through its API alone: its render() knows no integrator
+    from rtc import cmd_render
     from variants import registry
 
     own = registry.Variant("own", "a learner's", load_variant("naive").api)
-    monkeypatch.setattr(registry, "load_variant", lambda name: own)
+    monkeypatch.setattr(cmd_render, "load_variant", lambda name: own)
     output = tmp_path / "out.png"
     line = one_line_error(
         capsys, str(tiny), "-o", str(output), "--variant", "own", "--integrator", "path"
