@@ -15,7 +15,7 @@ from groundwork.images import write_image
 from groundwork.progress import MODES, Progress, compile_ticker, duration
 from harness.scenery.make_meshes import provide
 from raytracer.camera import INTEGRATORS, PATH, RenderSettings
-from rtc.cli import UserError, check_memory, check_output
+from rtc.cli import UserError, check_memory, check_output, say
 from rtc.cmd_demo import parse_size
 from scene import SceneError, load_scene
 from variants.registry import (
@@ -311,7 +311,7 @@ def run(args: argparse.Namespace) -> int:
         )
     check_memory(variant.name, camera.hsize, camera.vsize)
     for warning in scene.warnings:
-        print(f"rtc render: warning: {warning}", file=sys.stderr, flush=True)
+        say("render", f"warning: {warning}")
     print(
         f"rendering {args.scene} at {camera.hsize}x{camera.vsize} with {variant.name} "
         f"({_describe(settings)})",

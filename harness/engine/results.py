@@ -395,6 +395,13 @@ def number_problem(value: Any, where: str) -> str | None:
     return None
 
 
+def _plain_name(text: str) -> bool:
+    """Whether ``text`` names a file and nothing more: no folder (``../``), no hidden
+    file, no control character (a run's stem is shown and linked by the report)."""
+    plain = all(c.isascii() and (c.isalnum() or c in "._-") for c in text)
+    return plain and bool(text) and text[0] != "."
+
+
 def check_run(rtc: Any, source: str) -> None:
     """A ``ResultFileError`` naming ``source`` and the first field the report cannot use
     (missing, of the wrong type, or a NaN or infinite number: ``rows[2].wall[0]``); None
@@ -403,6 +410,8 @@ def check_run(rtc: Any, source: str) -> None:
         why = _fits(rtc, RUN, "") or number_problem(rtc, "")
     except RecursionError:  # lists or objects nested hundreds deep: no run file has them
         why = "values nested too deep to check"
+    if why is None and not _plain_name(rtc["stem"]):
+        why = f"stem: expected a plain name (letters, digits, '.', '-', '_'), got {rtc['stem']!r}"
     if why is None:
         for i, row in enumerate(rtc["rows"]):
             if row["status"] == "ok":
