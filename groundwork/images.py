@@ -63,6 +63,6 @@ def write_image(canvas: Any, path: str | os.PathLike[str]) -> Path:
 
 def read_png(path: str | os.PathLike[str]) -> tuple[int, int, bytes]:
     """A PNG's ``(width, height, row-major RGB bytes)``."""
-    with Image.open(path) as image:
+    with Image.open(path, formats=["PNG"]) as image:  # never another format by its content
         rgb = image.convert("RGB")
         return rgb.width, rgb.height, rgb.tobytes()

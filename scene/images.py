@@ -1,9 +1,11 @@
 """Image files for image textures (the bonus chapter "Texture mapping"), read once per load.
 
 ``- file: NAME`` in a ``type: image`` UV pattern is read relative to the scene file's folder:
-a plain PPM (P3) through the variant's ``canvas_from_ppm``, anything else (PNG, binary PPM,
-JPEG ...) through Pillow, its 8-bit values divided by 255 like the PPM reader's (no gamma
-curve, as chapter 2's ``canvas_to_ppm`` writes them). A decoded image is kept for the rest
+a plain PPM (P3) through the variant's ``canvas_from_ppm``, a PNG or a binary PPM through
+Pillow, opened as those formats only (``PILLOW_FORMATS``: never another format Pillow would
+recognize by content, such as EPS, which it hands to Ghostscript), its 8-bit values
+divided by 255 like the PPM reader's (no gamma curve, as chapter 2's ``canvas_to_ppm``
+writes them). A decoded image is kept for the rest
 of the load (``Context.images``): a cube may show one picture on six faces.
 """
 
@@ -28,6 +30,9 @@ from scene.context import Context
 from scene.errors import SceneError
 
 PLAIN_PPM_SUFFIXES = (".ppm", ".pnm")
+# the formats the scene format documents, and no other: Pillow would otherwise open any
+# format it knows by its content (an EPS file named .png starts Ghostscript on it)
+PILLOW_FORMATS = ("PNG", "PPM")
 MAX_IMAGE_BYTES = 64 * 1024 * 1024  # a larger texture file is almost certainly a mistake
 # a texture becomes one color value a pixel (about 60 bytes each in the reference): 4096x4096
 # is about a gigabyte; more is almost certainly a mistake
@@ -215,6 +220,15 @@ def _channels(ctx: Context, node: Node, path: Path, image: Any) -> tuple[bytes, 
     return image.convert("RGB").tobytes(), 8
 
 
+def _found(data: bytes) -> str:
+    """What a texture that is no PNG or PPM holds, in words, for its error."""
+    if not data:
+        return "the file is empty"
+    if data.startswith(b"\x89PNG"):
+        return "it starts as a PNG but its header is broken or cut short"
+    return "it starts with neither a PNG's signature nor a PPM's"
+
+
 def _decode_with_pillow(ctx: Context, node: Node, path: Path, data: bytes) -> Canvas:
     # deferred: saves ~25 ms (Pillow) of every scene load without an image texture
     from PIL import Image, UnidentifiedImageError
@@ -222,14 +236,14 @@ def _decode_with_pillow(ctx: Context, node: Node, path: Path, data: bytes) -> Ca
     try:
         with warnings.catch_warnings():  # Pillow warns of a huge image on stderr; refuse it
             warnings.simplefilter("error", Image.DecompressionBombWarning)
-            with Image.open(io.BytesIO(data)) as image:
+            with Image.open(io.BytesIO(data), formats=PILLOW_FORMATS) as image:
                 _too_large(ctx, node, path, *image.size, IMAGE_BYTES_PER_PIXEL)  # before
                 image.load()  # its pixels are decoded
                 channels, bits = _channels(ctx, node, path, image)
     except SceneError:  # a ValueError, from _too_large
         raise
     except UnidentifiedImageError:
-        ctx.reader.fail(node, f"the image file {path} is not an image Pillow can read")
+        ctx.reader.fail(node, f"the image file {path} is not a PNG or PPM image: {_found(data)}")
     except (Image.DecompressionBombWarning, Image.DecompressionBombError) as error:
         ctx.reader.fail(node, f"the image file {path} is too large to read: {error}")
     except (OSError, SyntaxError, ValueError, EOFError, struct.error) as error:
