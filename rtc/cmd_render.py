@@ -11,7 +11,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from groundwork.images import write_image
+from groundwork.images import canvas_problem, write_image
 from groundwork.progress import MODES, Progress, compile_ticker, duration
 from harness.scenery.make_meshes import provide
 from raytracer.camera import INTEGRATORS, PATH, RenderSettings
@@ -339,10 +339,18 @@ def run(args: argparse.Namespace) -> int:
         image = variant.api["render"](camera, world, settings, progress)
     except RenderError as error:
         raise UserError(f"{variant.name} could not render {args.scene}: {error}") from None
+    except RecursionError:  # a learner's tracer that calls itself for ever
+        raise UserError(
+            f"{variant.name} could not render {args.scene}: its code recursed past Python's "
+            f"limit of {sys.getrecursionlimit()} calls (RecursionError)"
+        ) from None
     finally:
         unwatch()
         progress.close()
     elapsed = time.perf_counter() - start
+    wrong = canvas_problem(image, camera.hsize, camera.vsize)
+    if wrong is not None:
+        raise UserError(f"{variant.name}'s render {wrong}; nothing was written")
     try:
         write_image(image, output)
     except OSError as error:

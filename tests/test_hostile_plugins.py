@@ -9,17 +9,24 @@ one line naming its package, for ``rtc render --variant`` (exit 2) and ``rtc var
 from __future__ import annotations
 
 import importlib
+import math
 import sys
 from pathlib import Path
+from types import SimpleNamespace
+from typing import Any
 
 import pytest
 from test_hostile import one_line, scene
 
+from raytracer.canvas import Canvas, canvas
+from raytracer.colors import Color
 from rtc.cli import main
 from variants import registry
+from variants.naive import variant as naive_variant
+from variants.registry import Variant
 
 PACKAGE = "hostile_plugin_pkg"
-GOOD = f"""
+GOOD = """
 from variants.naive import variant as _naive
 
 
@@ -96,3 +103,50 @@ def test_a_plugin_that_imports_cleanly_renders(
                  str(tmp_path / "out.png")]) == 0  # fmt: skip
     capsys.readouterr()
     assert (tmp_path / "out.png").is_file()
+
+
+# ------------------------------------------------------------ a learner's render, checked
+
+
+def _nan_canvas(camera: Any) -> Any:
+    return Canvas(camera.hsize, camera.vsize, [Color(math.nan, 0, 0)] * 192)
+
+
+def _recursing(camera: Any) -> Any:
+    return _recursing(camera)
+
+
+RENDERS = {
+    "nan": (_nan_canvas, "returned 192 pixels that are not finite numbers (NaN or infinite), "
+                         "the first at x=0, y=0"),
+    "infinite": (lambda c: Canvas(c.hsize, c.vsize, [Color(0, math.inf, 0)] * 192),
+                 "returned 192 pixels that are not finite numbers"),
+    "3x2": (lambda c: canvas(3, 2), "returned a 3x2 canvas for a 16x12 camera"),
+    "none": (lambda c: None, "returned NoneType, not a canvas"),
+    "recursion": (_recursing, "recursed past Python's limit"),
+}  # fmt: skip
+
+
+@pytest.mark.parametrize("case", sorted(RENDERS))
+def test_a_learners_render_that_returns_no_picture_is_one_line_naming_it(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str],
+    case: str,
+) -> None:  # fmt: skip
+    make, words = RENDERS[case]
+
+    def render(camera: Any, world: Any, *rest: Any) -> Any:
+        return make(camera)
+
+    learner = Variant("learners", "a learner's own", {**naive_variant().api, "render": render})
+    real = registry._entry_points()
+    fake = SimpleNamespace(
+        name="learners", value="learners_pkg:variant", load=lambda: lambda: learner
+    )
+    monkeypatch.setattr(registry, "_entry_points", lambda: {**real, "learners": fake})
+    path = scene(tmp_path, "- add: sphere\n").read_text(encoding="utf-8")
+    sized = tmp_path / "sized.yml"
+    sized.write_text(path.replace("width: 8", "width: 16").replace("height: 6", "height: 12"))
+    out = tmp_path / "out.png"
+    line = one_line(capsys, "render", str(sized), "--variant", "learners", "-o", str(out))
+    assert line.startswith("rtc render: learners") and words in line, line
+    assert not out.exists()
