@@ -148,6 +148,15 @@ def writable_target(path: Path) -> int | None:
     return stat.S_IMODE(info.st_mode)
 
 
+def resolved(path: Path) -> Path:
+    """``path`` made absolute with its links followed; an ``OSError`` (``ELOOP``) for a loop
+    of symbolic links, which ``Path.resolve`` reports as a ``RuntimeError``."""
+    try:
+        return path.resolve()
+    except RuntimeError:
+        raise OSError(errno.ELOOP, "it is a loop of symbolic links", str(path)) from None
+
+
 def _temporary_beside(path: Path, data: bytes, mode: int, sync: bool) -> str:
     """A temporary file in ``path``'s folder holding ``data`` with permissions ``mode``."""
     fd, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)

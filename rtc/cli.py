@@ -17,6 +17,7 @@ from pathlib import Path
 from types import ModuleType
 
 from compiled import KernelFolderError
+from groundwork import knobs
 from groundwork.escapes import printable
 from groundwork.files import writable_target
 from groundwork.images import FORMATS
@@ -188,6 +189,8 @@ def main(argv: list[str] | None = None) -> int:
         print(f"rtc{named}: interrupted", file=sys.stderr)
         return 130
     try:
+        for problem in knobs.problems():  # numba's settings: before numba is imported
+            raise UserError(problem)
         if isinstance(getattr(args, "results_dir", None), Path):
             check_results_dir(args.results_dir)
         return int(args.run(args))
