@@ -10,12 +10,10 @@
 
 from __future__ import annotations
 
-import json
-import shutil
 from pathlib import Path
 
 import pytest
-from test_hostile import SCHEMA1, VARIANTS, one_line, scene, texture_scene
+from test_hostile import VARIANTS, one_line, scene, texture_scene
 
 from groundwork import knobs
 

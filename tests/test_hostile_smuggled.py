@@ -74,10 +74,7 @@ def test_a_control_character_in_a_scene_is_shown_escaped(
         "key": f"- add: sphere\n  {quoted}: 1\n",
         "material": f"- add: sphere\n  material: {quoted}\n",
     }
-    if where == "obj":
-        path = obj_scene(tmp_path, quoted)
-    else:
-        path = scene(tmp_path, bodies[where])
+    path = obj_scene(tmp_path, quoted) if where == "obj" else scene(tmp_path, bodies[where])
     line = one_line(capsys, "render", str(path), "--variant", "naive", "-o",
                     str(tmp_path / "out.png"))  # fmt: skip
     assert "\x1b" not in line and "\x07" not in line, repr(line)

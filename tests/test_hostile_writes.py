@@ -20,6 +20,7 @@ from test_hostile import SCHEMA1, one_line, rtc, scene
 
 from compiled import folder as compiled_folder
 from groundwork.files import write_atomically, write_new
+from harness.engine import results as results_module
 from rtc.cli import main
 
 RUN = "bench-20250101T000000000Z-aaaaaa.json"
@@ -235,3 +236,27 @@ def test_a_relative_xdg_cache_home_is_ignored(
         compiled_folder._folders.clear()
     assert folder == tmp_path / "home" / ".cache" / "rtc-workbook" / "numba-kernels"
     assert not (tmp_path / "rtc-workbook").exists() and not (tmp_path / "relative").exists()
+
+
+# ------------------------------------------------------------------ two benches, one folder
+
+
+def test_a_living_runs_staging_folder_is_kept_whatever_its_process_id_says(
+    tmp_path: Path,
+) -> None:
+    """Another PID namespace (a second container on the same results volume): the staging
+    folder's process id names no process here, but its run holds the lock and is alive."""
+    staging = tmp_path / "runs" / f"{results_module.STAGING_PREFIX}bench-x-999999999"
+    staging.mkdir(parents=True)
+    (staging / "picture.png").write_bytes(b"the other run's")
+    held = results_module._hold_lock(results_module._lock_path(staging))
+    assert held is not None
+    try:
+        assert results_module.remove_stale_staging(tmp_path) == []
+        writer = results_module.RunWriter(tmp_path)  # a second bench starting beside it
+        assert (staging / "picture.png").read_bytes() == b"the other run's"
+        writer.abandon()
+    finally:
+        os.close(held)  # the other run ends: its lock goes with it
+    assert results_module.remove_stale_staging(tmp_path) == [staging]
+    assert not staging.exists() and not list((tmp_path / "runs").iterdir())
