@@ -57,8 +57,8 @@ def canvas_problem(canvas: Any, width: int, height: int) -> str | None:
     if size != (width, height):
         return f"returned a {size[0]}x{size[1]} canvas for a {width}x{height} camera"
     array = getattr(canvas, "array", None)
-    if isinstance(array, np.ndarray):
-        bad = np.argwhere(~np.isfinite(array).all(axis=-1)) if array.ndim == 3 else []
+    if isinstance(array, np.ndarray) and array.ndim == 3:
+        bad = np.argwhere(~np.isfinite(array).all(axis=-1))
         first = None if not len(bad) else (int(bad[0][1]), int(bad[0][0]))
         count = len(bad)
     else:

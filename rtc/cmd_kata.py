@@ -62,6 +62,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 MAX_FEATURE_BYTES = 16 << 20  # the book's longest feature file is some 20 kB
+MAX_LINE = 4096  # characters in a feature file's line; the book's longest is under 200
 MAX_DEPTH = 64  # folders inside each other under the path; the project's features/ has 1
 
 
@@ -103,13 +104,25 @@ def check_features(path: Path) -> None:
         except OSError as error:
             raise UserError(f"{file}: cannot read the feature file: {error.strerror}") from None
         try:
-            data.decode("utf-8")
+            text = data.decode("utf-8")
         except UnicodeDecodeError as error:
             line = data[: error.start].count(b"\n") + 1
             raise UserError(
                 f"{file}:{line}: the feature file is not UTF-8 text (byte "
                 f"0x{data[error.start]:02x}); save it as UTF-8"
             ) from None
+        _check_lines(file, text)
+
+
+def _check_lines(file: Path, text: str) -> None:
+    """A ``UserError`` naming the first line of ``text`` longer than ``MAX_LINE`` characters:
+    the step library's patterns are not meant for such text (some backtrack for minutes)."""
+    for number, line in enumerate(text.splitlines(), 1):
+        if len(line) > MAX_LINE:
+            raise UserError(
+                f"{file}:{number}: the line is {len(line):,} characters long; feature file "
+                f"lines up to {MAX_LINE:,} are read"
+            )
 
 
 def run(args: argparse.Namespace) -> int:

@@ -10,11 +10,13 @@ quoted from a file reaches the terminal raw.
 from __future__ import annotations
 
 import io
+import os
+import stat
 from pathlib import Path
 
 import pytest
 from PIL import Image
-from test_hostile import VARIANTS, obj_scene, one_line, scene, texture_scene
+from test_hostile import VARIANTS, obj_scene, one_line, rtc, scene, texture_scene
 
 from groundwork.escapes import printable
 from rtc.cli import main
@@ -93,3 +95,52 @@ def test_a_control_character_in_a_feature_file_is_shown_escaped(
     shown = out + err
     assert "\x1b" not in shown and "\x07" not in shown, repr(shown)
     assert "s\\x1b]0;owned\\x07" in out
+
+
+# ------------------------------------------------------------------------------- no hang
+
+
+def test_rtc_kata_on_folders_nested_deep_is_one_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    deep = tmp_path / "deep"
+    here = deep
+    for _ in range(70):  # past the bound; 1,100 deep exhausted Python's stack before
+        here = here / "d"
+    here.mkdir(parents=True)
+    (here / "x.feature").write_text("Feature: f\n", encoding="utf-8")
+    line = one_line(capsys, "kata", str(deep))
+    assert line == (
+        f"rtc kata: {deep}: folders nested more than 64 deep under it; name the folder of "
+        "the feature files itself"
+    )
+
+
+def test_rtc_kata_refuses_a_step_line_of_128k_characters(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    feature = tmp_path / "long.feature"
+    feature.write_text("Feature: f\n  Scenario: s\n    Given " + "1" * 128_000 + "\n")
+    line = one_line(capsys, "kata", str(feature))
+    assert line == (
+        f"rtc kata: {feature}:3: the line is 128,010 characters long; feature file lines up "
+        "to 4,096 are read"
+    )
+
+
+@pytest.mark.parametrize("name", ["pyproject.toml", "hostile_pipe_case/tracer.py"])
+def test_rtc_new_where_a_file_is_a_named_pipe_does_not_wait_on_it(
+    tmp_path: Path, name: str
+) -> None:
+    """A real process: reading the pipe would block. A pipe as pyproject.toml registers
+    nothing (one line); as the tracer it is left alone, the rest is written."""
+    folder = tmp_path / "mine"
+    (folder / name).parent.mkdir(parents=True)
+    os.mkfifo(folder / name)
+    done = rtc("new", "hostile_pipe_case", "--dir", str(folder))
+    assert "Traceback" not in done.stderr
+    if name == "pyproject.toml":
+        assert done.returncode == 2 and done.stderr.count("\n") == 1, done.stderr
+    else:
+        assert done.returncode == 0 and "left alone: hostile_pipe_case/tracer.py" in done.stdout
+    assert stat.S_ISFIFO((folder / name).lstat().st_mode)
