@@ -39,6 +39,13 @@ def kernel_folder() -> Path:
         return folder
 
 
+def _xdg(name: str) -> str | None:
+    """An XDG base folder from the environment; None when unset or relative (the XDG rules
+    say a relative path is invalid and is to be ignored)."""
+    value = os.environ.get(name)
+    return value if value and os.path.isabs(value) else None
+
+
 def _choose_folder() -> Path:
     chosen = os.environ.get("RTC_NUMBA_KERNELS")
     if chosen:
@@ -49,9 +56,9 @@ def _choose_folder() -> Path:
                 "other user can write in (it is made if missing)"
             )
         return Path(chosen)
-    cache_home = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    cache_home = _xdg("XDG_CACHE_HOME") or str(Path.home() / ".cache")
     candidates = [Path(cache_home) / "rtc-workbook" / "numba-kernels"]
-    runtime = os.environ.get("XDG_RUNTIME_DIR")
+    runtime = _xdg("XDG_RUNTIME_DIR")
     if runtime:
         candidates.append(Path(runtime) / "rtc-numba-kernels")
     candidates.append(Path(tempfile.gettempdir()) / f"rtc-numba-kernels-{os.geteuid()}")

@@ -12,7 +12,11 @@ what is wrong (``a named pipe (FIFO), not a regular file``; ``the file is 70 MB;
 
 ``write_atomically`` writes to a temporary file in the same folder and renames it over the
 target; ``write_new`` does the same but never replaces a file that exists (results, a
-learner's files).
+learner's files). Neither writes through a symbolic link nor over anything but a regular
+file: a link (``out.png -> elsewhere.png``) is refused in one line (``OSError``) rather than
+replaced by a file or followed out of where the command writes, and so is a named pipe. A
+file written again keeps its permissions (a private 0600 picture stays private); a new one
+gets 0666 less the umask, as ``open`` would give it.
 """
 
 from __future__ import annotations
@@ -113,6 +117,46 @@ def describe(path: Path) -> str | None:
     return None if problem is None else problem.strerror
 
 
+def umask() -> int:
+    """The process's umask, read without changing it where Linux shows it (``/proc``);
+    elsewhere set and restored at once."""
+    try:
+        with open("/proc/self/status", encoding="ascii", errors="replace") as status:
+            for line in status:
+                if line.startswith("Umask:"):
+                    return int(line.split()[1], 8)
+    except (OSError, ValueError, IndexError):
+        pass
+    old = os.umask(0o022)
+    os.umask(old)
+    return old
+
+
+def writable_target(path: Path) -> int | None:
+    """The permissions of the regular file at ``path`` (None: nothing there); an ``OSError``
+    when ``path`` is a symbolic link or not a regular file (never written through or over)."""
+    try:
+        info = os.lstat(path)
+    except (FileNotFoundError, NotADirectoryError):  # nothing there; its folder says why
+        return None
+    if stat.S_ISLNK(info.st_mode):
+        why = "it is a symbolic link; name the file itself (links are not written through)"
+        raise OSError(errno.ELOOP, why, str(path))
+    problem = not_regular(info.st_mode)
+    if problem is not None:
+        raise OSError(problem.errno, problem.strerror, str(path))
+    return stat.S_IMODE(info.st_mode)
+
+
+def resolved(path: Path) -> Path:
+    """``path`` made absolute with its links followed; an ``OSError`` (``ELOOP``) for a loop
+    of symbolic links, which ``Path.resolve`` reports as a ``RuntimeError``."""
+    try:
+        return path.resolve()
+    except RuntimeError:
+        raise OSError(errno.ELOOP, "it is a loop of symbolic links", str(path)) from None
+
+
 def _temporary_beside(path: Path, data: bytes, mode: int, sync: bool) -> str:
     """A temporary file in ``path``'s folder holding ``data`` with permissions ``mode``."""
     fd, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
@@ -133,10 +177,14 @@ def _data(data: bytes | str) -> bytes:
     return data.encode("utf-8") if isinstance(data, str) else data
 
 
-def write_atomically(path: str | os.PathLike[str], data: bytes | str, mode: int = 0o644) -> Path:
+def write_atomically(path: str | os.PathLike[str], data: bytes | str) -> Path:
     """Write ``data`` (text as UTF-8) to ``path`` through a temporary file in the same folder,
-    renamed over it: a reader sees the old file or the new one, whole; returns the path."""
+    renamed over it: a reader sees the old file or the new one, whole; returns the path.
+    An existing file keeps its permissions; a link or a pipe there is an ``OSError``."""
     target = Path(path)
+    mode = writable_target(target)
+    if mode is None:
+        mode = 0o666 & ~umask()
     temporary = _temporary_beside(target, _data(data), mode, sync=False)
     try:
         os.replace(temporary, target)
@@ -150,16 +198,16 @@ def write_new(path: str | os.PathLike[str], data: bytes | str, *, sync: bool = F
     when ``path`` exists (or appears meanwhile; it is never replaced). ``sync``: on disk
     before it is named."""
     target = Path(path)
-    if target.exists():
+    if os.path.lexists(target):
         return False
-    temporary = _temporary_beside(target, _data(data), 0o644, sync)
+    temporary = _temporary_beside(target, _data(data), 0o666 & ~umask(), sync)
     try:
         try:
             os.link(temporary, target)  # atomic, and never replaces a file
         except FileExistsError:
             return False
         except OSError:  # a file system without hard links: check, then rename
-            if target.exists():
+            if os.path.lexists(target):
                 return False
             os.replace(temporary, target)
     finally:

@@ -9,10 +9,12 @@ written atomically (``groundwork.files.write_atomically``).
 from __future__ import annotations
 
 import io
+import math
 import os
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 from PIL import Image
 
 from groundwork.files import write_atomically
@@ -45,6 +47,35 @@ def _encode(canvas: Any, suffix: str) -> bytes:
     return buffer.getvalue()
 
 
+def canvas_problem(canvas: Any, width: int, height: int) -> str | None:
+    """What is wrong with ``canvas`` as the picture of a ``width`` x ``height`` camera (a
+    variant's render, perhaps a learner's): not a canvas, another size, or a pixel that is
+    not a finite number (NaN would be written black); None when it is fit to write."""
+    size = (getattr(canvas, "width", None), getattr(canvas, "height", None))
+    if not all(isinstance(side, int) for side in size) or not hasattr(canvas, "pixels"):
+        return f"returned {type(canvas).__name__}, not a canvas"
+    if size != (width, height):
+        return f"returned a {size[0]}x{size[1]} canvas for a {width}x{height} camera"
+    array = getattr(canvas, "array", None)
+    if isinstance(array, np.ndarray) and array.ndim == 3:
+        bad = np.argwhere(~np.isfinite(array).all(axis=-1))
+        first = None if not len(bad) else (int(bad[0][1]), int(bad[0][0]))
+        count = len(bad)
+    else:
+        found = [
+            i for i, p in enumerate(canvas.pixels)
+            if not (math.isfinite(p.red) and math.isfinite(p.green) and math.isfinite(p.blue))
+        ]  # fmt: skip
+        first = None if not found else (found[0] % width, found[0] // width)
+        count = len(found)
+    if first is None:
+        return None
+    return (
+        f"returned {count} pixel{'s' if count > 1 else ''} that are not finite numbers (NaN "
+        f"or infinite), the first at x={first[0]}, y={first[1]}"
+    )
+
+
 def write_image(canvas: Any, path: str | os.PathLike[str]) -> Path:
     """Write ``canvas`` to ``path`` as PNG or PPM, chosen by the extension; returns the path.
 
@@ -63,6 +94,6 @@ def write_image(canvas: Any, path: str | os.PathLike[str]) -> Path:
 
 def read_png(path: str | os.PathLike[str]) -> tuple[int, int, bytes]:
     """A PNG's ``(width, height, row-major RGB bytes)``."""
-    with Image.open(path) as image:
+    with Image.open(path, formats=["PNG"]) as image:  # never another format by its content
         rgb = image.convert("RGB")
         return rgb.width, rgb.height, rgb.tobytes()

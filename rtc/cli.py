@@ -8,6 +8,7 @@ stderr, exit status 2, no traceback.
 from __future__ import annotations
 
 import argparse
+import errno
 import importlib
 import os
 import sys
@@ -16,7 +17,9 @@ from pathlib import Path
 from types import ModuleType
 
 from compiled import KernelFolderError
-from groundwork.files import describe
+from groundwork import knobs
+from groundwork.escapes import printable
+from groundwork.files import writable_target
 from groundwork.images import FORMATS
 from groundwork.memory import NotEnoughMemory, check, render_bytes
 
@@ -87,13 +90,17 @@ def check_writable(path: Path, what: str) -> None:
         ) from None
 
 
+_FULL = (errno.ENOSPC, errno.EDQUOT, errno.EFBIG)  # what more space would cure
+
+
 def cannot_write(error: OSError, results: Path) -> str:
     """One line for a write the disk refused while a run was being kept under ``results``
     (full, read-only, over quota): what, where, and that nothing was kept."""
     where = f" {error.filename}" if error.filename else ""
+    advice = " (free some space and run again)" if error.errno in _FULL else ""
     return (
         f"cannot write{where} under {str(results)!r}: {error.strerror or error}; nothing "
-        "was kept (free some space and run again)"
+        f"was kept{advice}"
     )
 
 
@@ -110,14 +117,11 @@ def check_output(text: str) -> Path:
             f"{what}: unknown image extension {output.suffix or '(none)'}; "
             f"use {' or '.join(FORMATS)}"
         )
-    exists = _exists(output, what)
-    if exists and output.is_dir():
+    exists = _exists(output, what) or os.path.lexists(output)
+    if exists and output.is_dir() and not output.is_symlink():
         raise UserError(f"{what}: it is a folder")
-    if exists:  # a named pipe would block the writer until something reads it
-
-        odd = describe(output)
-        if odd is not None:
-            raise UserError(f"{what}: {odd}")
+    if exists:  # a link is not written through; a pipe would block the writer
+        check_target(output, what)
     folder = output.parent
     if _exists(folder, what) and not folder.is_dir():
         raise UserError(f"{what}: {str(folder)!r} is a file, not a folder")
@@ -130,6 +134,21 @@ def check_output(text: str) -> Path:
         except OSError as error:
             raise UserError(f"cannot write {text!r}: {error.strerror or error}") from None
     return output
+
+
+def check_target(path: Path, what: str) -> None:
+    """A ``UserError`` naming ``what`` when ``path`` is there and is a symbolic link or not a
+    regular file (``groundwork.files.writable_target``): nothing is written through a link."""
+    try:
+        writable_target(path)
+    except OSError as error:
+        raise UserError(f"{what}: {error.strerror or error}") from None
+
+
+def say(command: str, message: str) -> None:
+    """One line on stderr, ``rtc COMMAND: MESSAGE``, with the control characters of what the
+    message quotes from a user's file escaped (``groundwork.escapes``)."""
+    print(f"rtc {command}: {printable(message)}", file=sys.stderr, flush=True)
 
 
 def check_memory(variant: str, width: int, height: int) -> None:
@@ -170,18 +189,20 @@ def main(argv: list[str] | None = None) -> int:
         print(f"rtc{named}: interrupted", file=sys.stderr)
         return 130
     try:
+        for problem in knobs.problems():  # numba's settings: before numba is imported
+            raise UserError(problem)
         if isinstance(getattr(args, "results_dir", None), Path):
             check_results_dir(args.results_dir)
         return int(args.run(args))
     except (UserError, KernelFolderError) as error:
-        print(f"rtc {args.command}: {error}", file=sys.stderr)
+        say(args.command, str(error))
         return 2
     except KeyboardInterrupt:
         print(f"rtc {args.command}: interrupted", file=sys.stderr)
         return 130
     except MemoryError as error:  # what the checks before the work did not foresee
-        print(f"rtc {args.command}: out of memory{f': {error}' if str(error) else ''}; "
-              "try a smaller size or scene", file=sys.stderr)  # fmt: skip
+        say(args.command, f"out of memory{f': {error}' if str(error) else ''}; "
+            "try a smaller size or scene")  # fmt: skip
         return 1
     except BrokenPipeError:  # `rtc kata | head`: the reader went away; not an error of ours
         devnull = os.open(os.devnull, os.O_WRONLY)
@@ -193,7 +214,7 @@ def main(argv: list[str] | None = None) -> int:
 
         if not isinstance(error, NotImplementedYet):
             raise
-        print(f"rtc {args.command}: {error}; rtc kata --next shows what to write", file=sys.stderr)
+        say(args.command, f"{error}; rtc kata --next shows what to write")
         return 2
 
 

@@ -4,9 +4,11 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 
+from groundwork.escapes import printable
 from groundwork.files import describe, read_bytes
 from groundwork.progress import MODES, Progress
 from rtc.cli import UserError
@@ -60,6 +62,33 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 MAX_FEATURE_BYTES = 16 << 20  # the book's longest feature file is some 20 kB
+MAX_LINE = 4096  # characters in a feature file's line; the book's longest is under 200
+MAX_DEPTH = 64  # folders inside each other under the path; the project's features/ has 1
+
+
+def feature_files(folder: Path) -> list[Path]:
+    """The ``.feature`` files under ``folder``, sorted, walked without recursion (a folder
+    nested thousands deep would exhaust Python's stack) and without following links; a
+    ``UserError`` for folders nested more than ``MAX_DEPTH`` deep."""
+    found: list[Path] = []
+    stack = [(folder, 0)]
+    while stack:
+        here, depth = stack.pop()
+        if depth > MAX_DEPTH:
+            raise UserError(
+                f"{folder}: folders nested more than {MAX_DEPTH} deep under it; name the "
+                "folder of the feature files itself"
+            )
+        try:
+            entries = list(os.scandir(here))
+        except OSError as error:
+            raise UserError(f"{here}: cannot list the folder: {error.strerror}") from None
+        for entry in entries:
+            if entry.is_dir(follow_symlinks=False):
+                stack.append((Path(entry.path), depth + 1))
+            elif entry.name.endswith(".feature"):
+                found.append(Path(entry.path))
+    return sorted(found)
 
 
 def check_features(path: Path) -> None:
@@ -68,20 +97,32 @@ def check_features(path: Path) -> None:
     odd = describe(path)
     if odd is not None and not path.is_dir():
         raise UserError(f"{path}: {odd}")
-    files = [path] if not path.is_dir() else sorted(path.rglob("*.feature"))
+    files = [path] if not path.is_dir() else feature_files(path)
     for file in files:
         try:
             data = read_bytes(file, MAX_FEATURE_BYTES)
         except OSError as error:
             raise UserError(f"{file}: cannot read the feature file: {error.strerror}") from None
         try:
-            data.decode("utf-8")
+            text = data.decode("utf-8")
         except UnicodeDecodeError as error:
             line = data[: error.start].count(b"\n") + 1
             raise UserError(
                 f"{file}:{line}: the feature file is not UTF-8 text (byte "
                 f"0x{data[error.start]:02x}); save it as UTF-8"
             ) from None
+        _check_lines(file, text)
+
+
+def _check_lines(file: Path, text: str) -> None:
+    """A ``UserError`` naming the first line of ``text`` longer than ``MAX_LINE`` characters:
+    the step library's patterns are not meant for such text (some backtrack for minutes)."""
+    for number, line in enumerate(text.splitlines(), 1):
+        if len(line) > MAX_LINE:
+            raise UserError(
+                f"{file}:{number}: the line is {len(line):,} characters long; feature file "
+                f"lines up to {MAX_LINE:,} are read"
+            )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -113,10 +154,16 @@ def run(args: argparse.Namespace) -> int:
         from steps.next_scenario import next_json, next_report, next_scenario
 
         variant = result.variants[0]
-        print(next_json(result, variant) if args.json else next_report(result, variant))
+        print(next_json(result, variant) if args.json else shown(next_report(result, variant)))
         return 0 if next_scenario(result, variant) is None and not result.errors else 1
-    print(kata.as_json(result) if args.json else kata.progress_table(result))
+    print(kata.as_json(result) if args.json else shown(kata.progress_table(result)))
     return 0 if result.ok else 1
+
+
+def shown(text: str) -> str:
+    """``text``'s lines with the control characters they quote from a feature file (its
+    scenario names) escaped."""
+    return "\n".join(printable(line) for line in text.split("\n"))
 
 
 def _watch(args: argparse.Namespace, path: Path, variants: list[str]) -> int:

@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import argparse
 import shutil
-import sys
 import tempfile
 from pathlib import Path
 
@@ -15,12 +14,13 @@ from groundwork.sizes import Size
 from harness.engine.plan import refusal
 from harness.scenery.make_meshes import provide
 from raytracer.camera import INTEGRATORS, WHITTED
-from rtc.cli import UserError, check_memory
+from rtc.cli import UserError, check_memory, check_target, say
 from rtc.cmd_demo import parse_size
 from scene import SceneError, load_scene
 from variants.registry import load_variant
 
 NAME = "profile"
+OUTPUTS = (".svg", ".pstats", ".png")  # profile-SCENE-VARIANT.*: the files the profile writes
 HELP = (
     "profile a render of a scene file through a variant: the top functions by own and "
     "cumulative time, a flame graph, and (numba) the time of each stage"
@@ -95,7 +95,7 @@ def run(args: argparse.Namespace) -> int:
     except SceneError as error:
         raise UserError(str(error)) from None
     for warning in scene.warnings:
-        print(f"rtc profile: warning: {warning}", file=sys.stderr, flush=True)
+        say("profile", f"warning: {warning}")
     if size is None:
         size = profile_size(Size(scene.camera.hsize, scene.camera.vsize))
     check_memory(variant.name, size.width, size.height)
@@ -106,6 +106,9 @@ def run(args: argparse.Namespace) -> int:
         integrator=args.integrator, top=args.top, flame=not args.no_flame,
         compiled=is_compiled(variant),
     )  # fmt: skip
+    for suffix in OUTPUTS:  # never written through a link, nor into a pipe (it would block)
+        target = folder / f"{request.stem}{suffix}"
+        check_target(target, f"-o {str(args.output_dir)!r}: cannot write {target.name!r}")
     print(
         f"profiling {args.scene} at {size} with {variant.name} ({args.spp} sample"
         f"{'s' if args.spp > 1 else ''} per pixel, depth {request.depth}, the {args.integrator} "
@@ -114,7 +117,7 @@ def run(args: argparse.Namespace) -> int:
     )
 
     def log(message: str) -> None:
-        print(f"rtc profile: {message}", file=sys.stderr, flush=True)
+        say("profile", message)
 
     jobs = Path(tempfile.mkdtemp(prefix="rtc-profile-"))
     try:

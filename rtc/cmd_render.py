@@ -11,11 +11,11 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from groundwork.images import write_image
+from groundwork.images import canvas_problem, write_image
 from groundwork.progress import MODES, Progress, compile_ticker, duration
 from harness.scenery.make_meshes import provide
 from raytracer.camera import INTEGRATORS, PATH, RenderSettings
-from rtc.cli import UserError, check_memory, check_output
+from rtc.cli import UserError, check_memory, check_output, say
 from rtc.cmd_demo import parse_size
 from scene import SceneError, load_scene
 from variants.registry import (
@@ -311,7 +311,7 @@ def run(args: argparse.Namespace) -> int:
         )
     check_memory(variant.name, camera.hsize, camera.vsize)
     for warning in scene.warnings:
-        print(f"rtc render: warning: {warning}", file=sys.stderr, flush=True)
+        say("render", f"warning: {warning}")
     print(
         f"rendering {args.scene} at {camera.hsize}x{camera.vsize} with {variant.name} "
         f"({_describe(settings)})",
@@ -339,10 +339,18 @@ def run(args: argparse.Namespace) -> int:
         image = variant.api["render"](camera, world, settings, progress)
     except RenderError as error:
         raise UserError(f"{variant.name} could not render {args.scene}: {error}") from None
+    except RecursionError:  # a learner's tracer that calls itself for ever
+        raise UserError(
+            f"{variant.name} could not render {args.scene}: its code recursed past Python's "
+            f"limit of {sys.getrecursionlimit()} calls (RecursionError)"
+        ) from None
     finally:
         unwatch()
         progress.close()
     elapsed = time.perf_counter() - start
+    wrong = canvas_problem(image, camera.hsize, camera.vsize)
+    if wrong is not None:
+        raise UserError(f"{variant.name}'s render {wrong}; nothing was written")
     try:
         write_image(image, output)
     except OSError as error:

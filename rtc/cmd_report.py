@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 
-from rtc.cli import UserError, add_results_dir, cannot_write, check_writable
+from rtc.cli import UserError, add_results_dir, cannot_write, check_writable, say
 
 NAME = "report"
 HELP = "write results/README.md and a self-contained results/report.html from results/runs/"
@@ -20,20 +21,25 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     # deferred: saves ~2 s of rtc --help (the report: matplotlib, every section)
-    from harness.report.build import build_report
+    from harness.report.build import ReportError, build_report
 
     def warn(problem: str) -> None:  # one line per file on stderr; the report goes on
-        print(f"rtc report: warning: skipped {problem}", file=sys.stderr, flush=True)
+        say("report", f"warning: skipped {problem}")
 
     check_writable(args.results_dir, f"--results-dir {str(args.results_dir)!r}")
+    results = Path(args.results_dir)
+    if results.is_symlink():  # written through, but said: it may be another project's
+        print(f"rtc report: note: {results} is a link to {results.resolve()}; the report is "
+              "written there", file=sys.stderr, flush=True)  # fmt: skip
     try:
-        readme, page, _ = build_report(args.results_dir, warn)
-    except FileNotFoundError as error:
+        readme, page, _ = build_report(results, warn)
+    except (FileNotFoundError, ReportError) as error:
         raise UserError(str(error)) from None
     except OSError as error:  # a full disk: each file is written whole or not at all
-        raise UserError(cannot_write(error, args.results_dir)) from None
+        raise UserError(cannot_write(error, results)) from None
     print(f"rtc report: wrote {readme} and {page}")
-    project_readme = Path(args.results_dir).resolve().parent / "README.md"
+    # the README beside the results folder as named, not beside where a link leads
+    project_readme = Path(os.path.abspath(results)).parent / "README.md"
     if update_readme(project_readme, args.results_dir):
         print(f"rtc report: updated the figures in {project_readme}")
     return 0
@@ -52,5 +58,5 @@ def update_readme(readme: Path, results: Path) -> bool:
     try:
         return readme_figures.rewrite(readme, runs)
     except OSError as error:
-        print(f"rtc report: warning: cannot update {readme}: {error}", file=sys.stderr)
+        say("report", f"warning: cannot update {readme}: {error}")
         return False

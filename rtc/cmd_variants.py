@@ -7,6 +7,7 @@ import argparse
 import textwrap
 from collections import defaultdict
 
+from groundwork.escapes import printable
 from raytracer.api import BOOK_API
 from variants.registry import Variant, registry
 
@@ -123,7 +124,7 @@ def run(args: argparse.Namespace) -> int:
         return 0
     for entry in registry(everything=True):
         if entry.variant is None:
-            print(f"{entry.name:<12} unavailable {entry.reason}")
+            print(f"{entry.name:<12} unavailable {printable(entry.reason or '')}")
             continue
         print("\n".join(describe(entry.name, entry.variant)))
     return 0

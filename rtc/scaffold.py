@@ -253,6 +253,9 @@ scenarios (in the rtc workbook) are the tests; `{variant}/tracer.py` is the code
 # ----------------------------------------------------------------------------- writing
 
 
+MAX_LEARNER_FILE_BYTES = 4 << 20  # a pyproject.toml or tracer.py; never a pipe or a device
+
+
 def entry_point_line(variant: str) -> str:
     return f'{variant} = "{variant}.variant:variant"'
 
@@ -260,7 +263,7 @@ def entry_point_line(variant: str) -> str:
 def registers(pyproject: Path, variant: str) -> bool:
     """True if ``pyproject`` registers ``variant`` in the ``rtc.variants`` group."""
     try:
-        data = tomllib.loads(pyproject.read_text(encoding="utf-8"))
+        data = tomllib.loads(groundwork.files.read_text(pyproject, MAX_LEARNER_FILE_BYTES))
     except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
         return False
     group = data.get("project", {}).get("entry-points", {}).get("rtc.variants", {})
@@ -271,7 +274,7 @@ def defined_names(tracer: Path) -> set[str] | None:
     """The top-level names ``tracer`` defines, or None when that cannot be known from its
     text (a syntax error, or ``from x import *``)."""
     try:
-        tree = ast.parse(tracer.read_text(encoding="utf-8"))
+        tree = ast.parse(groundwork.files.read_text(tracer, MAX_LEARNER_FILE_BYTES))
     except (OSError, SyntaxError, UnicodeDecodeError, ValueError):
         return None
     names: set[str] = set()

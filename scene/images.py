@@ -1,15 +1,18 @@
 """Image files for image textures (the bonus chapter "Texture mapping"), read once per load.
 
 ``- file: NAME`` in a ``type: image`` UV pattern is read relative to the scene file's folder:
-a plain PPM (P3) through the variant's ``canvas_from_ppm``, anything else (PNG, binary PPM,
-JPEG ...) through Pillow, its 8-bit values divided by 255 like the PPM reader's (no gamma
-curve, as chapter 2's ``canvas_to_ppm`` writes them). A decoded image is kept for the rest
+a plain PPM (P3) through the variant's ``canvas_from_ppm``, a PNG or a binary PPM through
+Pillow, opened as those formats only (``PILLOW_FORMATS``: never another format Pillow would
+recognize by content, such as EPS, which it hands to Ghostscript), its 8-bit values
+divided by 255 like the PPM reader's (no gamma curve, as chapter 2's ``canvas_to_ppm``
+writes them). A decoded image is kept for the rest
 of the load (``Context.images``): a cube may show one picture on six faces.
 """
 
 from __future__ import annotations
 
 import io
+import re
 import struct
 import warnings
 from array import array
@@ -20,7 +23,7 @@ from typing import Any, overload
 import numpy as np
 from yaml.nodes import Node
 
-from groundwork.files import describe, read_bytes
+from groundwork.files import describe, read_bytes, resolved
 from groundwork.memory import NotEnoughMemory, check
 from raytracer.canvas import Canvas
 from raytracer.colors import Color
@@ -28,6 +31,9 @@ from scene.context import Context
 from scene.errors import SceneError
 
 PLAIN_PPM_SUFFIXES = (".ppm", ".pnm")
+# the formats the scene format documents, and no other: Pillow would otherwise open any
+# format it knows by its content (an EPS file named .png starts Ghostscript on it)
+PILLOW_FORMATS = ("PNG", "PPM")
 MAX_IMAGE_BYTES = 64 * 1024 * 1024  # a larger texture file is almost certainly a mistake
 # a texture becomes one color value a pixel (about 60 bytes each in the reference): 4096x4096
 # is about a gigabyte; more is almost certainly a mistake
@@ -41,7 +47,10 @@ IMAGE_BYTES_PER_PIXEL = 24
 def image_path(ctx: Context, node: Node) -> Path:
     """The image file a ``file:`` names, relative to the scene file; it must exist."""
     name = ctx.reader.string(node, "the image's file")
-    path = (ctx.reader.path.parent / name).resolve()
+    try:
+        path = resolved(ctx.reader.path.parent / name)
+    except OSError as error:
+        ctx.reader.fail(node, f"cannot read image file {error.filename}: {error.strerror}")
     odd = describe(path)  # a named pipe would block the reader, a device never end
     if odd is not None:
         ctx.reader.fail(node, f"cannot read image file {path}: {odd}")
@@ -78,17 +87,15 @@ def _decode(ctx: Context, node: Node, path: Path) -> Any:
     return _decode_with_pillow(ctx, node, path, data)
 
 
-def _plain_ppm_size(data: bytes) -> tuple[int, int] | None:
-    """A plain PPM's width and height from its header (Pillow reads it without the pixels),
-    or None when Pillow cannot read the header."""
-    # deferred: saves ~25 ms (Pillow) of every scene load without an image texture
-    from PIL import Image
+_PPM_HEADER = re.compile(rb"P3(?:\s|#[^\n]*\n)+(\d{1,12})(?:\s|#[^\n]*\n)+(\d{1,12})\s")
 
-    try:
-        with Image.open(io.BytesIO(data), formats=["PPM"]) as image:
-            return image.size
-    except (OSError, SyntaxError, ValueError, EOFError):
-        return None
+
+def _plain_ppm_size(data: bytes) -> tuple[int, int] | None:
+    """A plain PPM's width and height from its header, read without the pixels (any size:
+    ``_too_large`` judges it), or None when there is no such header (the reader then says
+    what is wrong)."""
+    header = _PPM_HEADER.match(data[:4096])
+    return None if header is None else (int(header[1]), int(header[2]))
 
 
 def _too_large(
@@ -215,6 +222,15 @@ def _channels(ctx: Context, node: Node, path: Path, image: Any) -> tuple[bytes, 
     return image.convert("RGB").tobytes(), 8
 
 
+def _found(data: bytes) -> str:
+    """What a texture that is no PNG or PPM holds, in words, for its error."""
+    if not data:
+        return "the file is empty"
+    if data.startswith(b"\x89PNG"):
+        return "it starts as a PNG but its header is broken or cut short"
+    return "it starts with neither a PNG's signature nor a PPM's"
+
+
 def _decode_with_pillow(ctx: Context, node: Node, path: Path, data: bytes) -> Canvas:
     # deferred: saves ~25 ms (Pillow) of every scene load without an image texture
     from PIL import Image, UnidentifiedImageError
@@ -222,14 +238,14 @@ def _decode_with_pillow(ctx: Context, node: Node, path: Path, data: bytes) -> Ca
     try:
         with warnings.catch_warnings():  # Pillow warns of a huge image on stderr; refuse it
             warnings.simplefilter("error", Image.DecompressionBombWarning)
-            with Image.open(io.BytesIO(data)) as image:
+            with Image.open(io.BytesIO(data), formats=PILLOW_FORMATS) as image:
                 _too_large(ctx, node, path, *image.size, IMAGE_BYTES_PER_PIXEL)  # before
                 image.load()  # its pixels are decoded
                 channels, bits = _channels(ctx, node, path, image)
     except SceneError:  # a ValueError, from _too_large
         raise
     except UnidentifiedImageError:
-        ctx.reader.fail(node, f"the image file {path} is not an image Pillow can read")
+        ctx.reader.fail(node, f"the image file {path} is not a PNG or PPM image: {_found(data)}")
     except (Image.DecompressionBombWarning, Image.DecompressionBombError) as error:
         ctx.reader.fail(node, f"the image file {path} is too large to read: {error}")
     except (OSError, SyntaxError, ValueError, EOFError, struct.error) as error:

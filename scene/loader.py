@@ -344,6 +344,12 @@ def _light(state: _Loading, node: Node, entries: dict[str, Entry]) -> None:
     ctx, reader = state.ctx, state.ctx.reader
     reader.check_keys(entries, LIGHT_KEYS, "the light")
     at = reader.numbers(reader.require(entries, "at", node, "the light"), "the light's at", 3)
+    if not math.isfinite(at[0] * at[0] + at[1] * at[1] + at[2] * at[2]):  # shadow rays square it
+        reader.fail(
+            entries["at"].value,
+            f"the light's at is too far for floating point ({math.hypot(*at):.3g} from the "
+            "origin: the shadow rays' lengths overflow); expected up to about 1e150",
+        )
     intensity = read_color(
         ctx, reader.require(entries, "intensity", node, "the light"), "the light's intensity"
     )

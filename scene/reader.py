@@ -94,14 +94,29 @@ def line_of(node: Node) -> int:
 
 
 def describe(node: Node) -> str:
-    """A short account of a node for an error message: its text, or what kind it is."""
+    """A short account of a node for an error message: its text, or what kind it is, and
+    a YAML tag the scene format does not read (``!!python/name:...``)."""
     if isinstance(node, ScalarNode):
         text = str(node.value)
         text = text if len(text) <= 60 else text[:57] + "..."  # a message stays readable
-        return repr(text) if node.tag == _STR_TAG else text
-    if isinstance(node, SequenceNode):
-        return "a list"
-    return "a mapping"
+        shown = repr(text) if node.tag == _STR_TAG else text
+    else:
+        shown = "a list" if isinstance(node, SequenceNode) else "a mapping"
+    return shown + _foreign_tag(node)
+
+
+_YAML_TAG = "tag:yaml.org,2002:"
+_CORE_TAGS = ("str", "int", "float", "bool", "null", "seq", "map")
+
+
+def _foreign_tag(node: Node) -> str:
+    """`` tagged !!python/name:os.system (...)`` for a tag outside YAML's core schema."""
+    tag = str(node.tag)
+    short = tag.removeprefix(_YAML_TAG)
+    if short in _CORE_TAGS:
+        return ""
+    shown = f"!!{short}" if tag.startswith(_YAML_TAG) else tag
+    return f" tagged {shown} (the scene format reads no YAML tags)"
 
 
 @dataclass(frozen=True)

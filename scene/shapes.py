@@ -24,7 +24,7 @@ from typing import Any
 
 from yaml.nodes import MappingNode, Node
 
-from groundwork.files import describe, read_bytes
+from groundwork.files import describe, read_bytes, resolved
 from scene.context import Context
 from scene.fir_branch import BARK, LENGTH, NEEDLE, NEEDLES, RADIUS, needle_mesh
 from scene.kinds import ADDABLE, BY_NAME
@@ -145,7 +145,10 @@ def _child(ctx: Context, node: Node, what: str) -> ShapeSpec:
 
 def _obj_path(ctx: Context, entry: Entry) -> Path:
     name = ctx.reader.string(entry.value, "file")
-    path = (ctx.reader.path.parent / name).resolve()
+    try:
+        path = resolved(ctx.reader.path.parent / name)
+    except OSError as error:
+        ctx.reader.fail(entry.value, f"cannot read OBJ file {error.filename}: {error.strerror}")
     odd = describe(path)  # a named pipe would block the reader, a device never end
     if odd is not None:
         ctx.reader.fail(entry.value, f"cannot read OBJ file {path}: {odd}")

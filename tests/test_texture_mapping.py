@@ -459,7 +459,8 @@ def test_a_texture_mistake_is_one_line_naming_the_scene_file_and_line(
 @pytest.mark.parametrize(
     ("name", "content", "message"),
     [
-        ("bad.png", b"not a png at all", r"the image file .*bad\.png is not an image Pillow can"),
+        ("bad.png", b"not a png at all",
+         r"the image file .*bad\.png is not a PNG or PPM image: it starts with neither"),
         ("cut.png", None, r"the image file .*cut\.png is broken: "),
         ("bad.ppm", b"P3\n1 1\n255\n0 300 0\n",
          r"the image file .*bad\.ppm is not a plain PPM image: PPM line 4: the value 300 is "

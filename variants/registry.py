@@ -27,7 +27,10 @@ still load.
 from __future__ import annotations
 
 import inspect
+import os
 import re
+import subprocess
+import sys
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from importlib.metadata import entry_points
@@ -41,6 +44,20 @@ from variants.wrapper import steps_overridden
 GROUP = "rtc.variants"
 ALL = "all"
 MAX_WRAPPED = 32  # variants inside each other in one name (NAME:INNER:...); more is a typo
+IMPORT_SECONDS = 30  # a plug-in's import that takes longer is stopped and reported
+_MARK = b"\x00rtc-import:"  # what the probe prints before its verdict
+_PROBE = f"""
+import sys
+from importlib.metadata import EntryPoint
+try:
+    EntryPoint(*sys.argv[1:4]).load()
+    verdict = "loaded"
+except BaseException as error:  # SystemExit and KeyboardInterrupt too: they are the verdict
+    verdict = f"{{type(error).__name__}}: {{error}}"[:300]
+sys.stdout.flush()
+sys.stdout.buffer.write({_MARK!r} + " ".join(verdict.split()).encode("utf-8", "replace"))
+sys.stdout.flush()
+"""
 TRUE_WORDS = ("true", "on", "yes", "1")
 FALSE_WORDS = ("false", "off", "no", "0")
 
@@ -369,11 +386,47 @@ def variant_names() -> list[str]:
     return list(_entry_points())
 
 
+def _package(ep: Any) -> str:
+    """The package an entry point imports (``mine`` of ``mine.tracer:variant``)."""
+    return str(ep.value).split(":")[0].split(".")[0].strip()
+
+
+def _probe(ep: Any) -> None:
+    """Import a plug-in's entry point in a child process first, bounded in time
+    (``IMPORT_SECONDS``): an ``Unavailable`` naming its package when the import hangs,
+    raises, exits (``SystemExit``, ``os._exit``) or is killed, so that none of it can take
+    the command down; the import here then runs only code that has imported cleanly."""
+    package = _package(ep)
+    path = os.pathsep.join([p for p in sys.path if p] + [os.environ.get("PYTHONPATH", "")])
+    try:
+        done = subprocess.run(
+            [sys.executable, "-c", _PROBE, ep.name, ep.value, ep.group],
+            stdin=subprocess.DEVNULL, capture_output=True, timeout=IMPORT_SECONDS,
+            env={**os.environ, "PYTHONPATH": path},
+        )  # fmt: skip
+    except subprocess.TimeoutExpired:
+        raise Unavailable(
+            f"importing its package {package!r} took more than {IMPORT_SECONDS} s (stopped)"
+        ) from None
+    except OSError as error:
+        raise Unavailable(f"its package {package!r} cannot be tried: {error}") from None
+    verdict = done.stdout.rpartition(_MARK)[2].decode("utf-8", "replace").strip()
+    if verdict == "loaded":
+        return
+    if verdict:
+        raise Unavailable(f"importing its package {package!r} raised {verdict}")
+    how = f"signal {-done.returncode}" if done.returncode < 0 else f"status {done.returncode}"
+    raise Unavailable(f"importing its package {package!r} ended the process ({how})")
+
+
 def _factory(name: str, ep: Any) -> Callable[..., Variant]:
-    """The entry point's factory; ``Unavailable`` (with the reason) if it cannot be loaded."""
+    """The entry point's factory; ``Unavailable`` (with the reason) if it cannot be loaded.
+    A plug-in (not the project's own) is tried in a child process first (``_probe``)."""
+    if isinstance(getattr(ep, "group", None), str) and not is_own(ep):  # a real entry point
+        _probe(ep)
     try:
         factory: Callable[..., Variant] = ep.load()
-    except Exception as error:  # a missing dependency, or a module that does not load
+    except (Exception, SystemExit) as error:  # a missing dependency, a module that fails
         raise Unavailable(f"{type(error).__name__}: {error}") from error
     if not callable(factory):
         raise Unavailable(f"entry point {ep.value!r} is not a factory function")

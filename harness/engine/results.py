@@ -19,11 +19,15 @@ Writing: images go to a hidden staging folder, which is renamed into place when 
 completes, and the JSON is written to a temporary file and hard-linked to its final name (a
 link never replaces an existing file) before the temporary name is removed. A run killed at
 any moment leaves no result file; a killed run's hidden staging folder is removed by the next
-run.
+run. A run holds a lock (``fcntl.flock``) on a file beside its staging folder for as long as
+it writes there: the kernel lets go of it when the process ends however it ends, so the next
+run tells a dead run's folder from a living one's even from another PID namespace (two
+containers sharing the results folder), where a process id says nothing.
 """
 
 from __future__ import annotations
 
+import fcntl
 import io
 import json
 import math
@@ -44,6 +48,7 @@ LARGEST_NUMBER = 1e15  # nothing a run measures (bytes, rays, seconds) comes nea
 NOT_MEASURED = (".seed",)  # numbers that are names, not measurements: any size is right
 RUNS = "runs"
 STAGING_PREFIX = ".staging-"
+LOCK_SUFFIX = ".lock"  # beside a staging folder: held (flock) by the run that writes it
 
 RENAMED_SECTIONS = {
     "truth": ("sweep", "truth"),
@@ -109,20 +114,56 @@ def _pid_alive(pid: int) -> bool:
     return True
 
 
+def _lock_path(staging: Path) -> Path:
+    return staging.with_name(staging.name + LOCK_SUFFIX)
+
+
+def _hold_lock(path: Path) -> int | None:
+    """A descriptor holding ``path``'s exclusive lock (``fcntl.flock``), made if missing;
+    None when another process holds it (it is alive, wherever it runs)."""
+    fd = os.open(path, os.O_RDWR | os.O_CREAT | getattr(os, "O_CLOEXEC", 0), 0o600)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        os.close(fd)
+        return None
+    except BaseException:
+        os.close(fd)
+        raise
+    return fd
+
+
+def _abandoned(staging: Path) -> bool:
+    """Whether the run that made ``staging`` is over: its lock file is held by no process
+    (a lock dies with its process, in any PID namespace or container sharing the folder);
+    for a staging folder of a version without lock files, its process id is gone."""
+    lock = _lock_path(staging)
+    if lock.exists():
+        fd = _hold_lock(lock)
+        if fd is None:
+            return False
+        os.close(fd)
+        return True
+    try:
+        pid = int(staging.name.rsplit("-", 1)[1])
+    except (IndexError, ValueError):
+        return False
+    return pid != os.getpid() and not _pid_alive(pid)
+
+
 def remove_stale_staging(results: Path) -> list[Path]:
-    """Remove staging folders left by killed runs (their process is gone); returns them."""
+    """Remove staging folders left by killed runs (no process holds their lock); returns
+    them."""
     removed: list[Path] = []
     folder = runs_dir(results)
     if not folder.is_dir():
         return removed
     for entry in folder.glob(f"{STAGING_PREFIX}*"):
-        try:
-            pid = int(entry.name.rsplit("-", 1)[1])
-        except (IndexError, ValueError):
+        if entry.name.endswith(LOCK_SUFFIX) or not _abandoned(entry):
             continue
-        if pid != os.getpid() and not _pid_alive(pid):
-            shutil.rmtree(entry, ignore_errors=True)
-            removed.append(entry)
+        shutil.rmtree(entry, ignore_errors=True)
+        _lock_path(entry).unlink(missing_ok=True)
+        removed.append(entry)
     return removed
 
 
@@ -139,6 +180,7 @@ class RunWriter:
             if not (folder / f"{self.stem}.json").exists() and not (folder / self.stem).exists():
                 break
         self.staging = folder / f"{STAGING_PREFIX}{self.stem}-{os.getpid()}"
+        self._lock = _hold_lock(_lock_path(self.staging))  # first: the folder is never unheld
         self.staging.mkdir()
 
     @property
@@ -159,10 +201,20 @@ class RunWriter:
         except BaseException:  # a full disk: no run's images without their run file
             shutil.rmtree(self.images_path, ignore_errors=True)
             raise
+        finally:
+            self._release()
         return self.json_path
 
     def abandon(self) -> None:
         shutil.rmtree(self.staging, ignore_errors=True)
+        self._release()
+
+    def _release(self) -> None:
+        """Remove the staging folder's lock file, then let go of the lock."""
+        if self._lock is not None:
+            _lock_path(self.staging).unlink(missing_ok=True)
+            os.close(self._lock)
+            self._lock = None
 
 
 def write_new_file(path: Path, text: str) -> None:
@@ -395,6 +447,13 @@ def number_problem(value: Any, where: str) -> str | None:
     return None
 
 
+def _plain_name(text: str) -> bool:
+    """Whether ``text`` names a file and nothing more: no folder (``../``), no hidden
+    file, no control character (a run's stem is shown and linked by the report)."""
+    plain = all(c.isascii() and (c.isalnum() or c in "._-") for c in text)
+    return plain and bool(text) and text[0] != "."
+
+
 def check_run(rtc: Any, source: str) -> None:
     """A ``ResultFileError`` naming ``source`` and the first field the report cannot use
     (missing, of the wrong type, or a NaN or infinite number: ``rows[2].wall[0]``); None
@@ -403,6 +462,8 @@ def check_run(rtc: Any, source: str) -> None:
         why = _fits(rtc, RUN, "") or number_problem(rtc, "")
     except RecursionError:  # lists or objects nested hundreds deep: no run file has them
         why = "values nested too deep to check"
+    if why is None and not _plain_name(rtc["stem"]):
+        why = f"stem: expected a plain name (letters, digits, '.', '-', '_'), got {rtc['stem']!r}"
     if why is None:
         for i, row in enumerate(rtc["rows"]):
             if row["status"] == "ok":

@@ -233,6 +233,6 @@ def render(
 
 def read_png(path: Path) -> np.ndarray:
     """An 8-bit PNG as float RGB in [0, 1] (height, width, 3)."""
-    with Image.open(path) as picture:
+    with Image.open(path, formats=["PNG"]) as picture:
         rgb = np.asarray(picture.convert("RGB"), dtype=np.float64)
     return rgb / 255.0

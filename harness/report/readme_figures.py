@@ -10,7 +10,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from groundwork.files import write_atomically
+from groundwork.files import read_text, write_atomically
 from harness.engine import figures
 from harness.sections.ladder import report as ladder_report
 
@@ -54,8 +54,8 @@ def rewrite(readme: Path, runs: Sequence[Run]) -> bool:
     """Replace what lies between the markers in ``readme`` with ``block(runs)``, atomically;
     False (nothing written) when the file or its markers are missing or it is unchanged."""
     try:
-        text = readme.read_text(encoding="utf-8")
-    except OSError:
+        text = read_text(readme, 16 << 20)  # never a wait on a pipe, nor all of a device
+    except (OSError, UnicodeDecodeError):
         return False
     start, end = text.find(START), text.find(END)
     if start < 0 or end < start:
@@ -63,7 +63,7 @@ def rewrite(readme: Path, runs: Sequence[Run]) -> bool:
     new = text[: start + len(START)] + "\n" + block(runs) + "\n" + text[end:]
     if new == text:
         return False
-    write_atomically(readme, new, mode=readme.stat().st_mode & 0o777)
+    write_atomically(readme, new)
     return True
 
 
