@@ -1452,6 +1452,7 @@ def test_pools_render_what_naive_renders(world: WorldSpec, cam: CameraSpec) -> N
         check_render(variant(name), world, cam, expected)
 
 
+@pytest.mark.usefixtures("specialized_kernels")
 @settings(
     max_examples=SPECIALIZED_EXAMPLES,
     deadline=RENDER_DEADLINE,
