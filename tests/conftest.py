@@ -33,8 +33,9 @@ from once_per_run import OncePerRun
 
 from variants.numba.render import GENERIC_ONLY
 
-# tracebacks: a failure pytest cannot format is still one failure (tests/tracebacks.py)
-pytest_plugins = ["steps.plugin", "tracebacks"]
+# tracebacks: a failure pytest cannot format is still one failure (tests/tracebacks.py);
+# cpu_seconds: each test's CPU seconds, with RTC_TEST_CPU_LOG set (tests/cpu_seconds.py)
+pytest_plugins = ["steps.plugin", "tracebacks", "cpu_seconds"]
 
 settings.register_profile("gate", max_examples=GATE_EXAMPLES, deadline=None, derandomize=True)
 # named in full: a profile registered without a parent inherits the loaded one's (gate's
