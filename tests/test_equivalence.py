@@ -207,12 +207,13 @@ def _naive_pixels(scene: Scene, once: OncePerRun) -> list[tuple[float, float, fl
     return [(float(r), float(g), float(b)) for r, g, b in np.asarray(found).tolist()]
 
 
-def test_the_scenes_are_not_blank(once_per_run: OncePerRun) -> None:
-    """A comparison of black images would prove nothing."""
-    for scene in SCENES:
-        pixels = _naive_pixels(scene, once_per_run)
-        distinct = {tuple(round(v, 3) for v in p) for p in pixels}
-        assert len(distinct) > 5, f"{scene.name}: only {len(distinct)} distinct colours"
+@pytest.mark.parametrize("scene", SCENES, ids=[scene.name for scene in SCENES])
+def test_the_scene_is_not_blank(scene: Scene, once_per_run: OncePerRun) -> None:
+    """A comparison of black images would prove nothing. (One test a scene: each renders
+    ``naive``'s picture that the comparisons then share.)"""
+    pixels = _naive_pixels(scene, once_per_run)
+    distinct = {tuple(round(v, 3) for v in p) for p in pixels}
+    assert len(distinct) > 5, f"{scene.name}: only {len(distinct)} distinct colours"
 
 
 POOLS = ("pooled", "dask")
