@@ -4,6 +4,7 @@
     python3 run.py bench   # quick benchmark of the reference scene, writes results/README.md
     python3 run.py test    # every feature for every variant, the unit tests (on every core),
                            # ruff, the import contracts (lint-imports) and mypy
+    python3 run.py test --thorough   # the same, deeper (docs/contributing.md)
     python3 run.py rtc ARGS...   # any rtc command inside the environment
     python3 run.py upgrade       # newer dependencies: rewrite constraints.txt (see below)
 

@@ -1,34 +1,99 @@
 """The step library is a pytest plugin; every test session here uses it.
 
-The property tests (hypothesis) run under a profile: ``default`` keeps the suite fast (a few
-dozen examples a test) and draws the same examples on every run (``derandomize``: the gate's
-verdict never depends on the draw, and no example database is read or written);
-``pytest --hypothesis-profile=long --timeout 0`` runs 10,000 examples a test, new ones each
-run, kept in ``.hypothesis/`` when they fail, for a maintainer now and then.
-A hang is a failure under both, but the gate's verdict never depends on how fast the machine
-is: under ``default`` no example has a deadline (one that took 2 s on a busy machine would
-fail), and the hang guard is pytest-timeout's, per test (``timeout`` in pyproject.toml);
-``long`` gives each example a 2 s deadline, its hang guard (a maintainer's run, on a quiet
-machine), as the per-test limit is off there.
-A test's own ``@settings(max_examples=...)`` still wins over the profile's count.
+Two depths (``pytest`` is the gate's; ``pytest --thorough`` a maintainer's before a release):
+
+- numba's kernels: the gate renders every scene through numba's generic kernel (every
+  feature compiled in, ``RTC_NUMBA_SPECIALIZE=off``, set here for the session and the
+  processes it starts), so a cold run compiles one render kernel per precision instead of one
+  per scene's feature set; the tests whose subject is specialization ask for it
+  (``specialized_kernels``). ``--thorough`` specializes every render, as a user's run does.
+- hypothesis: the property tests run under a profile. ``gate`` (the default) draws few
+  examples a test (``examples()``: tests/budget.py scales a test's own count) and the same
+  ones on every run (``derandomize``: the verdict never depends on the draw, no example
+  database is read or written); ``--thorough`` loads ``thorough``: ten times as many
+  examples, new ones each run, the failing ones kept in ``.hypothesis/``.
+  ``--hypothesis-profile=long --timeout 0`` runs 10,000 examples a test, for hours.
+
+A hang is a failure under every profile, but the gate's verdict never depends on how fast
+the machine is: under ``gate`` and ``thorough`` no example has a deadline (one that took 2 s
+on a busy machine would fail), and the hang guard is pytest-timeout's, per test
+(``timeout`` in pyproject.toml); ``long`` gives each example a 2 s deadline, its hang guard
+(a maintainer's run, on a quiet machine), as the per-test limit is off there.
 """
 
+import os
+from collections.abc import Iterator
+
+import budget
+import pytest
+from budget import GATE_EXAMPLES, THOROUGH_EXAMPLES
 from hypothesis import HealthCheck, settings
 from hypothesis.database import DirectoryBasedExampleDatabase
+from once_per_run import OncePerRun
 
-# tracebacks: a failure pytest cannot format is still one failure (tests/tracebacks.py)
-pytest_plugins = ["steps.plugin", "tracebacks"]
+from variants.numba.render import GENERIC_ONLY
 
-settings.register_profile("default", max_examples=40, deadline=None, derandomize=True)
-# named in full: a profile registered without a parent inherits the loaded one's (default's
-# derandomize and no database), which would make the long profile draw the same examples
-# every run and keep no failing one
+# tracebacks: a failure pytest cannot format is still one failure (tests/tracebacks.py);
+# cpu_seconds: each test's CPU seconds, with RTC_TEST_CPU_LOG set (tests/cpu_seconds.py)
+pytest_plugins = ["steps.plugin", "tracebacks", "cpu_seconds"]
+
+settings.register_profile("gate", max_examples=GATE_EXAMPLES, deadline=None, derandomize=True)
+# named in full: a profile registered without a parent inherits the loaded one's (gate's
+# derandomize and no database), which would make the others draw the same examples every
+# run and keep no failing one
+_EXPLORING = {
+    "derandomize": False,
+    "database": DirectoryBasedExampleDatabase(".hypothesis/examples"),
+}
+settings.register_profile(
+    "thorough",
+    max_examples=THOROUGH_EXAMPLES,
+    deadline=None,
+    suppress_health_check=[HealthCheck.too_slow],
+    **_EXPLORING,
+)
 settings.register_profile(
     "long",
     max_examples=10_000,
     deadline=2000,
     suppress_health_check=[HealthCheck.too_slow],
-    derandomize=False,
-    database=DirectoryBasedExampleDatabase(".hypothesis/examples"),
+    **_EXPLORING,
 )
-settings.load_profile("default")
+settings.load_profile("gate")
+
+
+def pytest_addoption(parser: pytest.Parser) -> None:
+    parser.addoption(
+        "--thorough",
+        action="store_true",
+        help="the deeper run: hypothesis's 'thorough' profile (ten times the examples, new "
+        "ones each run) and numba's kernels specialized to each scene",
+    )
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """Before the test modules are imported (their example counts read the profile)."""
+    if config.getoption("thorough"):
+        budget.THOROUGH = True
+        if config.getoption("hypothesis_profile", None) in (None, "gate"):
+            settings.load_profile("thorough")
+        os.environ.setdefault(GENERIC_ONLY, "on")
+    os.environ.setdefault(GENERIC_ONLY, "off")
+
+
+@pytest.fixture
+def specialized_kernels(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
+    """numba's renders in this test compile a kernel for their scene's feature set (the
+    test's subject is specialization; the rest of the gate shares the generic kernel)."""
+    monkeypatch.setenv(GENERIC_ONLY, "on")
+    yield
+
+
+@pytest.fixture(scope="session")
+def once_per_run(tmp_path_factory: pytest.TempPathFactory) -> OncePerRun:
+    """Results shared by the run's worker processes (tests/once_per_run.py): in the run's
+    temporary folder, which each worker's own folder is in."""
+    base = tmp_path_factory.getbasetemp()
+    folder = (base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base) / "once-per-run"
+    folder.mkdir(exist_ok=True)
+    return OncePerRun(folder)

@@ -13,6 +13,7 @@ from textwrap import dedent
 from typing import Any
 
 import pytest
+from budget import examples
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -57,7 +58,7 @@ def _direction(x: float, y: float, z: float) -> Any:
 # ----------------------------------------------------------------- the reference's light
 
 
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=examples(60), deadline=None)
 @given(
     corner=st.tuples(coordinate, st.floats(2, 8), coordinate),
     width=unit,
@@ -105,7 +106,7 @@ def test_a_one_cell_area_light_world_renders_exactly_as_its_point_light() -> Non
     assert a.pixels == b.pixels
 
 
-@settings(max_examples=40, deadline=None)
+@settings(max_examples=examples(40), deadline=None)
 @given(
     at=st.tuples(coordinate, st.floats(-1.5, 1.5), coordinate),
     usteps=st.integers(1, 4),
@@ -202,7 +203,7 @@ def test_lighting_walks_every_cell_whatever_the_intensity() -> None:
 # ---------------------------------------------------------------------- the jitter
 
 
-@settings(max_examples=200, deadline=None)
+@settings(max_examples=examples(200), deadline=None)
 @given(
     seed=st.integers(0, MASK64),
     x=st.integers(0, 16383),

@@ -9,6 +9,7 @@ from collections.abc import Callable, Mapping
 from typing import Any
 
 import pytest
+from budget import examples
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
@@ -276,7 +277,7 @@ def _contains(box: BoundingBox, p: Tuple) -> bool:
     )
 
 
-@settings(max_examples=150, deadline=None, database=None, derandomize=True)
+@settings(max_examples=examples(150), deadline=None)
 @given(shapes_with_a_surface_point(), transforms(), transforms())
 def test_a_transformed_shapes_box_contains_its_surface(
     shape_and_point: tuple[Any, Tuple], inner: Matrix, outer: Matrix
@@ -290,7 +291,7 @@ def test_a_transformed_shapes_box_contains_its_surface(
     assert _contains(rt.parent_space_bounds_of(g), outer * (inner * local))
 
 
-@settings(max_examples=100, deadline=None, database=None, derandomize=True)
+@settings(max_examples=examples(100), deadline=None)
 @given(
     st.tuples(coordinate, coordinate, coordinate),
     st.tuples(coordinate, coordinate, coordinate),
@@ -341,7 +342,7 @@ def _ts_and_shapes(xs: list[Any]) -> list[tuple[float, int]]:
 
 
 @pytest.mark.parametrize("variant", list(APIS))
-@settings(max_examples=40, deadline=None, database=None, derandomize=True)
+@settings(max_examples=examples(40), deadline=None)
 @given(
     scene=scenes(),
     origin=st.tuples(coordinate, coordinate, coordinate),
@@ -380,7 +381,7 @@ axis_value = st.one_of(special, coordinate)
 box_end = st.one_of(st.sampled_from([-INF, INF, 0.0, 1.0, -1.0]), coordinate)
 
 
-@settings(max_examples=300, deadline=None, database=None, derandomize=True)
+@settings(max_examples=examples(300), deadline=None)
 @given(
     st.tuples(box_end, box_end, box_end, box_end, box_end, box_end),
     st.tuples(axis_value, axis_value, axis_value),

@@ -70,7 +70,9 @@ from collections.abc import Callable, Iterator, Sequence
 from dataclasses import replace
 from typing import Any
 
+import budget
 import pytest
+from budget import examples
 from differential_strategies import (
     LEAF_KINDS,
     SHAPE_KINDS,
@@ -1233,20 +1235,12 @@ def test_color_at_agrees(spec: WorldSpec, ray: RaySpec) -> None:
 # ------------------------------------------------------------------------------- render
 
 
-def examples(default: int, long: int) -> int:
-    """A property's own example count: ``default`` under the default profile (40 examples a
-    test, a few seconds), ``long`` under a bigger one (``--hypothesis-profile=long``: 10,000),
-    never more than the profile's."""
-    current = settings.default
-    profile = current.max_examples if current is not None else 40
-    return min(default, profile) if profile <= 40 else min(long, profile)
-
-
 # an 8x6 render of a random world by every variant takes about 0.3 s: 10,000 would be about
-# an hour, so the long profile renders 2,000; the pools start processes (a second each)
-RENDER_EXAMPLES = examples(10, 2000)
-POOL_EXAMPLES = examples(2, 20)
-SPECIALIZED_EXAMPLES = examples(3, 300)
+# an hour, so the long profile renders 2,000 (--thorough 100, the gate 10); the pools start
+# processes (a second each)
+RENDER_EXAMPLES = examples(10, 100, 2000)
+POOL_EXAMPLES = examples(2, 6, 20)
+SPECIALIZED_EXAMPLES = examples(3, 30, 300)
 
 
 def pixels(v: Variant, world: WorldSpec, cam: CameraSpec) -> list[tuple[float, float, float]]:
@@ -1452,6 +1446,7 @@ def test_pools_render_what_naive_renders(world: WorldSpec, cam: CameraSpec) -> N
         check_render(variant(name), world, cam, expected)
 
 
+@pytest.mark.usefixtures("specialized_kernels")
 @settings(
     max_examples=SPECIALIZED_EXAMPLES,
     deadline=RENDER_DEADLINE,
@@ -1462,11 +1457,16 @@ def test_pools_render_what_naive_renders(world: WorldSpec, cam: CameraSpec) -> N
 def test_numba_specialized_render_agrees(world: WorldSpec, cam: CameraSpec) -> None:
     """numba's default render, its kernel specialized to the scene's feature set: worlds of
     one structure (every shape kind and pattern, reflection, refraction, a group, CSG) with
-    random transforms, materials, light and camera, so one kernel is compiled for all."""
+    random transforms, materials, light and camera, so one kernel is compiled for all.
+    The gate specializes float64's (which switches a kernel has does not depend on its
+    precision: the generic float32 and fastmath kernels are tested above); ``--thorough``
+    each precision's."""
     if world_has_degenerate_triangles(world):
         event("input: degenerate triangle (rejected)")
         assume(False)
-    names = [name for name in DIRECT if _base(name) == "numba"]
+    names = [
+        name for name in DIRECT if _base(name) == "numba" and (budget.THOROUGH or "[" not in name)
+    ]
     assert names, "numba is not available"
     expected = naive_answer(lambda: pixels(NAIVE, world, cam), "render")
     for name in names:

@@ -34,6 +34,7 @@ from typing import Any
 
 import numpy as np
 import pytest
+from once_per_run import OncePerRun
 
 from raytracer.camera import RenderSettings
 from raytracer.canvas import canvas_to_ppm, canvas_to_rgb8
@@ -142,7 +143,6 @@ PICTURES: dict[str, tuple[Build, RenderSettings]] = {
     "shapes-16x12": (scene_file("shapes.yml", (16, 12)), RenderSettings()),
     "csg-16x12": (scene_file("csg.yml", (16, 12)), RenderSettings()),
 }
-_NAIVE: dict[str, np.ndarray] = {}
 
 
 def _pixels(variant: Variant, picture: str) -> np.ndarray:
@@ -157,15 +157,14 @@ def _pixels(variant: Variant, picture: str) -> np.ndarray:
     return np.clip(np.array(rows, dtype=np.float64), 0.0, 1.0)
 
 
-def _naive(picture: str) -> np.ndarray:
-    if picture not in _NAIVE:
-        _NAIVE[picture] = _pixels(load_variant("naive"), picture)
-    return _NAIVE[picture]
+def _naive(picture: str, once: OncePerRun) -> np.ndarray:
+    """``naive``'s picture, rendered once per run (``once_per_run``: the workers share it)."""
+    return once.get(f"numba-{picture}", lambda: _pixels(load_variant("naive"), picture))
 
 
-def _compare(name: str, picture: str) -> tuple[float, float, int, int]:
+def _compare(name: str, picture: str, once: OncePerRun) -> tuple[float, float, int, int]:
     """(max, mean, pixels beyond 1/255, pixels) of ``name``'s picture against naive's."""
-    expected = _naive(picture)
+    expected = _naive(picture, once)
     got = _pixels(load_variant(name), picture)
     assert got.shape == expected.shape
     difference = np.abs(got - expected)
@@ -179,24 +178,24 @@ def _compare(name: str, picture: str) -> tuple[float, float, int, int]:
     return figures
 
 
-def test_the_pictures_are_not_blank() -> None:
-    for picture in PICTURES:
-        pixels = _naive(picture)
-        distinct = {tuple(np.round(p, 3)) for p in pixels.reshape(-1, 3)}
-        assert len(distinct) > 5, f"{picture}: only {len(distinct)} distinct colours"
+@pytest.mark.parametrize("picture", list(PICTURES))
+def test_the_picture_is_not_blank(picture: str, once_per_run: OncePerRun) -> None:
+    pixels = _naive(picture, once_per_run)
+    distinct = {tuple(np.round(p, 3)) for p in pixels.reshape(-1, 3)}
+    assert len(distinct) > 5, f"{picture}: only {len(distinct)} distinct colours"
 
 
 @pytest.mark.parametrize("picture", list(PICTURES))
-def test_float64_draws_what_naive_draws(picture: str) -> None:
-    worst, mean, beyond, _ = _compare("numba", picture)
+def test_float64_draws_what_naive_draws(picture: str, once_per_run: OncePerRun) -> None:
+    worst, mean, beyond, _ = _compare("numba", picture, once_per_run)
     assert worst <= FLOAT64_WORST, f"a pixel differs from naive by {worst:.3g}"
     assert beyond == 0
     assert mean < 1e-9, f"mean difference {mean:.3g}"
 
 
 @pytest.mark.parametrize("name", ["numba[float32]", "numba[fastmath]", "numba[threads=1]"])
-def test_options_stay_close_to_naive(name: str) -> None:
-    worst, _, beyond, pixels = _compare(name, "reference-16x12")
+def test_options_stay_close_to_naive(name: str, once_per_run: OncePerRun) -> None:
+    worst, _, beyond, pixels = _compare(name, "reference-16x12", once_per_run)
     assert beyond <= APPROXIMATE_SHARE * pixels, f"{beyond} of {pixels} pixels beyond 1/255"
     assert worst <= 0.5
 
@@ -268,6 +267,7 @@ def test_a_world_without_light_renders_black() -> None:
 # ------------------------------------------------------------------------ specialization
 
 
+@pytest.mark.usefixtures("specialized_kernels")
 def test_an_opaque_spheres_scene_leaves_out_refraction_schlick_cylinders_patterns() -> None:
     api = load_variant("numba").api
     flags = analyse(pack_world(api["default_world"]())).flags
@@ -614,6 +614,7 @@ def test_the_array_canvas_is_a_canvas_over_its_array() -> None:
     assert canvas_to_ppm(image) == canvas_to_ppm(listed)
 
 
+@pytest.mark.usefixtures("specialized_kernels")
 def test_rtc_render_explain_prints_the_feature_set(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

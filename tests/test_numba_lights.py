@@ -88,6 +88,7 @@ def test_numba_draws_what_naive_draws_with_any_number_of_lights(lights: int) -> 
         assert len({tuple(np.round(q, 3)) for q in expected.reshape(-1, 3)}) > 20
 
 
+@pytest.mark.usefixtures("specialized_kernels")
 def test_every_light_adds_its_own_light() -> None:
     """More lights, a brighter picture; the generic kernel (every feature compiled in)
     draws a one-light world as the specialized one does."""

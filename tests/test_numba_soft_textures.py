@@ -125,6 +125,7 @@ def test_numba_draws_what_naive_draws(picture: str) -> None:
     assert len({tuple(np.round(q, 3)) for q in expected.reshape(-1, 3)}) > 30, "a real picture"
 
 
+@pytest.mark.usefixtures("specialized_kernels")
 def test_the_generic_kernel_draws_what_the_specialized_one_draws() -> None:
     for picture in ("soft-2x2-jittered-3spp", "textures"):
         build, settings = PICTURES[picture]
@@ -331,6 +332,7 @@ def test_what_the_kernels_do_not_know_is_refused_by_name() -> None:
         api["render"](camera, w)
 
 
+@pytest.mark.usefixtures("specialized_kernels")
 def test_a_scene_without_them_compiles_kernels_without_them() -> None:
     """Specialization: the reference scene's kernel has no area-light, jitter or texture
     code; the soft shadows and texture scenes' kernels have what they use, and

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from budget import examples
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
@@ -124,7 +125,7 @@ def obj_lines(draw: st.DrawFn) -> bytes:
     return (lead + space.join([kind, *words]) + draw(st.sampled_from(["\n", "\r\n"]))).encode()
 
 
-@settings(max_examples=300, deadline=None)
+@settings(max_examples=examples(300), deadline=None)
 @given(head=st.integers(0, 6), lines=st.lists(obj_lines(), max_size=25))
 @example(head=4, lines=[b"f 1 2 3 4\n", b"g\n", b"f -1 -2 -3\n"])
 def test_any_obj_text_reads_as_the_book_parser_reads_it(head: int, lines: list[bytes]) -> None:

@@ -41,6 +41,10 @@ from variants.numba.specialize import KernelConfig, Renderer, library_path, load
 PAGE = 4096  # bytes: each thread's scratch starts on a page of its own (no false sharing)
 CHUNK_SECONDS = 0.25  # with progress: each thread's rows in chunks of about this long
 CHUNK_GROWTH = 4  # a chunk has at most this many times the rows of the one before
+GENERIC_ONLY = "RTC_NUMBA_SPECIALIZE"
+"""``RTC_NUMBA_SPECIALIZE=off``: every render of this process (and of the processes it
+starts) runs the generic kernel, as ``specialize=off`` does, whatever the variant's option;
+the test suite sets it (tests/conftest.py): one kernel for all its scenes, not one each."""
 
 
 def max_threads() -> int:
@@ -76,8 +80,13 @@ class Options:
     def dtype(self) -> Any:
         return np.float32 if self.float32 else np.float64
 
+    @property
+    def specializing(self) -> bool:
+        """A kernel per feature set: the option, unless ``RTC_NUMBA_SPECIALIZE=off``."""
+        return self.specialize and os.environ.get(GENERIC_ONLY, "on") != "off"
+
     def config(self, features: FeatureSet, count_rays: bool = False) -> KernelConfig:
-        chosen = features if self.specialize else FeatureSet.everything()
+        chosen = features if self.specializing else FeatureSet.everything()
         return KernelConfig(chosen, self.float32, self.fastmath, count_rays)
 
     def generic(self) -> KernelConfig:
@@ -331,11 +340,12 @@ def explain(options: Options, w: World) -> str:
         f"  packed in {packed.seconds:.3g} s ({len(packed.items):,} items, "
         f"{packed.pf.nbytes + packed.items.nbytes + packed.boxes.nbytes:,} bytes)"
     )
-    if options.specialize:
+    if options.specializing:
         left_out = ", ".join(found.left_out()) or "nothing"
         lines.append(f"  kernel: specialized to these features; left out: {left_out}")
     else:
-        lines.append("  kernel: generic, every feature compiled in (specialize=off)")
+        why = "specialize=off" if not options.specialize else f"{GENERIC_ONLY}=off"
+        lines.append(f"  kernel: generic, every feature compiled in ({why})")
     lines.append(f"  precision: {config.describe()}")
     library = library_path(config)
     state = "built" if built(library) is not None else "built by the first render, a few seconds"
