@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 
 from compiled.records import built
-from raytracer.camera import Camera, RenderSettings
+from raytracer.camera import PATH, Camera, RenderSettings
 from raytracer.sampling import GAMMA, MASK64
 from raytracer.tracer import Region
 from raytracer.world import World
@@ -156,7 +156,7 @@ class Frame:
     scratch: Scratch
     common: tuple[Any, ...]
     dtype: Any
-    addresses: list[tuple[int, int, int, int]] = field(default_factory=list)
+    addresses: list[tuple[int, ...]] = field(default_factory=list)
     lock: threading.Lock = field(default_factory=threading.Lock)
     arrays: tuple[Any, ...] = ()  # the arrays ``common`` points into, kept alive
 
@@ -168,7 +168,9 @@ def prepare_frame(
     the counting kernel) and allocate every thread's scratch."""
     camera = pack_camera(c, options.dtype)
     packed = packed_for_render(w, options)
-    renderer = load_renderer(options.config(analyse(packed), count_rays))
+    features = analyse(packed)
+    path = settings.integrator == PATH
+    renderer = load_renderer(options.config(features.with_path() if path else features, count_rays))
     threads = min(render_threads(options), max(camera.vsize, 1))
     scratch = Scratch(threads, settings.depth, packed, options.dtype)
     pf, pi, items, n_items, boxes, csg, balls, n_balls = packed.flat()
@@ -182,8 +184,11 @@ def prepare_frame(
         settings.depth, settings.samples, (settings.seed * GAMMA) & MASK64,
         float(settings.epsilon),
     )  # fmt: skip
-    addresses = [scratch.addresses(k) for k in range(threads)]
-    arrays = (pf, pi, items, boxes, csg, balls, lights, ti, tf, tg, tn)
+    sky = np.ascontiguousarray(packed.sky, dtype=options.dtype)
+    integrator = L.INTEGRATOR_PATH if path else L.INTEGRATOR_WHITTED
+    last = (sky.ctypes.data, integrator, settings.roulette)  # after each thread's scratch
+    addresses = [(*scratch.addresses(k), *last) for k in range(threads)]
+    arrays = (pf, pi, items, boxes, csg, balls, lights, ti, tf, tg, tn, sky)
     return Frame(
         camera, packed, renderer, threads, scratch, common, options.dtype, addresses,
         arrays=arrays,
