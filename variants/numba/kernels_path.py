@@ -165,11 +165,21 @@ def direct_light(w, s, over_x, over_y, over_z, nx, ny, nz, wr, wg, wb, eps, path
         qz = light[lm + 2]
         if HAS_AREA_LIGHTS and light[lm + LIGHT_USTEPS] > ZERO:
             along_u = F(path_random(path_key, bounce, D_LIGHTS + 2 * k) * light[lm + LIGHT_USTEPS])
-            along_v = F(path_random(path_key, bounce, D_LIGHTS + 2 * k + 1) * light[lm + LIGHT_VSTEPS])
+            along_v = F(
+                path_random(path_key, bounce, D_LIGHTS + 2 * k + 1) * light[lm + LIGHT_VSTEPS]
+            )
             c = lm + LIGHT_CORNER
             qx = light[c] + light[lm + LIGHT_UVEC] * along_u + light[lm + LIGHT_VVEC] * along_v
-            qy = light[c + 1] + light[lm + LIGHT_UVEC + 1] * along_u + light[lm + LIGHT_VVEC + 1] * along_v
-            qz = light[c + 2] + light[lm + LIGHT_UVEC + 2] * along_u + light[lm + LIGHT_VVEC + 2] * along_v
+            qy = (
+                light[c + 1]
+                + light[lm + LIGHT_UVEC + 1] * along_u
+                + light[lm + LIGHT_VVEC + 1] * along_v
+            )
+            qz = (
+                light[c + 2]
+                + light[lm + LIGHT_UVEC + 2] * along_u
+                + light[lm + LIGHT_VVEC + 2] * along_v
+            )
         vx = qx - over_x
         vy = qy - over_y
         vz = qz - over_z
@@ -236,7 +246,9 @@ def trace_path(w, s, eps, sky, depth, roulette, ox, oy, oz, dx, dy, dz, key):
             if COUNT_RAYS:
                 si[2 * NSI + RAYS] += 1
             n1, n2 = refractive_indices(w, s, ox, oy, oz, dx, dy, dz, eps, t, p, local)
-            if path_random(path_key, bounce, D_FRESNEL) >= schlick_at(ex, ey, ez, nx, ny, nz, n1, n2):
+            if path_random(path_key, bounce, D_FRESNEL) >= schlick_at(
+                ex, ey, ez, nx, ny, nz, n1, n2
+            ):
                 ok, fx, fy, fz = refraction(ex, ey, ez, nx, ny, nz, n1, n2)
                 if ok:  # else total internal reflection: the mirror's ray
                     nox, noy, noz, ndx, ndy, ndz = under_x, under_y, under_z, fx, fy, fz
@@ -264,7 +276,9 @@ def trace_path(w, s, eps, sky, depth, roulette, ox, oy, oz, dx, dy, dz, key):
 
 
 @njit(**INLINE)
-def path_rows(out, x0, y0, x1, y1, k, step, cam, w, depth, samples, seed_key, eps, s, sky, roulette):
+def path_rows(
+    out, x0, y0, x1, y1, k, step, cam, w, depth, samples, seed_key, eps, s, sky, roulette
+):
     """Chapter 21 here: path-trace rows y0 + k, y0 + k + step ... (below y1) of the region
     x0 <= x < x1, y0 <= y < y1 into ``out`` (as ``render_rows``), each pixel the mean of
     its samples' paths (``trace_path``; one sample: through the pixel's centre). Returns
@@ -281,7 +295,9 @@ def path_rows(out, x0, y0, x1, y1, k, step, cam, w, depth, samples, seed_key, ep
             for i in range(samples):
                 ox, oy, oz, dx, dy, dz = sample_ray(cam, seed_key, samples, x, y, i)
                 key = sample_key(seed_key, x, y, i)
-                sr, sg, sb = trace_path(w, s, eps, sky, depth, roulette, ox, oy, oz, dx, dy, dz, key)
+                sr, sg, sb = trace_path(
+                    w, s, eps, sky, depth, roulette, ox, oy, oz, dx, dy, dz, key
+                )
                 r += sr
                 g += sg
                 b += sb
