@@ -146,9 +146,7 @@ def test_another_seed_draws_another_picture(naive_small: list[tuple[float, ...]]
     assert sum(p != q for p, q in zip(pixels, naive_small, strict=True)) > len(pixels) // 2
 
 
-@pytest.mark.parametrize(
-    "roulette", [SMALL_SETTINGS.roulette, 0], ids=["roulette", "no-roulette"]
-)
+@pytest.mark.parametrize("roulette", [SMALL_SETTINGS.roulette, 0], ids=["roulette", "no-roulette"])
 def test_numba_path_traces_cacheds_picture_to_rounding_on_one_thread_or_two(
     roulette: int, naive_small: list[tuple[float, ...]]
 ) -> None:

@@ -156,7 +156,9 @@ class Frame:
     scratch: Scratch
     common: tuple[Any, ...]
     dtype: Any
-    addresses: list[tuple[int, ...]] = field(default_factory=list)
+    # thread k's last arguments: its scratch (stack, sf, si, tb), the sky, the integrator and
+    # the roulette's first bounce (``kernels_entry.render_entry``)
+    addresses: list[tuple[int, int, int, int, int, int, int]] = field(default_factory=list)
     lock: threading.Lock = field(default_factory=threading.Lock)
     arrays: tuple[Any, ...] = ()  # the arrays ``common`` points into, kept alive
 
@@ -186,7 +188,7 @@ def prepare_frame(
     )  # fmt: skip
     sky = np.ascontiguousarray(packed.sky, dtype=options.dtype)
     integrator = L.INTEGRATOR_PATH if path else L.INTEGRATOR_WHITTED
-    last = (sky.ctypes.data, integrator, settings.roulette)  # after each thread's scratch
+    last = (sky.ctypes.data, integrator, settings.roulette)
     addresses = [(*scratch.addresses(k), *last) for k in range(threads)]
     arrays = (pf, pi, items, boxes, csg, balls, lights, ti, tf, tg, tn, sky)
     return Frame(
