@@ -81,7 +81,6 @@ class FeatureSet:
             f"structure: {', '.join(structure) or 'flat list'}",
             f"patterns: {', '.join(patterns) or 'none'}",
             f"shading: {', '.join(shading) or 'ambient and diffuse only'}",
-            f"integrators: whitted{', path' if 'HAS_PATH' in self.flags else ''}",
         ]
 
     def left_out(self) -> list[str]:

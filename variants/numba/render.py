@@ -343,6 +343,10 @@ def explain(options: Options, w: World) -> str:
         lines.append(f"  kernel: specialized to these features; left out: {left_out}")
     else:
         lines.append("  kernel: generic, every feature compiled in (specialize=off)")
+    lines.append(
+        "  path integrator (--integrator path): a kernel of its own, these features and the "
+        "path code; the one below is the book's integrator's, which leaves the path code out"
+    )
     lines.append(f"  precision: {config.describe()}")
     library = library_path(config)
     state = "built" if built(library) is not None else "built by the first render, a few seconds"
