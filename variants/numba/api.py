@@ -43,7 +43,6 @@ from raytracer.tracer import Progress, Region, light_and_point, shape_lit
 from raytracer.tuples import Tuple
 from raytracer.world import World
 from variants.arrays.canvas import ArrayCanvas, ArrayCanvasTracer
-from variants.integrators import whitted_only
 from variants.numba import layout as L
 from variants.numba.lights import light_rows, move_on
 from variants.numba.pack import pack_camera, pack_scene, pack_shapes, pack_surface, pack_world
@@ -421,13 +420,9 @@ class NumbaTracer(ArrayCanvasTracer):
     def prepare(self, c: Camera, w: World, settings: RenderSettings) -> Frame:
         """Chapter 7: a frame's state: camera and world packed, the render entry of ``w``'s
         feature set loaded, the threads' scratch (``prepared`` keeps it for the regions).
-        The book's integrator only (``check_settings``)."""
+        Either integrator: the path integrator's kernel is ``kernels_path``."""
         self.check_settings(settings)
         return prepare_frame(self.options, c, w, settings)
-
-    def check_settings(self, settings: RenderSettings) -> None:
-        """The book's integrator only: the path integrator is not ported to the kernels."""
-        whitted_only("numba", settings)
 
     def render_region(
         self, c: Camera, w: World, settings: RenderSettings, region: Region

@@ -5,7 +5,8 @@ pattern kinds present (the texture patterns of the bonus chapter "Texture mappin
 them, and image textures), bounding boxes (a hierarchy's or groups'), CSG, shadows (some
 object casts one), reflection, refraction, Schlick (some material is both reflective
 and transparent), and area lights (the bonus chapter "Rendering soft shadows"), jittered
-or not.
+or not; and the path integrator (chapter 21 here), which a render's settings ask for
+(``with_path``), not the world.
 A render compiles (or loads from the disk cache) one kernel module per feature set, so an
 opaque-spheres scene runs a kernel with no refraction, Schlick, cylinder or pattern code.
 """
@@ -57,6 +58,11 @@ class FeatureSet:
         """A short, stable spelling: the flags that are on, without ``HAS_``."""
         on = [name.removeprefix("HAS_").lower() for name in ALL_FLAGS if name in self.flags]
         return "+".join(on) or "empty"
+
+    def with_path(self) -> FeatureSet:
+        """This set and the path integrator (``HAS_PATH``: a render with ``--integrator
+        path``); a Whitted render's kernel leaves its code out."""
+        return FeatureSet(self.flags | {"HAS_PATH"})
 
     def describe(self) -> list[str]:
         """Lines for ``explain``: the shapes, structure, patterns and shading stages."""

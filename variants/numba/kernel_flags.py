@@ -44,3 +44,4 @@ HAS_REFRACTION = True  # some material is transparent
 HAS_SCHLICK = True  # some material is both
 HAS_AREA_LIGHTS = True  # some light is an area light (soft shadows, a shadow ray per cell)
 HAS_JITTER = True  # ... whose cells' points are jittered at random
+HAS_PATH = True  # the path integrator (chapter 21 here): a render asked for it (not the world)

@@ -10,10 +10,8 @@
 - ``render_rows`` renders rows k, k + T, k + 2T ... of a region (x0, y0, x1, y1) of the
   image for thread k of T (the top and bottom of an image cost very different amounts, so
   contiguous blocks would leave one thread idle), making each sample's camera ray before
-  tracing the previous one (the processor overlaps them); ``make_render_entry`` compiles it
-  as a C function over raw pointers, which ``variants.numba.specialize`` links into a
-  shared library and ``render`` calls from T Python threads through ctypes (which lets go
-  of the GIL).
+  tracing the previous one (the processor overlaps them); ``kernels_entry`` makes it (or
+  the path integrator's ``path_rows``) the render's C entry point.
 
 The world and scratch tuples are ``kernels_hits``'s.
 """
@@ -23,7 +21,7 @@ import math
 from typing import Any
 
 import numpy as np
-from numba import cfunc, njit, types
+from numba import njit
 
 from variants.numba.kernel_flags import (
     COUNT_RAYS,
@@ -399,35 +397,3 @@ def render_rows(out, x0, y0, x1, y1, k, step, cam, w, depth, samples, seed_key, 
         x, y, i = next_x, next_y, next_i
         ox, oy, oz, dx, dy, dz = nox, noy, noz, ndx, ndy, ndz
     return rows
-
-
-def render_entry(
-    out, x0, y0, x1, y1, k, step, cam, pf, pi, items, n_items, boxes, csg, balls, n_balls,
-    light, n_lights, ti, tf, tg, tn, depth, samples, seed_key, eps, stack, sf, si, tb,
-):  # fmt: skip
-    """The render's entry point, compiled as a C function (``make_render_entry``)."""
-    w = (pf, pi, items, n_items, boxes, csg, balls, n_balls, light, n_lights, (ti, tf), (tg, tn))
-    return render_rows(
-        out, x0, y0, x1, y1, k, step, cam, w, depth, samples, seed_key, eps, stack, (sf, si, tb)
-    )
-
-
-def make_render_entry(cache):
-    """Compile ``render_entry`` as a C-callable function (numba's ``cfunc``) over raw
-    pointers: ``int64 f(F* out, int64 x0, int64 y0, int64 x1, int64 y1, int64 k, int64
-    step, F* cam, F* pf, int64* pi, int32* items, int64 n_items, F* boxes, int64* csg, F*
-    balls, int64 n_balls, F* light, int64 n_lights, int64* ti, F* tf, F* tg, F* tn, int64
-    depth, int64 samples, uint64 seed_key, float64 eps, F* stack, F* sf, int64* si, F* tb)``. Without the numba runtime: it cannot
-    allocate. ``cache``: numba's disk cache (used only when the render cannot be linked as
-    a shared library)."""
-    real = types.float32 if F is np.float32 else types.float64
-    fp = types.CPointer(real)
-    ip = types.CPointer(types.int64)
-    i32p = types.CPointer(types.int32)
-    i64 = types.int64
-    signature = types.int64(
-        fp, i64, i64, i64, i64, i64, i64, fp, fp, ip, i32p, i64, fp, ip, fp, i64, fp, i64, ip, fp,
-        fp, fp, i64, i64, types.uint64, types.float64, fp, fp, ip, fp,
-    )  # fmt: skip
-    flags: dict[str, Any] = {"_nrt": False, "fastmath": FASTMATH, "error_model": "numpy"}
-    return cfunc(signature, cache=cache, **flags)(render_entry)

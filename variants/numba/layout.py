@@ -71,7 +71,8 @@ POW_FLOOR = 76  # reflect_dot_eye at or below which reflect_dot_eye ** shininess
 SPH_CENTER = 77  # 3: spheres whose transform is a similarity: the world-space centre
 SPH_R2 = 80  # ... the radius squared
 SPH_INV_R = 81  # ... and 1 / radius
-NF = 82
+EMISSIVE = 82  # 3: the light the surface gives off (the path integrator's, chapter 21 here)
+NF = 85
 
 # pi: primitive ints
 KIND = 0  # one of the K_ values
@@ -215,6 +216,15 @@ CAM_HALF_WIDTH = 12
 CAM_HALF_HEIGHT = 13
 CAM_PIXEL_SIZE = 14
 NCAM = 15
+
+# sky: what a path that meets nothing sees (``raytracer.sky``; black without one)
+SKY_HORIZON = 0  # 3: the colour at and below the horizon
+SKY_ZENITH = 3  # 3: ... and straight up
+NSKY = 6
+
+# the render entry's ``integrator`` argument (``kernels_entry``)
+INTEGRATOR_WHITTED = 0  # the book's
+INTEGRATOR_PATH = 1  # the path integrator (chapter 21 here; kernels compiled with HAS_PATH)
 
 # per-thread scratch for CSG trees, entry j of column c at sf[j * NSF + c] (floats) and
 # si[j * NSI + c] (ints)

@@ -35,9 +35,10 @@ from raytracer.matrices import Matrix, identity_matrix
 from raytracer.patterns import Pattern
 from raytracer.shapes.shape import Shape
 from raytracer.shapes.sphere import Sphere
+from raytracer.sky import Sky
 from raytracer.world import World
 from variants.arrays import flatten as F
-from variants.arrays.rows import rows3x4
+from variants.arrays.rows import rgb, rows3x4
 from variants.numba import layout as L
 from variants.numba.bvh import BALLS_MAX, DEFAULT, STRUCTURES, Hierarchy, build_into, outward32
 from variants.numba.errors import PackError, refusal
@@ -375,9 +376,11 @@ def pack_world(
     started = time.perf_counter()
     nodes = _flattened(F.from_world, world)
     lights = list(world.lights)
-    return _pack(
+    packed = _pack(
         nodes, lights, dtype, allow_test_shape, structure, started=started, compact=compact
     )
+    packed.sky = pack_sky(world.sky, dtype)
+    return packed
 
 
 def pack_scene(scene: Any, dtype: Any = np.float64, *, structure: str = DEFAULT) -> Packed:
@@ -385,7 +388,20 @@ def pack_scene(scene: Any, dtype: Any = np.float64, *, structure: str = DEFAULT)
     and arrays, no book shape built."""
     started = time.perf_counter()
     nodes = _flattened(F.from_description, scene)
-    return _pack(nodes, list(scene.lights), dtype, False, structure, started=started, compact=True)
+    lights = list(scene.lights)
+    packed = _pack(nodes, lights, dtype, False, structure, started=started, compact=True)
+    packed.sky = pack_sky(scene.sky, dtype)
+    return packed
+
+
+def pack_sky(s: Sky | None, dtype: Any = np.float64) -> np.ndarray:
+    """Chapter 21 here (beyond the book): the sky's horizon and zenith colours (``layout``
+    SKY_*); black all around without one, as ``raytracer.sky`` sees it."""
+    table = np.zeros(L.NSKY, dtype=dtype)
+    if s is not None:
+        table[L.SKY_HORIZON : L.SKY_HORIZON + 3] = rgb(s.horizon)
+        table[L.SKY_ZENITH : L.SKY_ZENITH + 3] = rgb(s.zenith)
+    return table
 
 
 def pack_shapes(

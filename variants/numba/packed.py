@@ -21,7 +21,8 @@ class Packed:
     shapes: the leaf shape of each primitive row; capacity: the most intersections a ray
     can have with everything packed; cs_size, cs_prims: the largest CSG tree's intersection
     list and primitive count (per-thread scratch sizes, at least 1); hierarchy: how the
-    items are arranged (``bvh``).
+    items are arranged (``bvh``); sky: the world's sky (``layout`` SKY_*; black without
+    one: the path integrator's, chapter 21 here).
     """
 
     pf: np.ndarray
@@ -41,6 +42,7 @@ class Packed:
     light_values: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)
     tg: np.ndarray = field(default_factory=lambda: np.zeros((0, L.NTG)), repr=False)
     tn: np.ndarray = field(default_factory=lambda: np.zeros((0, L.NTN)), repr=False)
+    sky: np.ndarray = field(default_factory=lambda: np.zeros(L.NSKY), repr=False)
     _rows_by_id: dict[int, int] | None = field(default=None, repr=False)
     _texture_arrays: tuple[np.ndarray, np.ndarray] | None = field(default=None, repr=False)
 

@@ -180,6 +180,7 @@ class Rows:
         f[L.REFLECTIVE] = float(m.reflective)
         f[L.TRANSPARENCY] = float(m.transparency)
         f[L.REFRACTIVE_INDEX] = float(m.refractive_index)
+        f[L.EMISSIVE : L.EMISSIVE + 3] = rgb(m.emissive)
         used = pattern if pattern is not None else m.pattern
         if used is not None:
             pattern_kind_ = pattern_kind(used, where)

@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 
 from compiled.records import built
-from raytracer.camera import Camera, RenderSettings
+from raytracer.camera import PATH, Camera, RenderSettings
 from raytracer.sampling import GAMMA, MASK64
 from raytracer.tracer import Region
 from raytracer.world import World
@@ -165,7 +165,9 @@ class Frame:
     scratch: Scratch
     common: tuple[Any, ...]
     dtype: Any
-    addresses: list[tuple[int, int, int, int]] = field(default_factory=list)
+    # thread k's last arguments: its scratch (stack, sf, si, tb), the sky, the integrator and
+    # the roulette's first bounce (``kernels_entry.render_entry``)
+    addresses: list[tuple[int, int, int, int, int, int, int]] = field(default_factory=list)
     lock: threading.Lock = field(default_factory=threading.Lock)
     arrays: tuple[Any, ...] = ()  # the arrays ``common`` points into, kept alive
 
@@ -177,7 +179,9 @@ def prepare_frame(
     the counting kernel) and allocate every thread's scratch."""
     camera = pack_camera(c, options.dtype)
     packed = packed_for_render(w, options)
-    renderer = load_renderer(options.config(analyse(packed), count_rays))
+    features = analyse(packed)
+    path = settings.integrator == PATH
+    renderer = load_renderer(options.config(features.with_path() if path else features, count_rays))
     threads = min(render_threads(options), max(camera.vsize, 1))
     scratch = Scratch(threads, settings.depth, packed, options.dtype)
     pf, pi, items, n_items, boxes, csg, balls, n_balls = packed.flat()
@@ -191,8 +195,11 @@ def prepare_frame(
         settings.depth, settings.samples, (settings.seed * GAMMA) & MASK64,
         float(settings.epsilon),
     )  # fmt: skip
-    addresses = [scratch.addresses(k) for k in range(threads)]
-    arrays = (pf, pi, items, boxes, csg, balls, lights, ti, tf, tg, tn)
+    sky = np.ascontiguousarray(packed.sky, dtype=options.dtype)
+    integrator = L.INTEGRATOR_PATH if path else L.INTEGRATOR_WHITTED
+    last = (sky.ctypes.data, integrator, settings.roulette)
+    addresses = [(*scratch.addresses(k), *last) for k in range(threads)]
+    arrays = (pf, pi, items, boxes, csg, balls, lights, ti, tf, tg, tn, sky)
     return Frame(
         camera, packed, renderer, threads, scratch, common, options.dtype, addresses,
         arrays=arrays,
@@ -346,6 +353,10 @@ def explain(options: Options, w: World) -> str:
     else:
         why = "specialize=off" if not options.specialize else f"{GENERIC_ONLY}=off"
         lines.append(f"  kernel: generic, every feature compiled in ({why})")
+    lines.append(
+        "  path integrator (--integrator path): a kernel of its own, these features and the "
+        "path code; the one below is the book's integrator's, which leaves the path code out"
+    )
     lines.append(f"  precision: {config.describe()}")
     library = library_path(config)
     state = "built" if built(library) is not None else "built by the first render, a few seconds"

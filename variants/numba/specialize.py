@@ -52,7 +52,8 @@ from variants.numba.features import ALL_FLAGS, FeatureSet
 PACKAGE_DIR = Path(__file__).resolve().parent
 TEMPLATE_PARTS = (
     "layout", "kernels_geometry", "kernels_shapes", "kernels_prims", "kernels_shading",
-    "kernels_hits", "kernels_indices", "kernels_trace", "kernels_api",
+    "kernels_hits", "kernels_indices", "kernels_trace", "kernels_path", "kernels_entry",
+    "kernels_api",
 )  # fmt: skip
 MARKER = "# ---- kernel template ----"
 PREFIX = "rtc_numba_"
@@ -197,10 +198,11 @@ def _locked_first_call(dispatcher: Any, path: Path) -> Any:
 
 @dataclass(frozen=True)
 class Renderer:
-    """The compiled render entry point (``kernels_trace.render_entry``), callable through
+    """The compiled render entry point (``kernels_entry.render_entry``), callable through
     ctypes without the GIL: ``function(out, x0, y0, x1, y1, k, step, cam, pf, pi, items,
-    n_items, boxes, csg, balls, n_balls, lights, n_lights, ti, tf, depth, samples, seed_key,
-    eps, stack, sf, si, tb)`` with pointers as integer addresses: rows k, k + step ... of the region
+    n_items, boxes, csg, balls, n_balls, lights, n_lights, ti, tf, tg, tn, depth, samples,
+    seed_key, eps, stack, sf, si, tb, sky, integrator, roulette)`` with pointers as integer
+    addresses: rows k, k + step ... of the region
     x0 <= x < x1, y0 <= y < y1 into ``out`` ((y1 - y0) x (x1 - x0) x 3). ``origin`` says
     where it came from; ``keep`` holds what must stay alive while it is used."""
 
@@ -213,7 +215,7 @@ def _argument_types() -> list[Any]:
     p, i64 = ctypes.c_void_p, ctypes.c_int64
     return [
         p, i64, i64, i64, i64, i64, i64, p, p, p, p, i64, p, p, p, i64, p, i64, p, p, p, p,
-        i64, i64, ctypes.c_uint64, ctypes.c_double, p, p, p, p,
+        i64, i64, ctypes.c_uint64, ctypes.c_double, p, p, p, p, p, i64, i64,
     ]  # fmt: skip
 
 
@@ -261,7 +263,8 @@ extern int64_t numba_entry(
     REAL *pf, int64_t *pi, int32_t *items, int64_t n_items, REAL *boxes, int64_t *csg,
     REAL *balls, int64_t n_balls, REAL *lights, int64_t n_lights, int64_t *ti, REAL *tf,
     REAL *tg, REAL *tn, int64_t depth, int64_t samples, uint64_t seed_key, double eps,
-    REAL *stack, REAL *sf, int64_t *si, REAL *tb) __asm__("ENTRY_SYMBOL");
+    REAL *stack, REAL *sf, int64_t *si, REAL *tb, REAL *sky, int64_t integrator,
+    int64_t roulette) __asm__("ENTRY_SYMBOL");
 
 int64_t ENTRY_NAME(
     REAL *out, int64_t x0, int64_t y0, int64_t x1, int64_t y1, int64_t k, int64_t step,
@@ -269,10 +272,11 @@ int64_t ENTRY_NAME(
     REAL *pf, int64_t *pi, int32_t *items, int64_t n_items, REAL *boxes, int64_t *csg,
     REAL *balls, int64_t n_balls, REAL *lights, int64_t n_lights, int64_t *ti, REAL *tf,
     REAL *tg, REAL *tn, int64_t depth, int64_t samples, uint64_t seed_key, double eps,
-    REAL *stack, REAL *sf, int64_t *si, REAL *tb) {
+    REAL *stack, REAL *sf, int64_t *si, REAL *tb, REAL *sky, int64_t integrator,
+    int64_t roulette) {
     return numba_entry(out, x0, y0, x1, y1, k, step, cam, pf, pi, items, n_items, boxes,
                        csg, balls, n_balls, lights, n_lights, ti, tf, tg, tn, depth, samples,
-                       seed_key, eps, stack, sf, si, tb);
+                       seed_key, eps, stack, sf, si, tb, sky, integrator, roulette);
 }
 """
 def _build_library(config: KernelConfig, path: Path) -> None:
