@@ -19,7 +19,9 @@ HELP = (
     "stiff transforms, refraction, degenerate input) on every variant against exact oracles"
 )
 DEFAULT_SIZE = "32x24"
-GROUPS = ("scale", "cancel", "graze", "torus", "stiff", "singular", "refract", "degen")
+GROUPS = (
+    "scale", "cancel", "graze", "torus", "stiff", "singular", "refract", "degen", "path",
+)
 """The case groups, in the suite's order (a test checks them against its cases)."""
 
 

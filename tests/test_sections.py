@@ -89,6 +89,10 @@ def test_the_report_removes_the_plots_it_no_longer_draws(tmp_path):
     (tmp_path / "report").mkdir()
     stale = tmp_path / "report" / "time-vs-pixels.png"  # an older report's name
     stale.write_bytes(b"old")
+    (tmp_path / "report" / ".written").write_text("time-vs-pixels.png\n")  # which it wrote
+    mine = tmp_path / "report" / "my-notes.png"  # a file the report did not write
+    mine.write_bytes(b"mine")
     build_report(tmp_path)
     assert not stale.exists()
+    assert mine.read_bytes() == b"mine"
     assert (tmp_path / "report" / "speedup.png").is_file()
