@@ -175,7 +175,7 @@ def _advice(name: str, settings: RenderSettings) -> Callable[[float], str | None
     seconds, a line naming the variant that renders it fast when the render will take
     longer than ``LONG_SECONDS``, else None. None for a render that goes through a compiled
     variant already, when no ``FAST_VARIANT`` is registered, and for a path-traced render
-    (no compiled variant path-traces yet; ``_path_estimate`` spoke before it started)."""
+    (``_path_estimate`` spoke before it started, naming numba)."""
     chain = _python_chain(name)
     if chain is None or settings.integrator == PATH or FAST_VARIANT not in _registered():
         return None
@@ -212,7 +212,7 @@ def _path_estimate(variant: Any, camera: Any, world: Any, settings: RenderSettin
         f"rtc render: {variant.name} will take about {duration(total)} of one core for this "
         f"path-traced render ({rays}, up to {settings.depth + 1} hits each; timed on "
         f"{pixels} pixel{'s' if pixels > 1 else ''}); fewer --samples, a lower --depth or "
-        "a smaller --size shortens it"
+        f"a smaller --size shortens it, or --variant {FAST_VARIANT} (compiled)"
     )
 
 

@@ -358,6 +358,7 @@ def test_a_tie_between_a_ball_and_a_plane_goes_to_the_earlier_object(sphere_firs
 RENDER_IN_A_FRESH_PROCESS = (
     "import sys\n"
     "import numpy as np\n"
+    "sys.path.insert(0, 'tests')  # the suite's helpers, as pytest's rootdir conftest has them\n"
     "from tests.test_numba import default_world\n"
     "from variants.registry import load_variant\n"
     "from variants.numba import specialize\n"

@@ -139,7 +139,7 @@ def test_rtc_render_writes_no_file_when_a_worker_dies(
         def close(self) -> None:
             pass
 
-    monkeypatch.setattr(cmd_render, "_progress", lambda args, rows, name: KillAWorker())
+    monkeypatch.setattr(cmd_render, "_progress", lambda args, rows, name, settings: KillAWorker())
     output = tmp_path / "out.png"
     arguments = ["render", str(REFERENCE_SCENE), "-o", str(output), "--size", "32x24"]
     try:

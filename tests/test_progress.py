@@ -155,20 +155,20 @@ def test_advice_is_shown_once_above_the_progress_for_a_long_estimate() -> None:
 
 
 def test_a_slow_variant_estimated_long_is_told_of_numba() -> None:
-    advise = cmd_render._advice("naive")
+    advise = cmd_render._advice("naive", RenderSettings())
     assert advise is not None
     assert advise(5.0) is None and advise(cmd_render.LONG_SECONDS - 1) is None
     line = advise(215.0)
     assert line is not None
     assert line.startswith("rtc render: naive will take about 3 min 35 s for this render; ")
     assert "--variant numba renders it in under a second" in line
-    slow = cmd_render._advice("prealloc")
+    slow = cmd_render._advice("prealloc", RenderSettings())
     assert slow is not None and "in about 3 s" in (slow(300.0) or "")
 
 
 @pytest.mark.parametrize("name", ["numba", "numba[threads=1]", "pooled:numba", "wavefront"])
 def test_a_compiled_variant_is_not_told_of_numba(name: str) -> None:
-    assert cmd_render._advice(name) is None
+    assert cmd_render._advice(name, RenderSettings()) is None
 
 
 @pytest.fixture

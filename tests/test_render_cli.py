@@ -276,6 +276,7 @@ def test_a_long_path_traced_render_says_so_before_it_starts(
     first = err.splitlines()[0]
     assert first.startswith("rtc render: naive will take about ")
     assert "path-traced render (3 rays per pixel, up to 6 hits each; timed on 1 pixel)" in first
+    assert first.endswith("or --variant numba (compiled)")
     # the book's integrator: no probe, no such line before it starts
     ticks = iter(range(0, 10**6, 20))
     status, _, err = render(capsys, str(tiny), "-o", str(tmp_path / "w.png"), "--progress", "none")
