@@ -40,6 +40,7 @@ from pathlib import Path
 from typing import Any
 
 from groundwork.files import read_text, write_new
+from harness.engine.sharing import pid_alive
 
 SCHEMA_VERSION = 2
 MAX_RUN_FILE_BYTES = 64 << 20  # a run file is a few hundred kB; more is no run file of ours
@@ -103,14 +104,6 @@ def new_stem(now: datetime | None = None, prefix: str = "bench-") -> str:
     stamp = now.strftime("%Y%m%dT%H%M%S") + f"{now.microsecond // 1000:03d}Z"
     return f"{prefix}{stamp}-{secrets.token_hex(3)}"
 
-
-def _pid_alive(pid: int) -> bool:
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:
-        return True
     return True
 
 
@@ -148,7 +141,7 @@ def _abandoned(staging: Path) -> bool:
         pid = int(staging.name.rsplit("-", 1)[1])
     except (IndexError, ValueError):
         return False
-    return pid != os.getpid() and not _pid_alive(pid)
+    return pid != os.getpid() and not pid_alive(pid)
 
 
 def remove_stale_staging(results: Path) -> list[Path]:

@@ -103,7 +103,8 @@ def wait_for_quiet(
             reported = waited
 
 
-def _alive(pid: int) -> bool:
+def pid_alive(pid: int) -> bool:
+    """Whether a process ``pid`` exists (one of another user's counts)."""
     try:
         os.kill(pid, 0)
     except ProcessLookupError:
@@ -154,7 +155,7 @@ class BenchLock:
                     continue
                 if pid == self.pid:
                     continue
-                if not _alive(pid):
+                if not pid_alive(pid):
                     with contextlib.suppress(OSError):
                         path.unlink()
                     continue
