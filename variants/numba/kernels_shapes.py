@@ -329,6 +329,35 @@ def compact_all(pf, p, tg, t, ox, oy, oz, dx, dy, dz, eps):
 
 
 @njit(**INLINE)
+def torus_missed(ox, oy, oz, dx, dy, dz, big, small):
+    """Whether the line (from its closest approach to the centre) certainly misses the
+    torus: outside its sphere, or across its slab |y| <= r only farther from the axis than
+    R + r or nearer than R - r (a hole's ray). Margins of 2**-19 of the radii keep every ray
+    that rounding could bring to the tube (the quartic decides those)."""
+    outer = (big + small) * (big + small) * (1 + 2.0**-19)
+    if ox * ox + oy * oy + oz * oz > outer:
+        return True
+    top = small * (1 + 2.0**-20)
+    if dy == 0.0:
+        return abs(oy) > top
+    t0, t1 = (-top - oy) / dy, (top - oy) / dy
+    if t1 < t0:
+        t0, t1 = t1, t0
+    across = dx * dx + dz * dz
+    nearest = t0
+    if across > 0.0:
+        nearest = min(max(-(ox * dx + oz * dz) / across, t0), t1)
+    x, z = ox + nearest * dx, oz + nearest * dz
+    if x * x + z * z > outer:
+        return True
+    hole = (big - small) * (big - small) * (1 - 2.0**-19)
+    if big <= small:
+        return False
+    x0, z0, x1, z1 = ox + t0 * dx, oz + t0 * dz, ox + t1 * dx, oz + t1 * dz
+    return x0 * x0 + z0 * z0 < hole and x1 * x1 + z1 * z1 < hole
+
+
+@njit(**INLINE)
 def torus_intersect(pf, p, ox, oy, oz, dx, dy, dz):
     """Chapter 20: the quartic's real roots (``raytracer.shapes.torus``) as ``robust`` finds
     them (``variants.robust.geometry.torus_roots``): the ray's origin moved to its closest
@@ -344,6 +373,8 @@ def torus_intersect(pf, p, ox, oy, oz, dx, dy, dz):
         return 0, INF, INF, INF, INF
     shift = -(ox * dx + oy * dy + oz * dz) / dd  # the closest approach to the centre
     ox, oy, oz = ox + shift * dx, oy + shift * dy, oz + shift * dz
+    if torus_missed(ox, oy, oz, dx, dy, dz, big, small):
+        return 0, INF, INF, INF, INF
     od = ox * dx + oy * dy + oz * dz
     oo = ox * ox + oy * oy + oz * oz
     k = oo + big * big - small * small
