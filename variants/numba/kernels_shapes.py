@@ -22,6 +22,7 @@ from variants.numba.kernels_geometry import (
     to_object_point,
     to_object_vector,
 )
+from variants.numba.kernels_quartic import push_root, quartic_real_roots
 from variants.numba.layout import (
     CLOSED,
     MAXIMUM,
@@ -42,8 +43,7 @@ from variants.numba.layout import (
 # ---- kernel template ----
 
 # the torus's quartic is solved in float64 whatever F is (``torus_intersect``)
-EQN_EPS = 1e-9  # ``raytracer.quartic.EQN_EPS``
-D_INF, D_ZERO, D_ONE, D_TWO, D_THIRD, D_PI = np.inf, 0.0, 1.0, 2.0, 1.0 / 3.0, math.pi
+D_INF = np.inf
 
 
 @njit(**INLINE)
@@ -329,140 +329,70 @@ def compact_all(pf, p, tg, t, ox, oy, oz, dx, dy, dz, eps):
 
 
 @njit(**INLINE)
-def is_zero(x):
-    """``raytracer.quartic.is_zero``: within EQN_EPS of zero."""
-    return -EQN_EPS < x < EQN_EPS
-
-
-@njit(**INLINE)
-def cube_root(x):
-    """The real cube root, sign kept (``raytracer.quartic.cube_root``)."""
-    return math.copysign(abs(x) ** D_THIRD, x)
-
-
-@njit(**INLINE)
-def sort4(n, a, b, c, d):
-    """The first n of (a, b, c, d) in increasing order (the rest infinite)."""
-    if n < 4:
-        d = D_INF
-    if n < 3:
-        c = D_INF
-    if n < 2:
-        b = D_INF
-    if n < 1:
-        a = D_INF
-    if a > b:
-        a, b = b, a
-    if c > d:
-        c, d = d, c
-    if a > c:
-        a, c = c, a
-    if b > d:
-        b, d = d, b
-    if b > c:
-        b, c = c, b
-    return a, b, c, d
-
-
-@njit(**INLINE)
-def quadratic_roots(b, c):
-    """``raytracer.quartic.solve_quadratic(1, b, c)``: (count, r0, r1)."""
-    p = b / D_TWO
-    discriminant = p * p - c
-    if is_zero(discriminant):
-        return 1, -p, D_INF
-    if discriminant < D_ZERO:
-        return 0, D_INF, D_INF
-    root = math.sqrt(discriminant)
-    return 2, -root - p, root - p
-
-
-@njit(**INLINE)
-def cubic_roots(big_a, big_b, big_c):
-    """``raytracer.quartic.solve_cubic(1, A, B, C)`` step by step: (count, r0, r1, r2),
-    increasing."""
-    square_a = big_a * big_a
-    p = D_THIRD * (-D_THIRD * square_a + big_b)
-    q = 0.5 * (2.0 / 27.0 * big_a * square_a - D_THIRD * big_a * big_b + big_c)
-    cube_p = p * p * p
-    discriminant = q * q + cube_p
-    shift = D_THIRD * big_a
-    if is_zero(discriminant):
-        if is_zero(q):
-            return 1, D_ZERO - shift, D_INF, D_INF
-        u = cube_root(-q)
-        r0, r1, _, _ = sort4(2, D_TWO * u - shift, -u - shift, D_INF, D_INF)
-        return 2, r0, r1, D_INF
-    if discriminant < D_ZERO:
-        phi = D_THIRD * math.acos(max(-D_ONE, min(D_ONE, -q / math.sqrt(-cube_p))))
-        t = D_TWO * math.sqrt(-p)
-        r0, r1, r2, _ = sort4(
-            3, t * math.cos(phi) - shift, -t * math.cos(phi + D_PI / 3.0) - shift,
-            -t * math.cos(phi - D_PI / 3.0) - shift, D_INF,
-        )  # fmt: skip
-        return 3, r0, r1, r2
-    root = math.sqrt(discriminant)
-    return 1, cube_root(root - q) - cube_root(root + q) - shift, D_INF, D_INF
-
-
-@njit(**INLINE)
-def quartic_roots(a, b, c, d, e):
-    """``raytracer.quartic.solve_quartic`` step by step (Ferrari's method): (count, r0, r1,
-    r2, r3), increasing."""
-    big_a = b / a
-    big_b = c / a
-    big_c = d / a
-    big_d = e / a
-    square_a = big_a * big_a
-    p = -3.0 / 8.0 * square_a + big_b
-    q = 1.0 / 8.0 * square_a * big_a - 0.5 * big_a * big_b + big_c
-    r = (
-        -3.0 / 256.0 * square_a * square_a + 1.0 / 16.0 * square_a * big_b
-        - 0.25 * big_a * big_c + big_d
-    )  # fmt: skip
-    shift = 0.25 * big_a
-    if is_zero(r):
-        n, c0, c1, c2 = cubic_roots(D_ZERO, p, q)
-        r0, r1, r2, r3 = sort4(4, D_ZERO - shift, c0 - shift, c1 - shift, c2 - shift)
-        return n + 1, r0, r1, r2, r3
-    n, z0, z1, z2 = cubic_roots(-0.5 * p, -r, 0.5 * r * p - 1.0 / 8.0 * q * q)
-    z = z0 if n == 1 else (z1 if n == 2 else z2)  # the largest
-    u = z * z - r
-    v = D_TWO * z - p
-    if (u < D_ZERO and not is_zero(u)) or (v < D_ZERO and not is_zero(v)):
-        return 0, D_INF, D_INF, D_INF, D_INF
-    u = D_ZERO if is_zero(u) else math.sqrt(u)
-    v = D_ZERO if is_zero(v) else math.sqrt(v)
-    n1, a0, a1 = quadratic_roots(-v if q < D_ZERO else v, z - u)
-    n2, b0, b1 = quadratic_roots(v if q < D_ZERO else -v, z + u)
-    # a missing root is D_INF (D_INF - shift too): sorted, they come last
-    r0, r1, r2, r3 = sort4(4, a0 - shift, a1 - shift, b0 - shift, b1 - shift)
-    return n1 + n2, r0, r1, r2, r3
+def torus_missed(ox, oy, oz, dx, dy, dz, big, small):
+    """Whether the line (from its closest approach to the centre) certainly misses the
+    torus: outside its sphere, or across its slab |y| <= r only farther from the axis than
+    R + r or nearer than R - r (a hole's ray). Margins of 2**-19 of the radii keep every ray
+    that rounding could bring to the tube (the quartic decides those)."""
+    outer = (big + small) * (big + small) * (1 + 2.0**-19)
+    if ox * ox + oy * oy + oz * oz > outer:
+        return True
+    top = small * (1 + 2.0**-20)
+    if dy == 0.0:
+        return abs(oy) > top
+    t0, t1 = (-top - oy) / dy, (top - oy) / dy
+    if t1 < t0:
+        t0, t1 = t1, t0
+    across = dx * dx + dz * dz
+    nearest = t0
+    if across > 0.0:
+        nearest = min(max(-(ox * dx + oz * dz) / across, t0), t1)
+    x, z = ox + nearest * dx, oz + nearest * dz
+    if x * x + z * z > outer:
+        return True
+    hole = (big - small) * (big - small) * (1 - 2.0**-19)
+    if big <= small:
+        return False
+    x0, z0, x1, z1 = ox + t0 * dx, oz + t0 * dz, ox + t1 * dx, oz + t1 * dz
+    return x0 * x0 + z0 * z0 < hole and x1 * x1 + z1 * z1 < hole
 
 
 @njit(**INLINE)
 def torus_intersect(pf, p, ox, oy, oz, dx, dy, dz):
-    """Chapter 20: the quartic's real roots (``raytracer.shapes.torus``): (count, t0, t1,
-    t2, t3), increasing. Solved in float64 under the float32 option too: in float32 the
-    closed form loses whole stretches of tube (``rtc stability``'s torus rows)."""
+    """Chapter 20: the quartic's real roots (``raytracer.shapes.torus``) as ``robust`` finds
+    them (``variants.robust.geometry.torus_roots``): the ray's origin moved to its closest
+    approach to the centre, the roots isolated and refined (``kernels_quartic``): (count,
+    t0, t1, t2, t3), increasing, a double root (a grazing ray) twice. In float64 under the
+    float32 option too (in float32 whole stretches of tube are lost)."""
     big = np.float64(pf[p * NF + TORUS_MAJOR])
     small = np.float64(pf[p * NF + TORUS_MINOR])
     ox, oy, oz = np.float64(ox), np.float64(oy), np.float64(oz)
     dx, dy, dz = np.float64(dx), np.float64(dy), np.float64(dz)
     dd = dx * dx + dy * dy + dz * dz
+    if dd == 0.0 or not math.isfinite(dd):
+        return 0, INF, INF, INF, INF
+    shift = -(ox * dx + oy * dy + oz * dz) / dd  # the closest approach to the centre
+    ox, oy, oz = ox + shift * dx, oy + shift * dy, oz + shift * dz
+    if torus_missed(ox, oy, oz, dx, dy, dz, big, small):
+        return 0, INF, INF, INF, INF
     od = ox * dx + oy * dy + oz * dz
     oo = ox * ox + oy * oy + oz * oz
     k = oo + big * big - small * small
-    four_r2 = 4.0 * big * big
+    four_r2 = 4 * big * big
     a = dd * dd
-    if a == 0.0:
-        return 0, INF, INF, INF, INF
-    b = 4.0 * dd * od
-    c = 2.0 * dd * k + 4.0 * od * od - four_r2 * (dx * dx + dz * dz)
-    d = 4.0 * od * k - 2.0 * four_r2 * (ox * dx + oz * dz)
+    b = 4 * dd * od
+    c = 2 * dd * k + 4 * od * od - four_r2 * (dx * dx + dz * dz)
+    d = 4 * od * k - 2 * four_r2 * (ox * dx + oz * dz)
     e = k * k - four_r2 * (ox * ox + oz * oz)
-    n, t0, t1, t2, t3 = quartic_roots(a, b, c, d, e)
-    return n, F(t0), F(t1), F(t2), F(t3)
+    if not (math.isfinite(a) and math.isfinite(b) and math.isfinite(c) and math.isfinite(d)
+            and math.isfinite(e)):  # fmt: skip
+        return 0, INF, INF, INF, INF
+    n, t0, t1, t2, t3 = quartic_real_roots(a, b, c, d, e)
+    m, s0, s1, s2, s3 = 0, D_INF, D_INF, D_INF, D_INF
+    roots = (t0, t1, t2, t3)
+    for i in range(n):
+        m, s0, s1, s2, s3 = push_root(m, s0, s1, s2, s3, roots[i] + shift)
+    return m, F(s0), F(s1), F(s2), F(s3)
 
 
 @njit(**INLINE)

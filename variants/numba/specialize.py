@@ -51,9 +51,9 @@ from variants.numba.features import ALL_FLAGS, FeatureSet
 
 PACKAGE_DIR = Path(__file__).resolve().parent
 TEMPLATE_PARTS = (
-    "layout", "kernels_geometry", "kernels_shapes", "kernels_prims", "kernels_shading",
-    "kernels_hits", "kernels_indices", "kernels_trace", "kernels_path", "kernels_entry",
-    "kernels_api",
+    "layout", "kernels_geometry", "kernels_quartic", "kernels_shapes", "kernels_prims",
+    "kernels_shading", "kernels_hits", "kernels_indices", "kernels_trace", "kernels_path",
+    "kernels_entry", "kernels_api",
 )  # fmt: skip
 MARKER = "# ---- kernel template ----"
 PREFIX = "rtc_numba_"

@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from variants.wavefront.quartic import KEPT, quartic_roots
 from variants.wavefront.scene import CONE, CUBE, CYLINDER, PLANE, SMOOTH, SPHERE, TORUS, TRIANGLE
 
 INF = np.inf
@@ -180,110 +181,42 @@ def cone(
     ]
 
 
-THIRD = 1.0 / 3.0
-EQN_EPS = 1e-9  # ``raytracer.quartic.EQN_EPS``
-
-
-def _zero(x: Any) -> Any:
-    return (x > -EQN_EPS) & (x < EQN_EPS)
-
-
-def _cube_root(x: Any) -> Any:
-    return np.copysign(np.abs(x) ** THIRD, x)
-
-
-def _sorted(values: list[Any]) -> list[Any]:
-    """Each ray's values in increasing order (INF, a missing root, last)."""
-    stacked = np.sort(np.stack(values), axis=0)
-    return list(stacked)
-
-
-def _quadratic(b: Any, c: Any) -> list[Any]:
-    """``raytracer.quartic.solve_quadratic(1, b, c)`` for arrays: two roots (INF: none)."""
-    p = b / 2.0
-    discriminant = p * p - c
-    double = _zero(discriminant)
-    none = ~double & (discriminant < 0)
-    root = np.sqrt(np.where(none | double, 0, discriminant))
-    return [np.where(none, INF, -root - p), np.where(none | double, INF, root - p)]
-
-
-def _cubic(a: Any, b: Any, c: Any) -> list[Any]:
-    """``raytracer.quartic.solve_cubic(1, a, b, c)`` for arrays: three roots (INF: none),
-    increasing."""
-    square = a * a
-    p = THIRD * (-THIRD * square + b)
-    q = 0.5 * (2.0 / 27.0 * a * square - THIRD * a * b + c)
-    cube_p = p * p * p
-    discriminant = q * q + cube_p
-    double = _zero(discriminant)
-    triple = double & _zero(q)
-    three = ~double & (discriminant < 0)
-    u = _cube_root(-q)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        ratio = np.clip(-q / np.sqrt(np.where(three, -cube_p, 1)), -1.0, 1.0)
-        phi = THIRD * np.arccos(ratio)
-        t = 2 * np.sqrt(np.where(three, -p, 0))
-        root = np.sqrt(np.where(three | double, 0, discriminant))
-    one = _cube_root(root - q) - _cube_root(root + q)
-    first = np.where(double, np.where(triple, 0, 2 * u), np.where(three, t * np.cos(phi), one))
-    second = np.where(
-        double, np.where(triple, INF, -u), np.where(three, -t * np.cos(phi + np.pi / 3), INF)
-    )
-    third = np.where(three, -t * np.cos(phi - np.pi / 3), INF)
-    shift = THIRD * a
-    return _sorted([first - shift, second - shift, third - shift])
-
-
-def quartic(a: Any, b: Any, c: Any, d: Any, e: Any) -> list[Any]:
-    """``raytracer.quartic.solve_quartic`` (Ferrari's method) for arrays: four roots (INF:
-    none), increasing."""
-    with np.errstate(invalid="ignore", divide="ignore"):
-        big_a, big_b, big_c, big_d = b / a, c / a, d / a, e / a
-    square = big_a * big_a
-    p = -3.0 / 8.0 * square + big_b
-    q = 1.0 / 8.0 * square * big_a - 0.5 * big_a * big_b + big_c
-    r = -3.0 / 256.0 * square * square + 1.0 / 16.0 * square * big_b - 0.25 * big_a * big_c + big_d
-    shift = 0.25 * big_a
-    flat = _zero(r)  # y (y³ + p y + q) = 0
-    cubic = _cubic(np.zeros_like(p), p, q)
-    resolvent = _cubic(-0.5 * p, -r, 0.5 * r * p - 1.0 / 8.0 * q * q)
-    z = np.where(np.isinf(resolvent[2]), np.where(np.isinf(resolvent[1]), resolvent[0],
-                                                  resolvent[1]), resolvent[2])  # fmt: skip
-    u = z * z - r
-    v = 2 * z - p
-    lost = (u < 0) & ~_zero(u) | (v < 0) & ~_zero(v)
-    u = np.sqrt(np.where(_zero(u) | lost, 0, u))
-    v = np.sqrt(np.where(_zero(v) | lost, 0, v))
-    negative = q < 0
-    first = _quadratic(np.where(negative, -v, v), z - u)
-    second = _quadratic(np.where(negative, v, -v), z + u)
-    split = [np.where(lost, INF, x) for x in (*first, *second)]
-    chosen = [np.where(flat, y, x) for x, y in zip(split, [np.zeros_like(p), *cubic], strict=True)]
-    none = a == 0
-    return _sorted([np.where(none, INF, x - shift) for x in chosen])
-
-
 def torus(ox: Any, oy: Any, oz: Any, dx: Any, dy: Any, dz: Any, big: Any, small: Any) -> list[Any]:
     """Chapter 20 (beyond the book): the torus of radii ``big`` and ``small``: the real
-    roots of its quartic (``raytracer.shapes.torus.torus_coefficients``), solved in float64
-    under the float32 option too (in float32 the closed form loses whole stretches of tube:
-    ``rtc stability``'s torus rows), returned in the rays' own type."""
+    roots of its quartic (``raytracer.shapes.torus.torus_coefficients``) as ``robust``
+    finds them (``variants.robust.geometry.torus_roots``): each ray's origin moved to its
+    closest approach to the centre, the roots isolated and refined (``quartic``), a double
+    root (a grazing ray) twice. In float64 under the float32 option too (in float32 whole
+    stretches of tube are lost); returned in the rays' own type."""
     dtype = np.result_type(ox, dx)
-    ox, oy, oz, dx, dy, dz = (np.asarray(v, dtype=np.float64) for v in (ox, oy, oz, dx, dy, dz))
-    big, small = np.float64(big), np.float64(small)
-    dd = dx * dx + dy * dy + dz * dz
-    od = ox * dx + oy * dy + oz * dz
-    oo = ox * ox + oy * oy + oz * oz
-    k = oo + big * big - small * small
-    four_r2 = 4 * big * big
-    roots = quartic(
-        dd * dd,
-        4 * dd * od,
-        2 * dd * k + 4 * od * od - four_r2 * (dx * dx + dz * dz),
-        4 * od * k - 2 * four_r2 * (ox * dx + oz * dz),
-        k * k - four_r2 * (ox * ox + oz * oz),
+    ox, oy, oz, dx, dy, dz, big, small = np.broadcast_arrays(
+        *(np.asarray(v, dtype=np.float64) for v in (ox, oy, oz, dx, dy, dz, big, small))
     )
+    with np.errstate(all="ignore"):
+        dd = dx * dx + dy * dy + dz * dz
+        lost = (dd == 0.0) | ~np.isfinite(dd)
+        shift = -(ox * dx + oy * dy + oz * dz) / np.where(lost, 1.0, dd)
+        ox, oy, oz = ox + shift * dx, oy + shift * dy, oz + shift * dz
+        od = ox * dx + oy * dy + oz * dz
+        oo = ox * ox + oy * oy + oz * oz
+        k = oo + big * big - small * small
+        four_r2 = 4 * big * big
+        c = [
+            dd * dd,
+            4 * dd * od,
+            2 * dd * k + 4 * od * od - four_r2 * (dx * dx + dz * dz),
+            4 * od * k - 2 * four_r2 * (ox * dx + oz * dz),
+            k * k - four_r2 * (ox * ox + oz * oz),
+        ]
+        lost |= ~np.logical_and.reduce([np.isfinite(v) for v in c])
+        solved = np.nonzero(~lost)
+        roots = [np.full(dd.shape, INF) for _ in range(KEPT)]
+        if solved[0].size:
+            found = quartic_roots([v[solved] for v in c])
+            for root, ts in zip(roots, found, strict=True):
+                moved = ts + shift[solved]
+                root[solved] = np.where(np.isfinite(moved), moved, INF)
+        roots = list(np.sort(np.stack(roots), axis=0))
     return [root.astype(dtype, copy=False) for root in roots]
 
 
