@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Set up the project in ./.venv if needed, then run one of its jobs.
 
-    python3 run.py bench   # quick benchmark of the reference scene, writes results/README.md
+    python3 run.py bench   # the optimizations step by step, quickly: results/local/README.md
+    python3 run.py bench --full      # every section (minutes); --publish: the committed results/
     python3 run.py test    # every feature for every variant, the unit tests (on every core),
                            # ruff, the import contracts (lint-imports) and mypy
     python3 run.py test --thorough   # the same, deeper (docs/contributing.md)
@@ -182,9 +183,12 @@ def _run(*argv: str, silent: str | None = None) -> int:
 
 
 def bench(extra: list[str]) -> int:
-    code = _run(str(BIN / "rtc"), "bench", "--quick", *extra)
+    """``rtc bench`` (quick unless ``--full`` is given) then ``rtc report``; ``--publish``
+    (the committed results) goes to both."""
+    mode = [] if "--full" in extra else ["--quick"]
+    code = _run(str(BIN / "rtc"), "bench", *mode, *extra)
     if code == 0:
-        code = _run(str(BIN / "rtc"), "report")
+        code = _run(str(BIN / "rtc"), "report", *(["--publish"] if "--publish" in extra else []))
     return code
 
 
