@@ -138,7 +138,8 @@ def _which_sections(parser: argparse.ArgumentParser) -> None:
         default=None,
         metavar="A,B",
         help=f"which parts to run, of {', '.join(NAMES)} (default: {','.join(QUICK_DEFAULTS)} "
-        f"in quick mode, {','.join(DEFAULTS)} with --full); {help_text()}",
+        f"in quick mode, and the table with --variants other than all; {','.join(DEFAULTS)} "
+        f"with --full); {help_text()}",
     )
     parser.add_argument(
         "--mesh-variants", default="numba,numba[bvh=off]", metavar="A,B",
@@ -222,8 +223,9 @@ def settings_from(args: argparse.Namespace) -> BenchSettings:
     if args.budget is not None and args.budget < 0:
         raise UserError(f"--budget {args.budget}: expected seconds, 0 or more (0: no limit)")
     asked = args.sections
-    if asked is None:
-        asked = ",".join(DEFAULTS if mode is FULL else QUICK_DEFAULTS)
+    if asked is None:  # quick: the ladder; the table too for variants named (a learner's)
+        quick = QUICK_DEFAULTS if args.variants == "all" else ("table", *QUICK_DEFAULTS)
+        asked = ",".join(DEFAULTS if mode is FULL else quick)
     sections = tuple(s.strip() for s in asked.split(",") if s.strip())
     unknown = [s for s in sections if s not in NAMES]
     if unknown or not sections:

@@ -517,6 +517,15 @@ def test_a_stale_lock_is_removed_and_no_lock_is_waited_on(tmp_path: Path) -> Non
     assert not (runs / f".bench-{os.getpid()}.lock").exists()
 
 
+@pytest.mark.skipif(sharing.process_started(1) is None, reason="needs /proc (Linux)")
+def test_a_lock_names_a_bench_only_when_its_process_is_the_bench_that_wrote_it() -> None:
+    mine = {"process_started": sharing.process_started(os.getpid())}
+    assert sharing.is_bench(os.getpid(), mine)  # the process that wrote it
+    assert not sharing.is_bench(1, {"started": "then"})  # init: alive, but no rtc bench
+    assert not sharing.is_bench(1, mine)  # another process's start: a reused pid
+    assert not sharing.is_bench(os.getpid(), {})  # pytest's command line is no rtc bench
+
+
 def test_the_timeout_is_spelled_in_the_name_only_when_it_is_not_the_default() -> None:
     from variants.registry import load_variant
 

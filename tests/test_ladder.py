@@ -218,3 +218,34 @@ def test_the_steps_that_add_error_show_where():
     assert "| `numba[float32]` against `numba` (640x480): PSNR 60.0 dB" in text
     assert "ladder-numba-float32-over-diff.png" in text
     assert text.count("-over-diff.png") == 1  # the exact steps have none
+
+
+def test_a_partial_run_adds_to_the_report_and_never_replaces_the_fuller_ladder(tmp_path):
+    """The README's learner command, ``rtc bench --variants mine,naive``, then ``rtc report``:
+    the ladder, the Summary and the README's figures stay the whole run's; the partial run's
+    rows follow the ladder, named."""
+    import json
+
+    from harness.report import choice, readme_figures
+
+    whole = _run(POVRAY)
+    partial = _run(stem="bench-20990102T000000000Z-bbbbbb")
+    partial["started"] = "2099-01-02T00:00:00"
+    partial["settings"] = {**partial["settings"], "variants_asked": "naive,mine"}
+    partial["rows"] = [_step("naive", None, 1.1, (10, 10)), _step("mine", "naive", 0.5, (10, 10))]
+    runs = tmp_path / "runs"
+    runs.mkdir()
+    for run in (whole, partial):
+        document = {"rtc": {"schema_version": 2, **run}}
+        (runs / f"{run['stem']}.json").write_text(json.dumps(document))
+    assert choice.partial(whole) is None and choice.partial(partial) == "--variants naive,mine"
+    assert choice.shown("ladder", [whole, partial]) is whole
+    assert choice.newer_partial("ladder", [whole, partial]) is partial
+    assert choice.shown("ladder", [partial]) is partial  # only partial runs: the newest
+    assert readme_figures.block([whole, partial]) == readme_figures.block([whole])
+    readme, _, problems = build_report(tmp_path)
+    assert problems == []
+    ladder_text = readme.read_text(encoding="utf-8").split("\n## ")[1]
+    assert "`numba[float32]`" in ladder_text  # the whole run's steps
+    assert f"Added by a newer run over part of the variants, `{partial['stem']}`" in ladder_text
+    assert "| `mine` |" in ladder_text

@@ -78,8 +78,9 @@ def bench_args(*extra: str) -> Any:
 
 def test_the_default_bench_leaves_the_scene_size_section_out() -> None:
     assert "scene-size" in SECTIONS and "scene-size" not in DEFAULT_SECTIONS
+    assert settings_from(bench_args()).sections == QUICK_DEFAULTS == ("ladder",)  # quick
     settings = settings_from(bench_args("--variants", "naive"))
-    assert settings.sections == QUICK_DEFAULTS == ("ladder",)  # quick: the ladder alone
+    assert settings.sections == ("table", "ladder")  # variants named: their table rows too
     assert settings_from(bench_args("--variants", "naive", "--full")).sections == DEFAULT_SECTIONS
     assert settings.mesh_variants == ("numba", "numba[bvh=off]")
     assert settings.meshes == ("ring-1k.obj", "ring-10k.obj", "ring-100k.obj", "ring-1m.obj")
