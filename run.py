@@ -120,13 +120,34 @@ def _pip(*args: str, python: Path = BIN / "python") -> None:
         raise SystemExit(process.returncode)
 
 
+class _Ticker:
+    """While a quiet step runs (venv's own pip install), a line saying so every
+    ``STATUS_EVERY`` seconds: progress on the screen from the first second."""
+
+    def __init__(self, what: str) -> None:
+        self.what = what
+        self.done = threading.Event()
+        self.start = time.monotonic()
+
+    def _tick(self) -> None:
+        while not self.done.wait(STATUS_EVERY):
+            print(f"run.py: {self.what}, {time.monotonic() - self.start:.0f} s so far", flush=True)
+
+    def __enter__(self) -> None:
+        threading.Thread(target=self._tick, daemon=True).start()
+
+    def __exit__(self, *exc: object) -> None:
+        self.done.set()
+
+
 def ensure_environment() -> None:
     """Create .venv and install the project (editable, with dev tools) unless already current."""
     if STAMP.exists() and STAMP.read_text().strip() == _wanted_stamp():
         return
     if not (BIN / "python").exists():
         print("run.py: creating .venv (Python's venv, with pip)", flush=True)
-        venv.EnvBuilder(with_pip=True).create(VENV)
+        with _Ticker("still creating .venv (installing pip into it)"):
+            venv.EnvBuilder(with_pip=True).create(VENV)
     pinned = ["--constraint", str(CONSTRAINTS)] if CONSTRAINTS.exists() else []
     print("run.py: updating pip in .venv", flush=True)
     _pip("install", "--upgrade", "pip", *pinned)

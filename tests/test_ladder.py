@@ -249,3 +249,31 @@ def test_a_partial_run_adds_to_the_report_and_never_replaces_the_fuller_ladder(t
     assert "`numba[float32]`" in ladder_text  # the whole run's steps
     assert f"Added by a newer run over part of the variants, `{partial['stem']}`" in ladder_text
     assert "| `mine` |" in ladder_text
+
+
+def test_the_projects_readme_and_committed_report_change_only_when_published(
+    tmp_path, monkeypatch
+):
+    """``rtc report`` writes your own report, ``results/local/`` by default; the committed
+    ``results/`` and the README's figures only with ``--publish``."""
+    import json
+
+    from harness.report import readme_figures
+    from rtc.cli import main
+
+    monkeypatch.chdir(tmp_path)
+    readme = tmp_path / "README.md"
+    readme.write_text(f"intro\n{readme_figures.START}\nold\n{readme_figures.END}\n")
+    run = _run(POVRAY)
+    for folder in (tmp_path / "results" / "runs", tmp_path / "results" / "local" / "runs"):
+        folder.mkdir(parents=True)
+        (folder / f"{run['stem']}.json").write_text(json.dumps({"rtc": {"schema_version": 2,
+                                                                        **run}}))  # fmt: skip
+    assert main(["report"]) == 0
+    assert (tmp_path / "results" / "local" / "README.md").is_file()
+    assert not (tmp_path / "results" / "README.md").exists()
+    assert "\nold\n" in readme.read_text()  # untouched
+    assert main(["report", "--publish"]) == 0
+    assert (tmp_path / "results" / "README.md").is_file()
+    assert readme_figures.quoted(readme.read_text()) == readme_figures.block([run])
+    assert main(["report", "--publish", "--results-dir", "elsewhere"]) == 2
