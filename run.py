@@ -157,7 +157,9 @@ def ensure_environment() -> None:
         "(a few minutes the first time)",
         flush=True,
     )
-    _pip("install", *pinned, "-e", f"{ROOT}[dev]")
+    # --no-compile: Python compiles each module when first imported, only those used, instead
+    # of pip compiling every file of every package before anything runs (a minute or more)
+    _pip("install", "--no-compile", *pinned, "-e", f"{ROOT}[dev]")
     STAMP.write_text(_wanted_stamp())
 
 

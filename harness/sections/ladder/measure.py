@@ -22,7 +22,8 @@ the picture at the comparison size), and:
 
 The anchors, in the same run: POV-Ray 3.7 (``harness.instruments.povray``) renders the reference
 scene's ``.pov`` version (``scenes/reference.pov``) at ``LARGE`` on one thread and on every
-core, ``repeat`` times each, timed as a whole process (and by its own trace time); its picture is
+core, the mode's ``side_repeat`` times each (quick: once; its trace alone outlasts the
+quick bench's Python rows), timed as a whole process (and by its own trace time); its picture is
 compared with the project's at the same size. Without POV-Ray the entry says so (``status:
 unavailable``) and the report prints the note instead of the rows.
 
@@ -281,7 +282,7 @@ def anchor(bench: Bench) -> dict[str, Any]:
 def _povray_point(
     bench: Bench, found: Any, source: Any, size: Size, threads: int
 ) -> tuple[dict[str, Any], np.ndarray]:
-    """``repeat`` renders by POV-Ray on ``threads`` threads; timed again (as a busy row is,
+    """``side_repeat`` renders by POV-Ray on ``threads`` threads; timed again (as a busy row is,
     ``Bench.measure_row``) while its trace threads did not get their cores."""
     attempts: list[dict[str, Any]] = []
     best: dict[str, Any] | None = None
@@ -297,7 +298,7 @@ def _povray_point(
         start = bench.clock()
         renders = [
             povray.render(found, source, size, threads, timeout=600)
-            for _ in range(bench.settings.repeat)
+            for _ in range(bench.settings.mode.side_repeat)
         ]
         if attempt:
             bench.spend(bench.clock() - start)
