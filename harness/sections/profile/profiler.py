@@ -33,6 +33,7 @@ follows them into the flame graph; cProfile sees the parent waiting for them).
 from __future__ import annotations
 
 import json
+import math
 import re
 import shutil
 import sys
@@ -69,6 +70,11 @@ def profile_size(camera: Size, per_pixel: float | None = None) -> Size:
         wanted = max(wanted, min(MAX_PIXELS, round(TRACE_SECONDS / per_pixel)))
     if wanted <= DEFAULT_PIXELS or wanted <= camera.pixels:
         return scaled(camera, (wanted / camera.pixels) ** 0.5)
+    common = math.gcd(camera.width, camera.height)
+    step_w, step_h = camera.width // common, camera.height // common  # 4x3 for 640x480
+    steps = int((wanted / (step_w * step_h)) ** 0.5)
+    if steps >= camera.width // step_w:  # a multiple of the reduced ratio: the aspect exact
+        return Size(step_w * steps, step_h * steps)
     factor = (wanted / camera.pixels) ** 0.5
     return Size(max(1, round(camera.width * factor)), max(1, round(camera.height * factor)))
 
