@@ -361,13 +361,15 @@ def run(args: argparse.Namespace) -> int:
     # deferred: saves ~2 s of rtc --help (the report: matplotlib, every section)
     from harness.report.build import console_table
 
-    settings = settings_from(args)
-
     started = time.monotonic()
 
     def log(message: str) -> None:
         elapsed = time.monotonic() - started
         print(f"rtc bench [{elapsed:5.0f} s]: {message}", file=sys.stderr, flush=True)
+
+    settings = settings_from(args)  # errors: one line, before any other (no progress yet)
+    log(f"{', '.join(settings.sections)} of {len(settings.variants)} variant(s), mode "
+        f"{settings.mode.name}, into {settings.results}")  # fmt: skip
 
     try:
         path = run_bench(settings, log, measuring(settings.sections))
