@@ -58,8 +58,8 @@ class Warmer:
     """The background compile of one bench run (see the module)."""
 
     def __init__(
-        self, folder: Path, job: Callable[[str], Mapping[str, Any]], log: Callable[[str], None],
-        cores: int | None = None,
+        self, folder: Path, job: Callable[[str, bool], Mapping[str, Any]],
+        log: Callable[[str], None], cores: int | None = None,
     ) -> None:  # fmt: skip
         self.folder = folder
         self.job = job  # (variant name, rays) -> its job (the run's scene, depth, threads ...)
