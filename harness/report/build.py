@@ -104,6 +104,7 @@ def _history_blocks(runs: list[Run], plot: Path | None = None) -> list[Block]:
 def _history_row(run: Run, changes: list[Any]) -> list[str]:
     """One run's row of the history table; ``changes``: its significant changes."""
     table = [r for r in rows(run, "table") if r["status"] == "ok"]
+    table = table or [r for r in rows(run, "ladder") if r["status"] == "ok"]  # a quick run
     naive = next((r for r in table if r["name"] == "naive"), None)
     best = max(
         (r for r in table if r.get("speedup")),
