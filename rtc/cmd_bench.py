@@ -71,8 +71,7 @@ def _what_to_render(parser: argparse.ArgumentParser) -> None:
         "--quick",
         action="store_true",
         help="the default: the optimizations step by step (the ladder), 160x120 (compiled "
-        "steps 640x480), 3 repeats, 6 s budget per row (18 s for naive); about two minutes "
-        "on 2 cores once set up",
+        "steps 640x480), 3 repeats, 6 s budget per row (18 s for naive)",
     )
     sizes.add_argument(
         "--full",
@@ -118,8 +117,8 @@ def _how_to_time(parser: argparse.ArgumentParser) -> None:
         "--again", type=int, default=AGAIN, metavar="N",
         help="a row that did not get the cores it asked for (busy) is timed again up to N "
         f"times after waiting for a quieter machine (default {AGAIN}; 0: never); the whole "
-        "run waits and re-times at most 30 s (quick) or 300 s (--full), then marks busy rows "
-        "as such",
+        f"run waits and re-times at most {QUICK.wait_budget:g} s (quick) or "
+        f"{FULL.wait_budget:g} s (--full), then marks busy rows as such",
     )  # fmt: skip
     parser.add_argument(
         "--budget",
