@@ -320,8 +320,8 @@ def test_only_one_core_python_rows_are_timed_beside_the_background_compile():
     assert compiles("pooled[workers=1]:numba") and not compiles("wavefront")
     logged: list[str] = []
     warmer = Warmer(Path("unused"), lambda name, rays: {}, logged.append, cores=1)
-    warmer.add(["naive", "numba", "numba[float32]"], rays=False)
-    assert warmer.names == ["numba", "numba[float32]"]
+    warmer.add(["naive", "numba", "numba[float32]", "pooled[workers=2]:numba"], rays=False)
+    assert warmer.names == ["numba", "numba[float32]"]  # no pool: its workers take a core
     warmer.start()  # one core: the compile would take the timed row's, so nothing starts
     warmer.before("numba")
     assert logged == []

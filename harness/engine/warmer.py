@@ -39,6 +39,13 @@ def compiles(name: str) -> bool:
     return "numba" in name
 
 
+def warmable(name: str) -> bool:
+    """Whether the background compile takes ``name``: numba itself, whose tiny render runs in
+    one process (a pool or a Dask cluster of numba would start workers on the timed row's
+    core; their kernels are numba's, compiled for the plain option set)."""
+    return name.startswith("numba")
+
+
 def one_core_python(name: str, cores: int) -> bool:
     """Whether ``name``'s row can be timed beside a compile: it compiles nothing and asks for
     one core of the ``cores`` there are."""
@@ -76,7 +83,7 @@ class Warmer:
     def add(self, names: list[str], rays: bool) -> None:
         """Compile ``names`` too (those that compile, not yet listed), before ``start``; with
         their ray-counting kernels when ``rays``."""
-        self.names += [n for n in names if compiles(n) and n not in self.names]
+        self.names += [n for n in names if warmable(n) and n not in self.names]
         if rays:
             self.rays |= set(names)
 
