@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Set up the project in ./.venv if needed, then run one of its jobs.
 
-    python3 run.py bench   # quick benchmark of the reference scene, writes results/README.md
+    python3 run.py bench   # the optimizations step by step, quickly: results/local/README.md
+    python3 run.py bench --full      # every section (minutes); --publish: the committed results/
     python3 run.py test    # every feature for every variant, the unit tests (on every core),
                            # ruff, the import contracts (lint-imports) and mypy
     python3 run.py test --thorough   # the same, deeper (docs/contributing.md)
@@ -119,13 +120,34 @@ def _pip(*args: str, python: Path = BIN / "python") -> None:
         raise SystemExit(process.returncode)
 
 
+class _Ticker:
+    """While a quiet step runs (venv's own pip install), a line saying so every
+    ``STATUS_EVERY`` seconds: progress on the screen from the first second."""
+
+    def __init__(self, what: str) -> None:
+        self.what = what
+        self.done = threading.Event()
+        self.start = time.monotonic()
+
+    def _tick(self) -> None:
+        while not self.done.wait(STATUS_EVERY):
+            print(f"run.py: {self.what}, {time.monotonic() - self.start:.0f} s so far", flush=True)
+
+    def __enter__(self) -> None:
+        threading.Thread(target=self._tick, daemon=True).start()
+
+    def __exit__(self, *exc: object) -> None:
+        self.done.set()
+
+
 def ensure_environment() -> None:
     """Create .venv and install the project (editable, with dev tools) unless already current."""
     if STAMP.exists() and STAMP.read_text().strip() == _wanted_stamp():
         return
     if not (BIN / "python").exists():
         print("run.py: creating .venv (Python's venv, with pip)", flush=True)
-        venv.EnvBuilder(with_pip=True).create(VENV)
+        with _Ticker("still creating .venv (installing pip into it)"):
+            venv.EnvBuilder(with_pip=True).create(VENV)
     pinned = ["--constraint", str(CONSTRAINTS)] if CONSTRAINTS.exists() else []
     print("run.py: updating pip in .venv", flush=True)
     _pip("install", "--upgrade", "pip", *pinned)
@@ -135,7 +157,9 @@ def ensure_environment() -> None:
         "(a few minutes the first time)",
         flush=True,
     )
-    _pip("install", *pinned, "-e", f"{ROOT}[dev]")
+    # --no-compile: Python compiles each module when first imported, only those used, instead
+    # of pip compiling every file of every package before anything runs (a minute or more)
+    _pip("install", "--no-compile", *pinned, "-e", f"{ROOT}[dev]")
     STAMP.write_text(_wanted_stamp())
 
 
@@ -182,9 +206,12 @@ def _run(*argv: str, silent: str | None = None) -> int:
 
 
 def bench(extra: list[str]) -> int:
-    code = _run(str(BIN / "rtc"), "bench", "--quick", *extra)
+    """``rtc bench`` (quick unless ``--full`` is given) then ``rtc report``; ``--publish``
+    (the committed results) goes to both."""
+    mode = [] if "--full" in extra else ["--quick"]
+    code = _run(str(BIN / "rtc"), "bench", *mode, *extra)
     if code == 0:
-        code = _run(str(BIN / "rtc"), "report")
+        code = _run(str(BIN / "rtc"), "report", *(["--publish"] if "--publish" in extra else []))
     return code
 
 

@@ -41,15 +41,40 @@ class UserError(Exception):
     """A mistake in what the user asked for; printed as one line, without a traceback."""
 
 
+LOCAL_RESULTS = Path("results/local")
+"""Where runs and reports go by default: a results folder of the user's own (git ignores it),
+so that a learner's or a partial bench never rewrites the committed report."""
+PUBLISHED_RESULTS = Path("results")
+"""The committed runs and report (results/README.md, the README's figures): written only when
+asked, ``--publish`` or ``--results-dir results``."""
+
+
 def add_results_dir(
     parser: argparse.ArgumentParser,
-    help: str = "where the run file goes (DIR/runs/; default ./results)",
+    help: str = "where the run file goes (DIR/runs/; default ./results/local, your own)",
+    publish: str | None = None,
 ) -> None:
     """The ``--results-dir DIR`` option of the commands that write or read ``results/``
-    (``main`` refuses one that names a file; ``check_writable`` one that cannot be written)."""
+    (``main`` refuses one that names a file; ``check_writable`` one that cannot be written),
+    and ``--publish`` (``DIR`` = the committed ``results``) where ``publish`` says what it
+    does."""
     parser.add_argument(
-        "--results-dir", type=Path, default=Path("results"), metavar="DIR", help=help
+        "--results-dir", type=Path, default=LOCAL_RESULTS, metavar="DIR", help=help
     )
+    if publish is not None:
+        parser.add_argument("--publish", action="store_true", help=publish)
+
+
+def publishing(args: argparse.Namespace) -> bool:
+    """Whether the command writes the committed results (``--publish``, or ``--results-dir``
+    naming the committed folder itself); ``--publish`` sets ``args.results_dir``. A
+    ``UserError`` for ``--publish`` with another ``--results-dir``."""
+    if getattr(args, "publish", False):
+        if args.results_dir not in (LOCAL_RESULTS, PUBLISHED_RESULTS):
+            raise UserError("--publish writes into results/: not with another --results-dir")
+        args.results_dir = PUBLISHED_RESULTS
+        return True
+    return Path(os.path.abspath(args.results_dir)) == Path(os.path.abspath(PUBLISHED_RESULTS))
 
 
 def check_results_dir(path: Path) -> None:

@@ -22,9 +22,16 @@ from harness.engine.plan import (
     split_names,
 )
 from harness.scenery.presets import resolve_scene
-from harness.sections import DEFAULTS, NAMES, help_text, measuring, measuring_order
+from harness.sections import DEFAULTS, NAMES, QUICK_DEFAULTS, help_text, measuring, measuring_order
 from raytracer.camera import INTEGRATORS, WHITTED
-from rtc.cli import UserError, add_results_dir, cannot_write, check_memory, check_writable
+from rtc.cli import (
+    UserError,
+    add_results_dir,
+    cannot_write,
+    check_memory,
+    check_writable,
+    publishing,
+)
 from scene import SceneError
 from variants.registry import VariantError, load_variant, parse_variant_name
 
@@ -40,7 +47,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     _what_to_render(parser)
     _how_to_time(parser)
     _which_sections(parser)
-    add_results_dir(parser)
+    add_results_dir(
+        parser,
+        publish="write the run into the committed results/runs/ (a maintainer's run on a quiet "
+        "machine; without it the run goes to results/local/runs/, your own, which git ignores)",
+    )
     _gate(parser)
     _numba_targets(parser)
 
@@ -59,13 +70,14 @@ def _what_to_render(parser: argparse.ArgumentParser) -> None:
     sizes.add_argument(
         "--quick",
         action="store_true",
-        help="the default: 160x120, 3 repeats, 6 s budget per row (18 s for naive); a few "
-        "minutes on 2 cores",
+        help="the default: the optimizations step by step (the ladder), 160x120 (compiled "
+        "steps 640x480), 3 repeats, 6 s budget per row (18 s for naive)",
     )
     sizes.add_argument(
         "--full",
         action="store_true",
-        help="640x480, 5 repeats, 300 s budget per row (900 s for naive)",
+        help="every default section (the table, sweeps, scaling, the C++ workload, "
+        "convergence, kata), 640x480, 5 repeats, 300 s budget per row (900 s for naive)",
     )
     parser.add_argument(
         "--variants",
@@ -104,8 +116,9 @@ def _how_to_time(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--again", type=int, default=AGAIN, metavar="N",
         help="a row that did not get the cores it asked for (busy) is timed again up to N "
-        f"times, each after waiting up to 20 s for a quieter machine (default {AGAIN}; 0: "
-        "never)",
+        f"times after waiting for a quieter machine (default {AGAIN}; 0: never); the whole "
+        f"run waits and re-times at most {QUICK.wait_budget:g} s (quick) or "
+        f"{FULL.wait_budget:g} s (--full), then marks busy rows as such",
     )  # fmt: skip
     parser.add_argument(
         "--budget",
@@ -121,9 +134,11 @@ def _which_sections(parser: argparse.ArgumentParser) -> None:
     """The sections to run, and the variants and meshes of those that take their own."""
     parser.add_argument(
         "--sections",
-        default=",".join(DEFAULTS),
+        default=None,
         metavar="A,B",
-        help=f"which parts to run, of {', '.join(NAMES)}; {help_text()}",
+        help=f"which parts to run, of {', '.join(NAMES)} (default: {','.join(QUICK_DEFAULTS)} "
+        f"in quick mode, and the table with --variants other than all; {','.join(DEFAULTS)} "
+        f"with --full); {help_text()}",
     )
     parser.add_argument(
         "--mesh-variants", default="numba,numba[bvh=off]", metavar="A,B",
@@ -206,10 +221,14 @@ def settings_from(args: argparse.Namespace) -> BenchSettings:
         raise UserError(f"--epsilon {args.epsilon}: expected a number between 0 and 1")
     if args.budget is not None and args.budget < 0:
         raise UserError(f"--budget {args.budget}: expected seconds, 0 or more (0: no limit)")
-    sections = tuple(s.strip() for s in args.sections.split(",") if s.strip())
+    asked = args.sections
+    if asked is None:  # quick: the ladder; the table too for variants named (a learner's)
+        quick = QUICK_DEFAULTS if args.variants == "all" else ("table", *QUICK_DEFAULTS)
+        asked = ",".join(DEFAULTS if mode is FULL else quick)
+    sections = tuple(s.strip() for s in asked.split(",") if s.strip())
     unknown = [s for s in sections if s not in NAMES]
     if unknown or not sections:
-        raise UserError(f"--sections {args.sections!r}: choose from {', '.join(NAMES)}")
+        raise UserError(f"--sections {asked!r}: choose from {', '.join(NAMES)}")
     sections = tuple(measuring_order(sections))  # the order they are measured in
     try:
         names, unavailable = expand_variants(args.variants)
@@ -244,6 +263,7 @@ def settings_from(args: argparse.Namespace) -> BenchSettings:
         sweep_on=_sweep_on(args.sweep_on, sections),
         again=args.again,
         integrator=args.integrator,
+        variants_asked=",".join(split_names(args.variants)),
     )
 
 
@@ -313,6 +333,7 @@ def _scene_size_options(args: argparse.Namespace) -> tuple[tuple[str, ...], tupl
 
 
 def run(args: argparse.Namespace) -> int:
+    publishing(args)
     given = [
         f"--{o.replace('_', '-')}"
         for o in NUMBA_TARGET_OPTIONS
@@ -339,13 +360,15 @@ def run(args: argparse.Namespace) -> int:
     # deferred: saves ~2 s of rtc --help (the report: matplotlib, every section)
     from harness.report.build import console_table
 
-    settings = settings_from(args)
-
     started = time.monotonic()
 
     def log(message: str) -> None:
         elapsed = time.monotonic() - started
         print(f"rtc bench [{elapsed:5.0f} s]: {message}", file=sys.stderr, flush=True)
+
+    settings = settings_from(args)  # errors: one line, before any other (no progress yet)
+    log(f"{', '.join(settings.sections)} of {len(settings.variants)} variant(s), mode "
+        f"{settings.mode.name}, into {settings.results}")  # fmt: skip
 
     try:
         path = run_bench(settings, log, measuring(settings.sections))

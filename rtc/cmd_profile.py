@@ -20,6 +20,7 @@ from scene import SceneError, load_scene
 from variants.registry import load_variant
 
 NAME = "profile"
+DEFAULT_OUTPUT = Path("results/local/profile")
 OUTPUTS = (".svg", ".pstats", ".png")  # profile-SCENE-VARIANT.*: the files the profile writes
 HELP = (
     "profile a render of a scene file through a variant: the top functions by own and "
@@ -35,9 +36,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )  # fmt: skip
     parser.add_argument(
         "--size", metavar="WxH",
-        help="image size in pixels (default: the camera's, scaled down to about 768 pixels, "
-        "e.g. 32x24, where a naive render of the reference scene takes about 10 s, and two "
-        "to three times that under cProfile)",
+        help="image size in pixels (default: the camera's scaled to about 768 pixels, e.g. "
+        "32x24, where a naive render of the reference scene takes about 10 s, and two to "
+        "three times that under cProfile; for a faster variant, numba or wavefront, the size "
+        "whose trace takes about half a second, from a probe render at 8x6)",
     )  # fmt: skip
     parser.add_argument(
         "--spp", type=int, default=1, metavar="N", help="samples per pixel (default: 1)"
@@ -51,9 +53,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="functions in each table (default: 15)",
     )  # fmt: skip
     parser.add_argument(
-        "-o", "--output-dir", type=Path, default=Path("."), metavar="DIR",
+        "-o", "--output-dir", type=Path, default=DEFAULT_OUTPUT, metavar="DIR",
         help="where the flame graph (.svg), the cProfile statistics (.pstats) and the "
-        "picture (.png) go, named profile-SCENE-VARIANT (default: the current folder)",
+        f"picture (.png) go, named profile-SCENE-VARIANT (default: {DEFAULT_OUTPUT}, a "
+        "results folder of your own that git ignores)",
     )  # fmt: skip
     parser.add_argument(
         "--no-flame", action="store_true",
@@ -69,6 +72,26 @@ def _folder(path: Path) -> Path:
     if not path.is_dir():
         raise UserError(f"-o {str(path)!r}: not a folder")
     return path
+
+
+PROBE = Size(8, 6)
+
+
+def _per_pixel(variant: str, args: argparse.Namespace) -> float | None:
+    """Seconds per pixel of ``variant`` on the scene, from a second render at ``PROBE`` (the
+    first loads, or compiles once, a compiled variant's kernels), for the default size; None
+    when the probe fails (the render itself then says why)."""
+    # deferred: saves ~60 ms of rtc --help (the measuring process's renderer)
+    from harness.engine.child import Renderer
+
+    job = {"variant": variant, "scene": {"name": args.scene.stem, "path": str(args.scene)},
+           "depth": 5, "seed": 0, "integrator": args.integrator}  # fmt: skip
+    try:
+        renderer = Renderer(job)
+        renderer.render(PROBE, args.spp)
+        return renderer.timed(PROBE, args.spp).wall / PROBE.pixels
+    except Exception:  # only a default size: the profile's own render reports the error
+        return None
 
 
 def run(args: argparse.Namespace) -> int:
@@ -97,7 +120,8 @@ def run(args: argparse.Namespace) -> int:
     for warning in scene.warnings:
         say("profile", f"warning: {warning}")
     if size is None:
-        size = profile_size(Size(scene.camera.hsize, scene.camera.vsize))
+        camera = Size(scene.camera.hsize, scene.camera.vsize)
+        size = profile_size(camera, _per_pixel(variant.name, args))
     check_memory(variant.name, size.width, size.height)
     folder = _folder(args.output_dir)
     request = Request(

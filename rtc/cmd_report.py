@@ -7,15 +7,22 @@ import os
 import sys
 from pathlib import Path
 
-from rtc.cli import UserError, add_results_dir, cannot_write, check_writable, say
+from rtc.cli import UserError, add_results_dir, cannot_write, check_writable, publishing, say
 
 NAME = "report"
-HELP = "write results/README.md and a self-contained results/report.html from results/runs/"
+HELP = (
+    "write README.md and a self-contained report.html from the runs of a results folder "
+    "(yours, results/local/, unless --publish)"
+)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_results_dir(
-        parser, "the results folder (default ./results): reads DIR/runs/, writes DIR/README.md"
+        parser,
+        "the results folder (default ./results/local, your own: git ignores it): reads "
+        "DIR/runs/, writes DIR/README.md, DIR/report.html and DIR/report/",
+        publish="write the committed report, results/README.md, results/report.html and "
+        "results/report/, from results/runs/, and the figures the project's README.md quotes",
     )
 
 
@@ -26,6 +33,7 @@ def run(args: argparse.Namespace) -> int:
     def warn(problem: str) -> None:  # one line per file on stderr; the report goes on
         say("report", f"warning: skipped {problem}")
 
+    publish = publishing(args)
     check_writable(args.results_dir, f"--results-dir {str(args.results_dir)!r}")
     results = Path(args.results_dir)
     if results.is_symlink():  # written through, but said: it may be another project's
@@ -38,6 +46,8 @@ def run(args: argparse.Namespace) -> int:
     except OSError as error:  # a full disk: each file is written whole or not at all
         raise UserError(cannot_write(error, results)) from None
     print(f"rtc report: wrote {readme} and {page}")
+    if not publish:  # the project's README quotes the committed runs alone
+        return 0
     # the README beside the results folder as named, not beside where a link leads
     project_readme = Path(os.path.abspath(results)).parent / "README.md"
     if update_readme(project_readme, args.results_dir):

@@ -85,7 +85,7 @@ def run(args: argparse.Namespace) -> int:
     cells = run_suite(variants, cases, (size.width, size.height), log)
     data = runfile.document(
         cells, cases, [v.name for v in variants], unavailable,
-        {"size": [size.width, size.height], "cases": args.cases},
+        {"size": [size.width, size.height], "cases": args.cases, "variants": args.variants},
         describe_machine(Path(__file__).resolve().parent.parent), started,
         time.monotonic() - started_clock,
     )  # fmt: skip

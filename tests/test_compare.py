@@ -183,6 +183,21 @@ def test_the_printed_table_says_the_test_the_verdicts_and_the_image_error_change
     assert lines.index(cached) < next(i for i, ln in enumerate(lines) if ln.startswith("naive "))
 
 
+def test_the_comparison_says_which_run_is_faster_in_words():
+    base, slower = _run("bench-1", _base_rows()), _run("bench-2", _slower_rows())
+    forward = compare.in_words(compare_runs(base, slower))
+    assert forward.startswith("A (bench-1) is faster than B (bench-2): ")
+    backward = compare.in_words(compare_runs(slower, base))  # latest previous, previous faster
+    assert backward.startswith("B (bench-1) is faster than A (bench-2): ")
+    assert "0 significantly faster in B, 2 significantly slower in B" in forward
+    lines = compare.table_lines(compare_runs(slower, base))
+    assert lines[2] == backward
+    cached = next(line for line in lines if line.startswith("cached "))
+    assert "B 1.50x faster" in cached  # B took 1/1.5 of A's time
+    same = compare.in_words(compare_runs(base, base))
+    assert same.startswith("Neither run is faster")
+
+
 def test_runs_on_two_cpus_or_with_other_settings_say_so():
     b = _run("bench-2", _slower_rows(), cpu="Other CPU")
     b["settings"]["depth"] = 3

@@ -490,8 +490,11 @@ def test_a_stale_lock_is_removed_and_no_lock_is_waited_on(tmp_path: Path) -> Non
     runs.mkdir()
     stale = runs / f".bench-{dead.pid}.lock"
     stale.write_text("{}")
-    alive = runs / f".bench-{os.getppid()}.lock"  # a live process: another bench, for us
-    alive.write_text(json.dumps({"started": "then", "results": "elsewhere"}))
+    alive = runs / f".bench-{os.getppid()}.lock"  # the live process that wrote it: a bench
+    alive.write_text(json.dumps({"started": "then", "results": "elsewhere",
+                                 "process_started": sharing.process_started(os.getppid())}))
+    init = runs / ".bench-1.lock"  # a live process that is no rtc bench (the machine's init)
+    init.write_text(json.dumps({"started": "then", "results": "elsewhere"}))
     # never blocks: the live lock's process (our parent) outlives this test, so a Watch that
     # waited for it would never be made (a hang guard, not a speed limit)
     made: list[sharing.Watch] = []
@@ -506,11 +509,21 @@ def test_a_stale_lock_is_removed_and_no_lock_is_waited_on(tmp_path: Path) -> Non
     assert (tmp_path / "machine" / f".bench-{os.getpid()}.lock").exists()
     seen = watch.finish()
     assert not stale.exists() and alive.exists()
+    assert not init.exists() or sharing.process_started(1) is None  # no /proc: only alive
     assert seen["load"]["other_benches"] == [
         {"pid": os.getppid(), "started": "then", "results": "elsewhere"}
     ]
     assert seen["shared"] is not None and f"pid {os.getppid()} (started then)" in seen["shared"]
     assert not (runs / f".bench-{os.getpid()}.lock").exists()
+
+
+@pytest.mark.skipif(sharing.process_started(1) is None, reason="needs /proc (Linux)")
+def test_a_lock_names_a_bench_only_when_its_process_is_the_bench_that_wrote_it() -> None:
+    mine = {"process_started": sharing.process_started(os.getpid())}
+    assert sharing.is_bench(os.getpid(), mine)  # the process that wrote it
+    assert not sharing.is_bench(1, {"started": "then"})  # init: alive, but no rtc bench
+    assert not sharing.is_bench(1, mine)  # another process's start: a reused pid
+    assert not sharing.is_bench(os.getpid(), {})  # pytest's command line is no rtc bench
 
 
 def test_the_timeout_is_spelled_in_the_name_only_when_it_is_not_the_default() -> None:

@@ -285,6 +285,48 @@ def test_a_row_that_got_its_cores_is_measured_once(tmp_path, monkeypatch):
     assert len(given) == 1 and "attempts" not in row
 
 
+def test_the_run_has_one_wait_budget_and_then_marks_busy_rows_without_waiting(
+    tmp_path, monkeypatch
+):
+    from harness.engine import figures, sharing
+    from harness.scenery.presets import SceneRef
+
+    bench, given = _fake_bench(tmp_path, [0.5, 0.6, 0.5, 0.5, 0.5], monkeypatch)
+    now = [0.0]
+    bench.clock = lambda: now[0]
+    waits: list[float] = []
+
+    def wait(cores, longest, **_):  # the clock moves by the time waited
+        waits.append(longest)
+        now[0] += longest
+        return "still busy"
+
+    monkeypatch.setattr(sharing, "wait_for_quiet", wait)
+    assert bench.wait_left == bench.settings.mode.wait_budget == 30.0
+    first = bench.measure_row("table", "numba", SceneRef("default-world", None), _task())
+    assert waits == [20.0, 10.0] and bench.wait_left == 0.0  # 20 s, then what was left
+    assert len(given) == 3 and figures.is_busy(first)
+    second = bench.measure_row("table", "numba", SceneRef("default-world", None), _task())
+    assert len(given) == 4 and waits == [20.0, 10.0]  # no wait, no second timing: spent
+    assert figures.is_busy(second) and "attempts" not in second
+
+
+def test_only_one_core_python_rows_are_timed_beside_the_background_compile():
+    from harness.engine.warmer import Warmer, compiles, one_core_python
+
+    assert one_core_python("naive", 2) and one_core_python("prealloc", 2)
+    assert not one_core_python("numba[threads=1]", 2)  # compiles: waits for its kernels
+    assert not one_core_python("pooled[workers=2]:prealloc", 2)  # wants the second core
+    assert compiles("pooled[workers=1]:numba") and not compiles("wavefront")
+    logged: list[str] = []
+    warmer = Warmer(Path("unused"), lambda name, rays: {}, logged.append, cores=1)
+    warmer.add(["naive", "numba", "numba[float32]", "pooled[workers=2]:numba"], rays=False)
+    assert warmer.names == ["numba", "numba[float32]"]  # no pool: its workers take a core
+    warmer.start()  # one core: the compile would take the timed row's, so nothing starts
+    warmer.before("numba")
+    assert logged == []
+
+
 def test_waiting_for_quiet_stops_when_the_cores_are_idle_or_after_the_longest(monkeypatch):
     from harness.engine import sharing
 

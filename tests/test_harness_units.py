@@ -208,3 +208,26 @@ def test_run_names_sort_by_start_time_within_one_second():
     assert sorted([second, "bench-20261121T150545Z-ffffff"])[0].endswith("ffffff")  # older names
     stability = new_stem(datetime(2026, 11, 21, tzinfo=UTC), prefix="stability-")
     assert stability.startswith("stability-20261121T000000000Z-")
+
+
+def test_probing_stops_once_two_probes_have_taken_the_rows_budget():
+    """A pool whose start-up outlasts the budget (a busy machine): two probes, not a ladder of
+    growing sizes that ends at the target."""
+    from types import SimpleNamespace
+
+    from groundwork.sizes import Size
+    from harness.engine.child import _probe
+
+    sizes: list[Size] = []
+
+    def timed(size: Size, samples: int) -> SimpleNamespace:
+        sizes.append(size)
+        return SimpleNamespace(wall=6.0)  # all fixed cost
+
+    renderer = SimpleNamespace(timed=timed)
+    warm = {"size": [4, 3], "second": 6.0}
+    found, _ = _probe(renderer, Size(160, 120), 1, warm, lambda _: None, budget=6.0)  # type: ignore[arg-type]
+    assert len(sizes) == 1 and len(found["probes"]) == 2
+    sizes.clear()
+    _probe(renderer, Size(160, 120), 1, warm, lambda _: None)  # type: ignore[arg-type]
+    assert sizes[-1] == Size(160, 120)  # no budget: up to the target itself

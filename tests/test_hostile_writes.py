@@ -122,7 +122,7 @@ def test_a_linked_results_folder_is_said_and_the_other_projects_readme_is_left(
     project.mkdir()
     (project / "results").symlink_to(other / "results")
     monkeypatch.chdir(project)
-    assert main(["report"]) == 0
+    assert main(["report", "--publish"]) == 0  # the committed folder, here a link
     out, err = capsys.readouterr()
     assert f"results is a link to {other / 'results'}" in err
     assert (other / "README.md").read_text(encoding="utf-8") == FIGURES

@@ -218,3 +218,62 @@ def test_the_steps_that_add_error_show_where():
     assert "| `numba[float32]` against `numba` (640x480): PSNR 60.0 dB" in text
     assert "ladder-numba-float32-over-diff.png" in text
     assert text.count("-over-diff.png") == 1  # the exact steps have none
+
+
+def test_a_partial_run_adds_to_the_report_and_never_replaces_the_fuller_ladder(tmp_path):
+    """The README's learner command, ``rtc bench --variants mine,naive``, then ``rtc report``:
+    the ladder, the Summary and the README's figures stay the whole run's; the partial run's
+    rows follow the ladder, named."""
+    import json
+
+    from harness.report import choice, readme_figures
+
+    whole = _run(POVRAY)
+    partial = _run(stem="bench-20990102T000000000Z-bbbbbb")
+    partial["started"] = "2099-01-02T00:00:00"
+    partial["settings"] = {**partial["settings"], "variants_asked": "naive,mine"}
+    partial["rows"] = [_step("naive", None, 1.1, (10, 10)), _step("mine", "naive", 0.5, (10, 10))]
+    runs = tmp_path / "runs"
+    runs.mkdir()
+    for run in (whole, partial):
+        document = {"rtc": {"schema_version": 2, **run}}
+        (runs / f"{run['stem']}.json").write_text(json.dumps(document))
+    assert choice.partial(whole) is None and choice.partial(partial) == "--variants naive,mine"
+    assert choice.shown("ladder", [whole, partial]) is whole
+    assert choice.newer_partial("ladder", [whole, partial]) is partial
+    assert choice.shown("ladder", [partial]) is partial  # only partial runs: the newest
+    assert readme_figures.block([whole, partial]) == readme_figures.block([whole])
+    readme, _, problems = build_report(tmp_path)
+    assert problems == []
+    ladder_text = readme.read_text(encoding="utf-8").split("\n## ")[1]
+    assert "`numba[float32]`" in ladder_text  # the whole run's steps
+    assert f"Added by a newer run over part of the variants, `{partial['stem']}`" in ladder_text
+    assert "| `mine` |" in ladder_text
+
+
+def test_the_projects_readme_and_committed_report_change_only_when_published(
+    tmp_path, monkeypatch
+):
+    """``rtc report`` writes your own report, ``results/local/`` by default; the committed
+    ``results/`` and the README's figures only with ``--publish``."""
+    import json
+
+    from harness.report import readme_figures
+    from rtc.cli import main
+
+    monkeypatch.chdir(tmp_path)
+    readme = tmp_path / "README.md"
+    readme.write_text(f"intro\n{readme_figures.START}\nold\n{readme_figures.END}\n")
+    run = _run(POVRAY)
+    for folder in (tmp_path / "results" / "runs", tmp_path / "results" / "local" / "runs"):
+        folder.mkdir(parents=True)
+        (folder / f"{run['stem']}.json").write_text(json.dumps({"rtc": {"schema_version": 2,
+                                                                        **run}}))  # fmt: skip
+    assert main(["report"]) == 0
+    assert (tmp_path / "results" / "local" / "README.md").is_file()
+    assert not (tmp_path / "results" / "README.md").exists()
+    assert "\nold\n" in readme.read_text()  # untouched
+    assert main(["report", "--publish"]) == 0
+    assert (tmp_path / "results" / "README.md").is_file()
+    assert readme_figures.quoted(readme.read_text()) == readme_figures.block([run])
+    assert main(["report", "--publish", "--results-dir", "elsewhere"]) == 2

@@ -114,6 +114,11 @@ def test_the_default_size_is_the_camera_scaled_to_about_768_pixels() -> None:
     assert profiler.profile_size(Size(640, 480)) == Size(32, 24)
     assert profiler.profile_size(Size(20, 10)) == Size(20, 10)  # small already: kept
     assert profiler.profile_size(Size(500, 500)).pixels <= profiler.DEFAULT_PIXELS
+    # a naive probe (10 ms per pixel): the same; a compiled one (0.2 µs): a trace of ~0.5 s
+    assert profiler.profile_size(Size(640, 480), 0.01) == Size(32, 24)
+    fast = profiler.profile_size(Size(640, 480), 2e-7)
+    assert fast.width * 3 == fast.height * 4 and fast.pixels == pytest.approx(2_000_000, rel=0.01)
+    assert profiler.profile_size(Size(640, 480), 1e-5) == Size(256, 192)  # 50,000: shrunk
 
 
 # --- the figures ------------------------------------------------------------------------------

@@ -13,6 +13,7 @@ from groundwork.sizes import Size
 from harness.document.model import Picture, Table, to_markdown
 from harness.sections import DEFAULTS as DEFAULT_SECTIONS
 from harness.sections import NAMES as SECTIONS
+from harness.sections import QUICK_DEFAULTS
 from harness.sections.scene_size import plot as scene_size_plot
 from harness.sections.scene_size import report as scene_size_report
 from harness.sections.scene_size.measure import (
@@ -77,8 +78,10 @@ def bench_args(*extra: str) -> Any:
 
 def test_the_default_bench_leaves_the_scene_size_section_out() -> None:
     assert "scene-size" in SECTIONS and "scene-size" not in DEFAULT_SECTIONS
+    assert settings_from(bench_args()).sections == QUICK_DEFAULTS == ("ladder",)  # quick
     settings = settings_from(bench_args("--variants", "naive"))
-    assert settings.sections == DEFAULT_SECTIONS
+    assert settings.sections == ("table", "ladder")  # variants named: their table rows too
+    assert settings_from(bench_args("--variants", "naive", "--full")).sections == DEFAULT_SECTIONS
     assert settings.mesh_variants == ("numba", "numba[bvh=off]")
     assert settings.meshes == ("ring-1k.obj", "ring-10k.obj", "ring-100k.obj", "ring-1m.obj")
 

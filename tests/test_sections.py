@@ -50,9 +50,11 @@ def test_the_command_line_reads_the_table():
     (commands,) = [a for a in parser._actions if isinstance(a, argparse._SubParsersAction)]
     bench = commands.choices["bench"]
     (option,) = [a for a in bench._actions if a.dest == "sections"]
-    assert all(f"{s.name}{' (default)' if s.default else ''}: {s.about}" in option.help
-               for s in sections.SECTIONS)  # fmt: skip
-    assert option.default == ",".join(sections.DEFAULTS)
+    assert set(sections.QUICK_DEFAULTS) == {s.name for s in sections.SECTIONS if s.quick}
+    assert all(f"{s.name}" in option.help and s.about in option.help for s in sections.SECTIONS)
+    assert option.default is None  # the mode's: QUICK_DEFAULTS, or DEFAULTS with --full
+    assert ",".join(sections.QUICK_DEFAULTS) in option.help
+    assert ",".join(sections.DEFAULTS) in option.help
 
 
 def test_a_section_is_measured_after_the_sections_it_reads():

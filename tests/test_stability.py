@@ -364,3 +364,21 @@ def test_rtc_stability_refuses_bad_input_in_one_line(
 def test_cases_are_selected_by_prefix() -> None:
     assert [c.id for c in select_cases("scale/1e6")] == ["scale/1e6"]
     assert all(c.group == "graze" for c in select_cases("graze"))
+
+
+def test_a_run_over_some_cases_never_replaces_the_whole_table(tmp_path: Path) -> None:
+    from datetime import UTC, datetime
+
+    from harness.stability import runfile
+
+    def write(settings: dict) -> None:
+        data = runfile.document([], [], ["naive"], {}, settings, {"hostname": "box"},
+                                datetime.now(UTC), 1.0)  # fmt: skip
+        runfile.write_run(tmp_path, data)
+
+    write({"size": [8, 6], "cases": None, "variants": "all"})  # the whole suite
+    write({"size": [8, 6], "cases": "graze", "variants": "naive,robust"})  # newer, partial
+    latest, problems = runfile.latest_run(tmp_path)
+    assert problems == [] and latest is not None
+    assert latest["settings"]["cases"] is None and not runfile.is_partial(latest)
+    assert runfile.is_partial({"settings": {"cases": "graze"}})

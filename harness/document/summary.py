@@ -219,7 +219,7 @@ def table(run: Run, runs: Sequence[Run]) -> Table:
     header = [
         "variant",
         "what it changes",
-        "speed-up over naive",
+        "speed-up over naive (per pixel, at the size measured)",
         "time per pixel",
         "median frame (size measured)",
         "PSNR vs naive",
@@ -244,7 +244,9 @@ def lead(run: Run, runs: Sequence[Run]) -> str:
     )
     text = (
         f"**Fastest: `{best['name']}`, {figures.speedup_text(best['speedup']['value'])} "
-        f"naive's speed** ({figures.per_pixel_text(per_pixel(best))} per pixel{against})."
+        f"naive's speed** ({figures.per_pixel_text(per_pixel(best))} per pixel at "
+        f"{_size(best)}{against}; the step-by-step ladder measures compiled steps at its own "
+        "size, so its factors differ)."
     )
     newest = _newest_errors(run, runs)
     found = error_found(best, run, runs, newest)

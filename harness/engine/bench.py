@@ -38,6 +38,7 @@ from harness.engine.machine import describe_machine
 from harness.engine.plan import BASELINE, BenchSettings
 from harness.engine.results import RunWriter, pyperf_document
 from harness.engine.sharing import Watch
+from harness.engine.warmer import Warmer, warm_task
 from harness.instruments import imagediff
 from harness.instruments.usage import available_cores
 from harness.scenery.presets import SceneRef
@@ -45,7 +46,7 @@ from scene import load_scene
 from variants.registry import load_variant
 
 BASELINE_BUDGET_FACTOR = 3.0  # naive's rows get three budgets: every speed-up depends on them
-QUIET_WAIT = 20.0  # seconds to wait for a quieter machine before measuring a busy row again
+QUIET_WAIT = 20.0  # seconds at most, each time, to wait for a quieter machine
 TIMING_FIELDS = (
     "requested_size", "size", "budget", "budget_estimate", "reduced", "budget_note", "warmup",
     "probe", "wall", "cpu", "cores", "cpu_source", "peak_memory",
@@ -151,6 +152,9 @@ class Bench:
         self.pictures: dict[tuple[str, str], dict[str, np.ndarray]] = {}
         self._jobs = 0
         self.compare_size = self.comparison_size(settings.size)
+        self.clock: Callable[[], float] = time.monotonic
+        self.wait_left = settings.mode.wait_budget  # seconds the run may spend on busy rows
+        self.warmer: Warmer | None = None  # the background compile (``warm``), or None
 
     def jobs_folder(self, section: str) -> Path:
         """A folder for a section's own job files (removed with the staging's jobs)."""
@@ -192,6 +196,19 @@ class Bench:
             raise TypeError(f"job_spec: no setting {', '.join(sorted(unknown))}")
         job.update(settings)
         return self.writer.staging / "jobs" / f"{self._jobs:03d}", job
+
+    def warm(self, names: list[str], rays: bool) -> None:
+        """Compile the kernels of ``names`` (those that compile; with the ray-counting ones
+        when their rows count rays, ``rays``) in the background once the sections' ``before``
+        are done, while one-core Python rows are timed (``harness.engine.warmer``)."""
+        if self.warmer is None:
+
+            def job(name: str, counted: bool) -> dict[str, Any]:
+                return {**self.job_spec(name, self.settings.scene, [warm_task(counted)])[1]}
+
+            folder = self.writer.staging / "jobs" / "warm"
+            self.warmer = Warmer(folder, job, self.log, self.settings.threads)
+        self.warmer.add(names, rays)
 
     def image_name(self, section: str, name: str, suffix: str = "") -> str:
         return f"{section}-{slug(name)}{suffix}.png"
@@ -247,6 +264,8 @@ class Bench:
         was. ``integrator``: the row's, when not the run's (the path preset's); ``tag``: added to
         its pictures' names, for a second row of the same variant in the section."""
         self.log(f"{section}: {name}")
+        if self.warmer is not None:
+            self.warmer.before(name)
         chosen = {} if integrator is None else {"integrator": integrator}
         outcome = self._job(name, scene, [task], depth, **chosen)
         row: dict[str, Any] = {
@@ -279,7 +298,45 @@ class Bench:
         if figures.is_busy(row) and self.settings.again > 0:
             self._measure_again(row, scene, task, depth, chosen)
         self.rows.append(row)
+        self.log(f"{section}: {name}: {self.figure_text(row)}")
         return row
+
+    def figure_text(self, row: dict[str, Any]) -> str:
+        """A measured row's figure in a line, printed as soon as it exists: its median
+        frame, time per pixel, throughput over naive's in its section, and busy."""
+        per_pixel = figures.median_wall(row) / figures.pixels(row)
+        text = (
+            f"{figures.seconds_text(figures.median_wall(row))} at {_size_key(row['size'])} "
+            f"({figures.per_pixel_text(per_pixel)} per pixel"
+        )
+        naive = next(
+            (r for r in self.rows if r["section"] == row["section"] and r["name"] == BASELINE
+             and r.get("status") == "ok" and r.get("wall")),
+            None,
+        )  # fmt: skip
+        if naive is not None and row["name"] != BASELINE:
+            over = figures.median_wall(naive) / figures.pixels(naive) / per_pixel
+            text += f", {figures.speedup_text(over)} naive's throughput"
+        busy = f"; busy: it got {figures.cpu_share(row):.2f} cores" if figures.is_busy(row) else ""
+        return text + ")" + busy
+
+    def wait_for_quiet(self, cores: int, label: str) -> str | None:
+        """Wait for ``cores`` idle cores, at most ``QUIET_WAIT`` s and never beyond what is left
+        of the run's wait budget (``Mode.wait_budget``); None (no wait) once it is spent."""
+        longest = min(QUIET_WAIT, self.wait_left)
+        if longest < 1.0:
+            self.log(f"{label}: the run's {self.settings.mode.wait_budget:g} s of waiting for a "
+                     "quieter machine are spent: it stays marked busy")  # fmt: skip
+            return None
+        self.log(f"{label}: waiting up to {longest:.0f} s for a quieter machine to time it again")
+        start = self.clock()
+        quiet = sharing.wait_for_quiet(cores, longest, report=lambda t: self.log(f"{label}: {t}"))
+        self.spend(self.clock() - start)
+        return quiet
+
+    def spend(self, seconds: float) -> None:
+        """Take ``seconds`` (a wait, or a busy row's second timing) from the wait budget."""
+        self.wait_left = max(0.0, self.wait_left - seconds)
 
     def _measure_again(
         self, row: dict[str, Any], scene: SceneRef, task: dict[str, Any], depth: int | None,
@@ -292,18 +349,15 @@ class Bench:
         attempts = [_attempt(row)]
         best = dict(row)
         for _ in range(self.settings.again):
-            self.log(
-                f"{row['section']}: {name} got {figures.cpu_share(best):.2f} of {asked} cores: "
-                f"waiting up to {QUIET_WAIT:.0f} s for a quieter machine to time it again"
-            )
-            quiet = sharing.wait_for_quiet(
-                asked, QUIET_WAIT, report=lambda text: self.log(f"{row['section']}: {name}: {text}")
-            )
-            self.log(
-                f"{row['section']}: {name} again: it got {figures.cpu_share(best):.2f} of "
-                f"{asked} cores ({quiet})"
-            )
+            label = f"{row['section']}: {name}"
+            self.log(f"{label} got {figures.cpu_share(best):.2f} of {asked} cores")
+            quiet = self.wait_for_quiet(asked, label)
+            if quiet is None:
+                break
+            self.log(f"{label} again ({quiet})")
+            start = self.clock()
             outcome = self._job(name, scene, [timing], depth, **chosen)
+            self.spend(self.clock() - start)
             if not outcome.ok:
                 outcome.discard()
                 attempts.append({"error": str(outcome.result.get("error", ""))[:200]})
@@ -317,7 +371,8 @@ class Bench:
             if not figures.is_busy(best):
                 break
         row.update({key: best[key] for key in TIMING_FIELDS if key in best})
-        row["attempts"] = attempts
+        if len(attempts) > 1:
+            row["attempts"] = attempts
 
     def _compare(
         self, section: str, name: str, row: dict[str, Any], image: np.ndarray, tag: str = ""
@@ -403,10 +458,16 @@ class Bench:
         machine = describe_machine(Path.cwd())
         for section in sections:
             section.before(self)
-        for section in sections:
-            if self.watch is not None:
-                self.watch.sample()
-            section.measure(self)
+        if self.warmer is not None:
+            self.warmer.start()
+        try:
+            for section in sections:
+                if self.watch is not None:
+                    self.watch.sample()
+                section.measure(self)
+        finally:
+            if self.warmer is not None:
+                self.warmer.stop()
         seen = self.watch.finish() if self.watch is not None else {"load": None, "shared": None}
         if seen["shared"]:
             self.log(f"the machine was shared: {seen['shared']}")

@@ -148,15 +148,22 @@ def probed_enough(probes: list[tuple[Size, float]], target: Size) -> bool:
 
 
 def _probe(
-    renderer: Renderer, target: Size, samples: int, warm: Mapping[str, Any], log: Any
-) -> tuple[dict[str, Any], Estimate]:
-    """Renders of growing size (the aspect of ``target``) until ``probed_enough``; the last
-    two give the estimate."""
+    renderer: Renderer, target: Size, samples: int, warm: Mapping[str, Any], log: Any,
+    budget: float | None = None,
+) -> tuple[dict[str, Any], Estimate]:  # fmt: skip
+    """Renders of growing size (the aspect of ``target``) until ``probed_enough``, or until
+    two probes have taken the row's ``budget`` (a render whose fixed cost, a pool's start-up
+    on a busy machine, outlasts the budget would otherwise probe for minutes, only to be
+    measured at the smallest size); the last two give the estimate."""
     probes: list[tuple[Size, float]] = []
     if samples == 1:
         probes.append((_size(warm["size"]), float(warm["second"])))
     pixels = PROBE_PIXELS
-    while not probed_enough(probes, target):
+
+    def spent() -> bool:
+        return budget is not None and len(probes) >= 2 and sum(t for _, t in probes) >= budget
+
+    while not probed_enough(probes, target) and not spent():
         size = _larger(target, probes[-1][0] if probes else None, pixels)
         probes.append((size, renderer.timed(size, samples).wall))
         long_enough = probes[-1][1] >= max(PROBE_SECONDS, 2 * probes[0][1])
@@ -179,7 +186,7 @@ def run_row(renderer: Renderer, task: Mapping[str, Any], folder: Path, log: Any)
     requested, samples, repeat = _size(task["size"]), int(task["samples"]), int(task["repeat"])
     budget = task.get("budget")
     warm = _warm_up(renderer, requested, log)
-    probe, estimate = _probe(renderer, requested, samples, warm, log)
+    probe, estimate = _probe(renderer, requested, samples, warm, log, budget)
     choice = fit_to_budget(requested, estimate, repeat, budget)
     size = choice.size
     if choice.reduced:

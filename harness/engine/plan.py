@@ -48,7 +48,9 @@ class Mode:
     compare_pixels: the comparison size (allocations, rays, image error) has at most this
     many pixels; side_repeat: timed renders per row of the preset and scaling sections;
     convergence_*: the convergence section's scenes (files of ``scenes/``), its sizes for
-    Python and for compiled variants, its samples per pixel and its converged picture's.
+    Python and for compiled variants, its samples per pixel and its converged picture's;
+    wait_budget: the seconds the whole run may spend waiting for a quieter machine and timing
+    busy rows again (``Bench.wait_for_quiet``): a machine that stays busy costs no more.
     """
 
     name: str
@@ -67,6 +69,7 @@ class Mode:
     convergence_compiled_size: Size
     convergence_samples: tuple[int, ...]
     convergence_truth: int
+    wait_budget: float = 60.0
 
 
 QUICK = Mode(
@@ -75,7 +78,7 @@ QUICK = Mode(
     preset_size=Size(500, 500), compare_pixels=300, side_repeat=1,
     convergence_scenes=("cpp-spheres",), convergence_size=Size(16, 16),
     convergence_compiled_size=Size(96, 96), convergence_samples=(1, 2, 4, 8),
-    convergence_truth=128,
+    convergence_truth=128, wait_budget=30.0,
 )  # fmt: skip
 FULL = Mode(
     name="full", size=Size(640, 480), repeat=5, budget=300.0, sweep_size=Size(160, 120),
@@ -83,7 +86,7 @@ FULL = Mode(
     preset_size=Size(500, 500), compare_pixels=19200, side_repeat=3,
     convergence_scenes=("cpp-spheres", "spheres-box"), convergence_size=Size(32, 32),
     convergence_compiled_size=Size(200, 200), convergence_samples=(1, 2, 4, 8, 16, 32, 64),
-    convergence_truth=2048,
+    convergence_truth=2048, wait_budget=300.0,
 )  # fmt: skip
 MODES = {"quick": QUICK, "full": FULL}
 
@@ -103,7 +106,9 @@ class BenchSettings:
     configurations run on (``harness.engine.cluster_jobs``; None: here, one after the other); again:
     how many times a busy row is timed again (``Bench.measure_row``); integrator: the renders'
     (``RenderSettings.integrator``: ``--integrator``; the convergence section and the path
-    preset path-trace whatever it is).
+    preset path-trace whatever it is); variants_asked: ``--variants`` as given ("all": a whole
+    run; any other: a partial run, which the report adds and never shows in a fuller run's
+    place, ``harness.report.choice``).
     """
 
     scene: SceneRef
@@ -128,6 +133,7 @@ class BenchSettings:
     sweep_on: str | None = None
     again: int = AGAIN
     integrator: str = WHITTED
+    variants_asked: str = "all"
 
     def as_dict(self) -> dict[str, Any]:
         data = asdict(self)

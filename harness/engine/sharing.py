@@ -114,6 +114,42 @@ def pid_alive(pid: int) -> bool:
     return True
 
 
+def process_started(pid: int) -> str | None:
+    """When process ``pid`` started (clock ticks after boot, from ``/proc/PID/stat``), or None
+    where that cannot be read (no such process, no ``/proc``)."""
+    try:
+        text = Path(f"/proc/{pid}/stat").read_text(encoding="utf-8", errors="replace")
+        return text.rsplit(")", 1)[1].split()[19]
+    except (OSError, IndexError):
+        return None
+
+
+def _command_line(pid: int) -> list[str] | None:
+    try:
+        raw = Path(f"/proc/{pid}/cmdline").read_bytes()
+    except OSError:
+        return None
+    return [part.decode("utf-8", "replace") for part in raw.split(b"\0") if part]
+
+
+def is_bench(pid: int, info: Mapping[str, Any]) -> bool:
+    """Whether the lock ``info`` of ``pid`` belongs to a live ``rtc bench``: the process that
+    wrote it (the same pid started at the same time: a pid the system gave to another process
+    since, the machine's init included, is not), or, for a lock that does not say when its
+    process started, a process whose command line is an ``rtc bench``. Without ``/proc``: a
+    live process."""
+    if not pid_alive(pid):
+        return False
+    started = process_started(pid)
+    if started is None:
+        return True
+    if info.get("process_started") is not None:
+        return str(info["process_started"]) == started
+    words = _command_line(pid) or []
+    return "bench" in words and any(Path(word).name in ("rtc", "cli.py") or word == "rtc.cli"
+                                    for word in words)  # fmt: skip
+
+
 def _cpu_seconds() -> float:
     """CPU seconds of this process and of its children that have ended (the measuring
     processes, and in turn their own workers)."""
@@ -130,6 +166,7 @@ class BenchLock:
         self.paths: list[Path] = []
         info = {
             "pid": self.pid,
+            "process_started": process_started(self.pid),
             "started": datetime.now(UTC).isoformat(timespec="seconds"),
             "results": str(results.resolve()),
         }
@@ -145,7 +182,8 @@ class BenchLock:
             self.paths.append(path)
 
     def others(self) -> dict[int, dict[str, Any]]:
-        """The other live benches' lock contents by pid; stale locks are removed."""
+        """The other live benches' lock contents by pid; stale locks (their process gone,
+        or no longer the bench that wrote it: ``is_bench``) are removed."""
         found: dict[int, dict[str, Any]] = {}
         for folder in {path.parent for path in self.paths}:
             for path in folder.glob(f"{LOCK_PREFIX}*{LOCK_SUFFIX}"):
@@ -155,14 +193,14 @@ class BenchLock:
                     continue
                 if pid == self.pid:
                     continue
-                if not pid_alive(pid):
-                    with contextlib.suppress(OSError):
-                        path.unlink()
-                    continue
                 try:
                     info = json.loads(path.read_text(encoding="utf-8"))
                 except (OSError, ValueError):
                     info = {}
+                if not is_bench(pid, info if isinstance(info, dict) else {}):
+                    with contextlib.suppress(OSError):
+                        path.unlink()
+                    continue
                 found[pid] = {
                     "pid": pid,
                     "started": str(info.get("started", "?")) if isinstance(info, dict) else "?",

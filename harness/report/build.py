@@ -31,7 +31,7 @@ from harness.document.model import (
 from harness.document.runinfo import HEAT_SCALE_PNG, REPORT_DIR, context_line, git_text, rows
 from harness.engine import figures
 from harness.engine.results import ResultFileError, check_run, list_runs, load_run
-from harness.report import compare, plots
+from harness.report import choice, compare, plots
 from harness.sections.ladder import report as ladder_report
 from harness.sections.table.report import heat_visible
 from harness.stability import runfile as stability_runs
@@ -104,6 +104,7 @@ def _history_blocks(runs: list[Run], plot: Path | None = None) -> list[Block]:
 def _history_row(run: Run, changes: list[Any]) -> list[str]:
     """One run's row of the history table; ``changes``: its significant changes."""
     table = [r for r in rows(run, "table") if r["status"] == "ok"]
+    table = table or [r for r in rows(run, "ladder") if r["status"] == "ok"]  # a quick run
     naive = next((r for r in table if r["name"] == "naive"), None)
     best = max(
         (r for r in table if r.get("speedup")),
@@ -155,10 +156,10 @@ def _changes_item(runs: list[Run], index: int, changes: list[Any]) -> str:
 
 def pick_runs(runs: Sequence[Run]) -> dict[str, Run]:
     """For each section some run measured, the newest run that did (``rtc bench
-    --sections`` runs only some)."""
+    --sections`` runs only some), a whole one before a partial one (``choice.shown``)."""
     found = {}
     for section in sections.SECTIONS:
-        run = sections.reporting(section.name).newest(runs)
+        run = choice.shown(section.name, runs)
         if run is not None:
             found[section.name] = run
     return found
@@ -189,12 +190,16 @@ def build_blocks(
     intro_at = 1
     for section in sections.SECTIONS:
         module = sections.reporting(section.name)
-        run = module.newest(runs)
+        run = choice.shown(section.name, runs)
         if run is None:
             continue
         png = plot_files.get(section.name)
         plot = None if png is None else f"{REPORT_DIR}/{png.name}"
-        blocks += module.blocks(run, plot, context_line(run), runs)
+        section_blocks = module.blocks(run, plot, context_line(run), runs)
+        blocks += section_blocks
+        newer = choice.newer_partial(section.name, runs)
+        if newer is not None and section_blocks:
+            blocks += _partial_blocks(section.name, newer)
         if section.name == OPENING:
             intro_at = len(blocks)
     blocks.insert(intro_at, Para(INTRO))
@@ -212,6 +217,34 @@ def build_blocks(
         )  # fmt: skip
         blocks.insert(at, Para("See also: " + " · ".join(f"[{t}](#{a})" for t, a in links) + "."))
     return blocks
+
+
+def _partial_blocks(section: str, run: Run) -> list[Block]:
+    """A newer run over part of the variants (``choice.newer_partial``): its rows of
+    ``section``, after the fuller run's section, never in its place."""
+    found = [r for r in rows(run, section) if r.get("status") == "ok" and r.get("wall")]
+    text = (
+        f"Added by a newer run over part of the variants, `{run['stem']}` "
+        f"({choice.partial(run)}, mode {run['settings']['mode']['name']}): the section above "
+        "stays the fuller run's."
+    )
+    if not found:
+        return [Para(text)]
+    naive = next((r for r in found if r["name"] == "naive"), None)
+    body = []
+    for row in found:
+        per_pixel = figures.median_wall(row) / figures.pixels(row)
+        over = "-"
+        if naive is not None and row is not naive:
+            over = figures.speedup_text(figures.median_wall(naive) / figures.pixels(naive)
+                                        / per_pixel)  # fmt: skip
+        body.append([
+            f"`{row['name']}`", "x".join(map(str, row["size"])),
+            figures.seconds_text(figures.median_wall(row)), figures.per_pixel_text(per_pixel),
+            over, "yes" if figures.is_busy(row) else "no",
+        ])  # fmt: skip
+    header = ["variant", "size", "median frame", "per pixel", "over its naive", "busy"]
+    return [Para(text), Table(header, body, {2, 3, 4})]
 
 
 def _report_folder(results: Path) -> Path:
@@ -310,8 +343,7 @@ def build_report(
             "history": plots.history_plot(runs, folder / "history.png")
         }
         for section in sections.SECTIONS:
-            module = sections.reporting(section.name)
-            run = module.newest(runs) if section.plot_file else None
+            run = choice.shown(section.name, runs) if section.plot_file else None
             if run is not None:
                 plot = section.module("plot").plot
                 plot_files[section.name] = plot(run, folder / section.plot_file)

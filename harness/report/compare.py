@@ -383,21 +383,49 @@ def _aligned(header: list[str], body: list[list[str]], right: set[int]) -> list[
     return lines
 
 
+def in_words(comparison: Comparison) -> str:
+    """Which run is faster, in a sentence: the geometric mean of B's time over A's across
+    the measurements both runs made (per pixel where their sizes differ), and how many
+    changes were significant each way."""
+    ratios = [c.ratio for c in comparison.changes if c.ratio > 0 and math.isfinite(c.ratio)]
+    if not ratios:
+        return "Neither run is faster: they measured nothing in common."
+    mean = math.exp(sum(math.log(r) for r in ratios) / len(ratios))
+    a, b = (f"{label} ({run.get('stem')})" for label, run in (("A", comparison.a),
+                                                              ("B", comparison.b)))  # fmt: skip
+    counts = (
+        f"{len(comparison.with_verdict('faster'))} significantly faster in B, "
+        f"{len(comparison.with_verdict('slower'))} significantly slower in B"
+    )
+    over = f"over the {len(ratios)} measurement{'s' * (len(ratios) != 1)} both made"
+    if abs(mean - 1) < 0.005:
+        return f"Neither run is faster: B's times are A's, geometric mean {over} ({counts})."
+    faster, slower = (b, a) if mean < 1 else (a, b)
+    factor = 1 / mean if mean < 1 else mean
+    return (
+        f"{faster} is faster than {slower}: {factor:.2f}x, the geometric mean {over} "
+        f"({counts})."
+    )
+
+
 def table_lines(comparison: Comparison) -> list[str]:
-    """The comparison as a plain-text table, slower first, then the totals and the notes."""
+    """The comparison as a plain-text table, slower first, then the totals and the notes;
+    first which run is faster, in words."""
     lines = [
         run_line("A", comparison.a),
         run_line("B", comparison.b),
-        f"Test: {TEST_NAME}. B/A: mean time of B over mean time of A.",
+        in_words(comparison),
+        f"Test: {TEST_NAME}. B against A: B's mean time over A's, in words (B 1.50x slower: "
+        "B took 1.5 times as long).",
     ]
     lines += [f"Note: {note}." for note in comparison.notes]
-    header = ["variant", "scene", "size (A / B)", "A: mean ± sd", "B: mean ± sd", "B/A",
+    header = ["variant", "scene", "size (A / B)", "A: mean ± sd", "B: mean ± sd", "B against A",
               "t-test", "verdict", "PSNR vs naive (A -> B)"]  # fmt: skip
     body = []
     for c in sorted(comparison.changes, key=lambda c: VERDICT_ORDER[c.verdict]):
         marks = ("" if c.same_size else " *") + (" (busy)" if c.a.busy or c.b.busy else "")
         body.append([c.a.key.label(), c.a.key.scene, _size_text(c), c.a.spread_text(),
-                     c.b.spread_text(), c.ratio_text(), c.test_text(), c.verdict + marks,
+                     c.b.spread_text(), _b_text(c), c.test_text(), c.verdict + marks,
                      error_text(c)])  # fmt: skip
     if body:
         lines += _aligned(header, body, {3, 4, 5})
@@ -412,7 +440,7 @@ def table_lines(comparison: Comparison) -> list[str]:
     if any(not c.same_size for c in comparison.changes):
         lines.append(
             "*: measured at two sizes (another --size, or the budget rule sizing a slow "
-            "variant per run; --budget 0 and one --size avoid it): B/A is per pixel and not "
+            "variant per run; --budget 0 and one --size avoid it): B against A is per pixel, not "
             "tested, since a fixed cost (a pool's start-up, a frame's preparation) does not "
             "scale with the pixels."
         )
@@ -427,6 +455,11 @@ def table_lines(comparison: Comparison) -> list[str]:
             more = f" and {len(items) - 12} more" if len(items) > 12 else ""
             lines.append(f"Only in {label}: {names}{more}.")
     return lines
+
+
+def _b_text(change: Change) -> str:
+    text = change.ratio_text()
+    return text if text == "same" else f"B {text}"
 
 
 def gate(base: Run, new: Run, percent: float | None) -> tuple[list[str], list[str]]:

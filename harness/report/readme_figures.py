@@ -12,6 +12,7 @@ from typing import Any
 
 from groundwork.files import read_text, write_atomically
 from harness.engine import figures
+from harness.report import choice
 from harness.sections.ladder import report as ladder_report
 
 START = "<!-- figures: written by `rtc report` from results/runs/; do not edit -->"
@@ -21,8 +22,9 @@ Run = Mapping[str, Any]
 
 
 def block(runs: Sequence[Run]) -> str:
-    """The text between the markers: one paragraph from the newest run with the ladder."""
-    run = ladder_report.newest(runs)
+    """The text between the markers: one paragraph from the run the report's ladder shows
+    (the newest whole run: ``choice.shown``)."""
+    run = choice.shown("ladder", runs)
     if run is None:
         return "No run has measured the optimizations step by step yet (`rtc bench`)."
     found = ladder_report.rows(run)

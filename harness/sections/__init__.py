@@ -38,12 +38,14 @@ Run = Mapping[str, Any]
 class Section:
     """One section (see the module): ``name`` as ``--sections`` and the run files spell
     it; ``about``: what it measures, for ``rtc bench --help``; ``default``: run without
-    ``--sections``; ``after``: the sections it reads, measured first when asked for;
+    ``--sections`` in full mode (``--full``); ``quick``: run without ``--sections`` in quick mode
+(the default); ``after``: the sections it reads, measured first when asked for;
     ``plot_file``: its plot's file in the report folder, if it has one."""
 
     name: str
     about: str
     default: bool = False
+    quick: bool = False
     after: tuple[str, ...] = ()
     plot_file: str = ""
 
@@ -68,7 +70,8 @@ class Section:
 
 SECTIONS = (
     Section("ladder", "the optimizations step by step, each over the one before, beside "
-            "POV-Ray when installed", default=True, after=("table",), plot_file="ladder.png"),
+            "POV-Ray when installed", default=True, quick=True, after=("table",),
+            plot_file="ladder.png"),
     Section("table", "a row per variant and option set: time, speed-up, rays, allocations, "
             "image error", default=True, plot_file="speedup.png"),
     Section("sweep", "error against run time over samples per pixel, from a ground truth",
@@ -114,8 +117,11 @@ def measuring_order(names: Iterable[str]) -> list[str]:
 
 
 DEFAULTS = tuple(measuring_order(section.name for section in SECTIONS if section.default))
-"""What ``rtc bench`` runs without ``--sections``, in the order it measures them: the
+"""What ``rtc bench --full`` runs without ``--sections``, in the order it measures them: the
 sections the table marks ``default`` (the others take minutes each)."""
+QUICK_DEFAULTS = tuple(measuring_order(section.name for section in SECTIONS if section.quick))
+"""What ``rtc bench`` (quick, the default mode) runs without ``--sections``: the ladder, a
+few minutes at most."""
 
 
 def measuring(names: Iterable[str]) -> list[Section]:
@@ -130,5 +136,9 @@ def reporting(name: str) -> ModuleType:
 
 def help_text() -> str:
     """The sections for ``rtc bench --help``."""
-    parts = [f"{s.name}{' (default)' if s.default else ''}: {s.about}" for s in SECTIONS]
+    def marks(section: Section) -> str:
+        found = [m for m, on in (("quick", section.quick), ("full", section.default)) if on]
+        return f" (default: {', '.join(found)})" if found else ""
+
+    parts = [f"{s.name}{marks(s)}: {s.about}" for s in SECTIONS]
     return "; ".join(parts)

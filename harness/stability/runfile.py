@@ -132,12 +132,25 @@ def load_run(path: Path) -> dict[str, Any]:
     return rtc
 
 
+def is_partial(run: dict[str, Any]) -> bool:
+    """Whether ``run`` covered only some cases (``--cases``) or variants (``--variants``)."""
+    settings = run.get("settings") or {}
+    return bool(settings.get("cases")) or settings.get("variants", "all") != "all"
+
+
 def latest_run(results: Path) -> tuple[dict[str, Any] | None, list[str]]:
-    """The newest readable stability run (or None), and a message per unreadable one."""
+    """The newest readable stability run over every case and variant, else the newest
+    readable one (a run over a few cases never replaces the whole table), or None; and a
+    message per unreadable one."""
     problems: list[str] = []
+    fallback = None
     for path in reversed(list_runs(results)):
         try:
-            return load_run(path), problems
+            run = load_run(path)
         except ResultFileError as error:
             problems.append(str(error))
-    return None, problems
+            continue
+        if not is_partial(run):
+            return run, problems
+        fallback = fallback or run
+    return fallback, problems

@@ -14,14 +14,16 @@ the picture at the comparison size), and:
   NumPy pass's setup) would hide them there: those at ``LARGE`` or the table's size if
   larger. Factors compare throughput per pixel, so sizes may differ (as the table's do);
 - a row the table measured in the same run at the same size is reused, not measured again
-  (``reused: table``);
+  (``reused: table``); its own rows count no rays (the section shows none, and counting
+  would compile a second kernel per compiled step);
 - its own factor is its throughput over its ``over`` step's; its cumulative factor, over
   naive's; the error it adds is its picture against its ``over`` step's, at the largest size
   both rendered (``error_vs_over``; compiled steps compare at ``LARGE``).
 
 The anchors, in the same run: POV-Ray 3.7 (``harness.instruments.povray``) renders the reference
 scene's ``.pov`` version (``scenes/reference.pov``) at ``LARGE`` on one thread and on every
-core, ``repeat`` times each, timed as a whole process (and by its own trace time); its picture is
+core, the mode's ``side_repeat`` times each (quick: once; its trace alone outlasts the
+quick bench's Python rows), timed as a whole process (and by its own trace time); its picture is
 compared with the project's at the same size. Without POV-Ray the entry says so (``status:
 unavailable``) and the report prints the note instead of the rows.
 
@@ -36,8 +38,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from groundwork.sizes import Size
-from harness.engine import figures, sharing
-from harness.engine.bench import QUIET_WAIT
+from harness.engine import figures
 from harness.instruments import imagediff, povray
 from harness.instruments.usage import available_cores
 from harness.scenery import SCENES
@@ -121,8 +122,12 @@ def _key(size: Any) -> str:
 
 def before(bench: Bench) -> None:
     """Before any section is measured: keep the pictures of the steps (the table's rows of
-    them are reused, their pictures compared)."""
+    them are reused, their pictures compared), and compile the compiled steps' kernels in the
+    background while the Python steps are timed (``Bench.warm``)."""
     bench.keep_pictures |= names()
+    steps = [canonical(step.variant) for step in STEPS]
+    wanted = [name for name in steps if name is not None and name in bench.settings.variants]
+    bench.warm(wanted, rays=False)
 
 
 def measure(bench: Bench) -> None:
@@ -148,7 +153,7 @@ def measure(bench: Bench) -> None:
         size = step_size(step, s.size)
         if not _reuse(bench, name, size, extra):
             task = bench.row_task(
-                name, size, s.samples, s.repeat, allocations=True, rays=True,
+                name, size, s.samples, s.repeat, allocations=True, rays=False,
                 compare=bench.compare_size,
             )  # fmt: skip
             bench.measure_row(SECTION, name, s.scene, task, extra)
@@ -277,27 +282,26 @@ def anchor(bench: Bench) -> dict[str, Any]:
 def _povray_point(
     bench: Bench, found: Any, source: Any, size: Size, threads: int
 ) -> tuple[dict[str, Any], np.ndarray]:
-    """``repeat`` renders by POV-Ray on ``threads`` threads; timed again (as a busy row is,
+    """``side_repeat`` renders by POV-Ray on ``threads`` threads; timed again (as a busy row is,
     ``Bench.measure_row``) while its trace threads did not get their cores."""
     attempts: list[dict[str, Any]] = []
     best: dict[str, Any] | None = None
     picture = None
     for attempt in range(1 + bench.settings.again):
         if attempt:
-            bench.log(
-                f"{SECTION}: POV-Ray was busy: waiting up to {QUIET_WAIT:.0f} s for a quieter "
-                "machine to time it again"
-            )
-            quiet = sharing.wait_for_quiet(
-                threads, QUIET_WAIT, report=lambda text: bench.log(f"{SECTION}: POV-Ray: {text}")
-            )
+            quiet = bench.wait_for_quiet(threads, f"{SECTION}: POV-Ray was busy")
+            if quiet is None:
+                break
             bench.log(f"{SECTION}: POV-Ray on {threads} thread(s) again: it was busy ({quiet})")
         else:
             bench.log(f"{SECTION}: POV-Ray at {size}, {threads} thread(s)")
+        start = bench.clock()
         renders = [
             povray.render(found, source, size, threads, timeout=600)
-            for _ in range(bench.settings.repeat)
+            for _ in range(bench.settings.mode.side_repeat)
         ]
+        if attempt:
+            bench.spend(bench.clock() - start)
         picture = renders[0].image if picture is None else picture
         point = _point(renders, threads)
         attempts.append({"wall": point["wall"], "trace": point["trace"], "busy": point_busy(point)})
@@ -306,6 +310,8 @@ def _povray_point(
         if not point_busy(best):
             break
     assert best is not None and picture is not None
+    bench.log(f"{SECTION}: POV-Ray on {threads} thread(s): {best['wall']:.3f} s at {size}"
+              + (" (busy)" if point_busy(best) else ""))  # fmt: skip
     if len(attempts) > 1:
         best["attempts"] = attempts
     return best, picture

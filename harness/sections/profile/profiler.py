@@ -33,6 +33,7 @@ follows them into the flame graph; cProfile sees the parent waiting for them).
 from __future__ import annotations
 
 import json
+import math
 import re
 import shutil
 import sys
@@ -54,9 +55,28 @@ FLAME_RATE = 200  # py-spy's samples per second
 Log = Callable[[str], None]
 
 
-def profile_size(camera: Size) -> Size:
-    """The default size of a profile: ``camera`` scaled down to ``DEFAULT_PIXELS``."""
-    return scaled(camera, (DEFAULT_PIXELS / camera.pixels) ** 0.5)
+TRACE_SECONDS = 0.5  # a fast variant's default size: a trace of about this long ...
+MAX_PIXELS = 2_000_000  # ... but no larger than this
+
+
+def profile_size(camera: Size, per_pixel: float | None = None) -> Size:
+    """The default size of a profile: ``camera`` scaled down to ``DEFAULT_PIXELS`` (a Python
+    tracer: about 10 s), or, for a variant that renders a pixel in ``per_pixel`` seconds (a
+    probe), to the pixels a trace of ``TRACE_SECONDS`` takes when that is more (a compiled
+    or NumPy variant, whose trace at ``DEFAULT_PIXELS`` lasts a millisecond), up to
+    ``MAX_PIXELS``, the camera's aspect kept."""
+    wanted = DEFAULT_PIXELS
+    if per_pixel is not None and per_pixel > 0:
+        wanted = max(wanted, min(MAX_PIXELS, round(TRACE_SECONDS / per_pixel)))
+    if wanted <= DEFAULT_PIXELS or wanted <= camera.pixels:
+        return scaled(camera, (wanted / camera.pixels) ** 0.5)
+    common = math.gcd(camera.width, camera.height)
+    step_w, step_h = camera.width // common, camera.height // common  # 4x3 for 640x480
+    steps = int((wanted / (step_w * step_h)) ** 0.5)
+    if steps >= camera.width // step_w:  # a multiple of the reduced ratio: the aspect exact
+        return Size(step_w * steps, step_h * steps)
+    factor = (wanted / camera.pixels) ** 0.5
+    return Size(max(1, round(camera.width * factor)), max(1, round(camera.height * factor)))
 
 
 def slug(text: str) -> str:

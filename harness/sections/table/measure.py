@@ -13,6 +13,12 @@ if TYPE_CHECKING:
 SECTION = "table"
 
 
+def before(bench: Bench) -> None:
+    """Compile the compiled variants' kernels in the background while the Python rows are
+    timed (``Bench.warm``)."""
+    bench.warm(list(bench.settings.variants), rays=True)
+
+
 def measure(bench: Bench) -> None:
     s = bench.settings
     for name in s.variants:
