@@ -4,19 +4,36 @@ A variant whose ``tolerance`` is 0 (every pure-Python float64 variant) must give
 pixels; any other must stay within its stated tolerance per colour channel. Every comparison
 prints the maximum and mean difference (``pytest -s`` or ``-rA`` shows them).
 
+Two sizes of each scene. The compiled variants (``numba``, ``wavefront``: a picture costs
+them milliseconds, and their float32 and fast-math paths differ from naive's at single
+pixels) are compared at the scene's own size. The pure-Python ones (``cached``,
+``prealloc``, ``robust``, and the pools over them) are compared on the same scene, seen by
+the same camera, at half its width and height: a quarter of the pixels, a quarter of the
+cost, and every shape, light and pattern of the scene still in the picture. The exact ones
+run naive's own arithmetic step for step, so a step they get wrong is wrong at every pixel
+whose rays take it, not at one pixel in four (a ``prealloc`` whose Schlick reflectance
+takes the power 4 for 5 differs from naive at 10 of the 70 pixels of the half-size
+patterns-mirrors-glass scene, and at 52 of its 300 at full size). Three scenes keep their
+size for every variant: the two of fewer than 150 pixels, and christmas (naive's picture of
+it at its own size is needed for the compiled variants; one at half size would cost about
+as much as the pure-Python variants save on it).
+
 ``naive``'s pictures are rendered once per run, whichever worker process asks first
 (``once_per_run``). The pools (``pooled``, ``dask``) render their inner variant's picture in
 other processes: what they add is the split into jobs, the world sent to the workers and the
 picture put together again, which a scene of many shapes does not change; the gate leaves
 them out of the christmas scene (5,291 shapes: their inner variants render it here, the
 pools render every other scene, the mesh scene's groups of triangles among them), and
-``--thorough`` puts them back.
+``--thorough`` puts them back. A Dask variant keeps one cluster for the module (its
+``session``), started once per test process instead of once per render: the cluster's start
+is ``test_dask``'s subject, not this module's.
 """
 
 from __future__ import annotations
 
+import contextlib
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -28,6 +45,7 @@ from once_per_run import OncePerRun
 
 from raytracer.camera import RenderSettings
 from scene import load_scene
+from variants.dask_cluster import DaskTracer
 from variants.registry import Variant, available_variants, load_variant
 
 SCENES_FOLDER = Path(__file__).resolve().parent.parent / "scenes"
@@ -55,6 +73,7 @@ class Scene:
     settings: RenderSettings = field(default_factory=RenderSettings)
     left_out: tuple[str, ...] = ()  # variants (and pools over them) not compared on it
     pools: bool = True  # False: the pools are compared on it only by ``--thorough``
+    halve: bool = True  # False: every variant is compared at its own size
 
 
 def _look(api: Any, c: Any, eye: tuple[float, float, float], to: tuple[float, float, float]) -> Any:
@@ -168,14 +187,21 @@ def christmas_scene(api: Any) -> tuple[Any, Any]:
 
 SCENES = [
     Scene("default-world", default_world),
-    Scene("default-world-12x12-3spp", small_default_world, RenderSettings(samples=3, seed=11)),
+    Scene(
+        "default-world-12x12-3spp",
+        small_default_world,
+        RenderSettings(samples=3, seed=11),
+        halve=False,
+    ),
     Scene("patterns-mirrors-glass", patterns_mirrors_glass),
     Scene("reference-16x12", reference_scene, RenderSettings(epsilon=0.001)),
     Scene("three-lights", three_lights),
     Scene("cover-16x16", cover_scene),
     Scene("mesh-16x10", mesh_scene),
     Scene("torus-20x12", torus_scene),
-    Scene("christmas-16x12", christmas_scene, pools=False),
+    # naive's own-size picture is needed for the compiled variants; a half-size one would
+    # cost as much again as the pure-Python variants save on it (28 CPU s for 8x6)
+    Scene("christmas-16x12", christmas_scene, pools=False, halve=False),
     # wavefront refuses area lights and texture maps (it says so, naming the light or the
     # pattern): it is left out of these two scenes, not skipped
     Scene(
@@ -183,9 +209,32 @@ SCENES = [
         soft_shadows,
         RenderSettings(samples=2, seed=5),
         left_out=("wavefront",),
+        halve=False,
     ),
     Scene("textures-16x12", textures_scene, left_out=("wavefront",)),
 ]
+
+
+# compared at each scene's own size; every other variant (pure Python) at half of it
+FULL_SIZE = ("numba", "wavefront")
+
+
+def halved(scene: Scene) -> Scene:
+    """``scene`` seen by the same camera (position, field of view) at half its width and
+    height: the size the pure-Python variants are compared at; a scene that is small
+    already (``halve=False``) as it is."""
+
+    def build(api: Any) -> tuple[Any, Any]:
+        c, w = scene.build(api)
+        small = api["camera"](c.hsize // 2, c.vsize // 2, c.field_of_view)
+        return replace(small, transform=c.transform), w
+
+    if not scene.halve:
+        return scene
+    return replace(scene, name=f"{scene.name}-halved", build=build)
+
+
+HALVED = {scene.name: halved(scene) for scene in SCENES}
 
 
 def _variants() -> list[str]:
@@ -207,10 +256,13 @@ def _naive_pixels(scene: Scene, once: OncePerRun) -> list[tuple[float, float, fl
     return [(float(r), float(g), float(b)) for r, g, b in np.asarray(found).tolist()]
 
 
-@pytest.mark.parametrize("scene", SCENES, ids=[scene.name for scene in SCENES])
+BOTH_SIZES = [*SCENES, *(small for small in HALVED.values() if small not in SCENES)]
+
+
+@pytest.mark.parametrize("scene", BOTH_SIZES, ids=[scene.name for scene in BOTH_SIZES])
 def test_the_scene_is_not_blank(scene: Scene, once_per_run: OncePerRun) -> None:
-    """A comparison of black images would prove nothing. (One test a scene: each renders
-    ``naive``'s picture that the comparisons then share.)"""
+    """A comparison of black images would prove nothing. (One test a scene and size: each
+    renders ``naive``'s picture that the comparisons then share.)"""
     pixels = _naive_pixels(scene, once_per_run)
     distinct = {tuple(round(v, 3) for v in p) for p in pixels}
     assert len(distinct) > 5, f"{scene.name}: only {len(distinct)} distinct colours"
@@ -219,23 +271,62 @@ def test_the_scene_is_not_blank(scene: Scene, once_per_run: OncePerRun) -> None:
 POOLS = ("pooled", "dask")
 
 
+def _base(name: str) -> str:
+    """The variant that traces the rays: ``cached`` for ``pooled[workers=2]:cached``."""
+    return name.rsplit(":", 1)[-1].split("[", 1)[0]
+
+
 def _left_out(name: str, scene: Scene) -> bool:
     """Whether ``scene`` leaves out the variant ``name`` (or the one a pool wraps)."""
-    base = name.rsplit(":", 1)[-1].split("[", 1)[0]
     pool = name.split("[", 1)[0].split(":", 1)[0] in POOLS
-    return base in scene.left_out or (pool and not scene.pools and not budget.THOROUGH)
+    return _base(name) in scene.left_out or (pool and not scene.pools and not budget.THOROUGH)
 
 
-PAIRS = [(name, scene) for scene in SCENES for name in _variants() if not _left_out(name, scene)]
+def _sized(name: str, scene: Scene) -> Scene:
+    """The size of ``scene`` that variant ``name`` is compared at (see the docstring)."""
+    pool = name.split("[", 1)[0].split(":", 1)[0] in POOLS
+    return scene if _base(name) in FULL_SIZE and not pool else HALVED[scene.name]
+
+
+# the Dask variant's comparisons last: its cluster, kept to the module's end, starts late
+# and idles (polling, heartbeats: CPU seconds) for as short a time as can be
+PAIRS = sorted(
+    (
+        (name, _sized(name, scene))
+        for scene in SCENES
+        for name in _variants()
+        if not _left_out(name, scene)
+    ),
+    key=lambda pair: pair[0].startswith("dask"),
+)
+
+
+@pytest.fixture(scope="module")
+def variants() -> Iterator[Callable[[str], Variant]]:
+    """``load_variant``, except that a Dask variant is loaded once per test process and
+    keeps its cluster (started with it) for the module, closed at its end."""
+    clusters: dict[str, Variant] = {}
+    with contextlib.ExitStack() as stack:
+
+        def load(name: str) -> Variant:
+            if name in clusters:
+                return clusters[name]
+            variant = load_variant(name)
+            if isinstance(variant.tracer, DaskTracer):
+                stack.enter_context(variant.tracer.session())
+                clusters[name] = variant
+            return variant
+
+        yield load
 
 
 @pytest.mark.parametrize(
     ("name", "scene"), PAIRS, ids=[f"{name}-{scene.name}" for name, scene in PAIRS]
 )
 def test_every_variant_renders_what_naive_renders(
-    name: str, scene: Scene, once_per_run: OncePerRun
+    name: str, scene: Scene, once_per_run: OncePerRun, variants: Callable[[str], Variant]
 ) -> None:
-    variant = load_variant(name)
+    variant = variants(name)
     expected = _naive_pixels(scene, once_per_run)
     got = _pixels(variant, scene)
     assert len(got) == len(expected)
