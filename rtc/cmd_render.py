@@ -15,8 +15,7 @@ from groundwork.images import canvas_problem, write_image
 from groundwork.progress import MODES, Progress, compile_ticker, duration
 from harness.scenery.make_meshes import provide
 from raytracer.camera import INTEGRATORS, PATH, RenderSettings
-from rtc.cli import UserError, check_memory, check_output, say
-from rtc.cmd_demo import parse_size
+from rtc.cli import UserError, check_memory, check_output, parse_size, say
 from scene import SceneError, load_scene
 from variants.registry import (
     RenderError,
@@ -27,7 +26,6 @@ from variants.registry import (
 )
 
 NAME = "render"
-HELP = "render a scene file (the book's YAML scene format) to a PNG or PPM image"
 
 LONG_SECONDS = 30.0  # a render estimated to take longer gets the line naming a faster variant
 FAST_VARIANT = "numba"

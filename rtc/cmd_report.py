@@ -10,7 +10,6 @@ from pathlib import Path
 from rtc.cli import UserError, add_results_dir, cannot_write, check_writable, say
 
 NAME = "report"
-HELP = "write results/README.md and a self-contained results/report.html from results/runs/"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
