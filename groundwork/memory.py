@@ -16,7 +16,6 @@ from __future__ import annotations
 import re
 import resource
 from pathlib import Path
-from typing import NamedTuple
 
 from groundwork.files import size_text
 
@@ -28,11 +27,14 @@ class NotEnoughMemory(MemoryError):
     """Work refused before it starts: the message names it, its estimate and what is left."""
 
 
-class Room(NamedTuple):  # not a dataclass: dataclasses' import is most of rtc --help's
+class Room:  # a plain class: a dataclass or NamedTuple would import most of rtc --help's time
     """``left`` bytes may still be allocated; ``bound`` says what limits it."""
 
-    left: int
-    bound: str
+    __slots__ = ("bound", "left")
+
+    def __init__(self, left: int, bound: str) -> None:
+        self.left = left
+        self.bound = bound
 
     def text(self) -> str:
         return f"{size_text(self.left)} {self.bound}"
