@@ -82,3 +82,44 @@ def test_a_cone_capped_at_1e150_renders_alike_in_naive_and_wavefront(tmp_path: P
                 pictures.append(np.asarray(image, dtype=np.int64))
     assert pictures[0].any()
     assert all(np.array_equal(pictures[0], picture) for picture in pictures[1:])
+
+
+@pytest.mark.parametrize("raised", [FileNotFoundError(2, "No such file or directory"),
+                                    RuntimeError("cannot cache function: no locator available")])
+def test_the_kernel_folder_removed_during_a_compile_is_one_line(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, raised: Exception
+) -> None:
+    """A build whose kernel folder is removed while it runs (what numba and the linker then
+    raise) is a ``KernelFolderError`` naming the folder, which rtc prints as one line."""
+    from compiled import KernelFolderError
+    from compiled import library as compiled_library
+
+    folder = tmp_path / "kernels"
+    folder.mkdir(mode=0o700)
+    monkeypatch.setattr(compiled_library, "announce", lambda *args: None)
+
+    def build() -> None:
+        shutil.rmtree(folder)
+        raise raised
+
+    def fallback(problem: str) -> None:
+        raise AssertionError("no fallback for a folder that is gone")
+
+    with pytest.raises(KernelFolderError, match=r"the kernel folder .*kernels was removed or"):
+        compiled_library.load_once(
+            {}, folder / "rtc_tiny_0123456789abcdef.so", build, lambda library: library,
+            fallback, "a tiny kernel",
+        )  # fmt: skip
+
+
+def test_an_error_of_a_build_whose_folder_is_there_is_not_blamed_on_it(tmp_path: Path) -> None:
+    from compiled import library as compiled_library
+
+    def build() -> None:
+        raise RuntimeError("a bug of ours")
+
+    with pytest.raises(RuntimeError, match="a bug of ours"):
+        compiled_library.load_once(
+            {}, tmp_path / "rtc_tiny_0123456789abcdef.so", build, lambda library: library,
+            lambda problem: None, "a tiny kernel",
+        )  # fmt: skip
