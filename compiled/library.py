@@ -38,6 +38,7 @@ from __future__ import annotations
 import ctypes
 import importlib
 import importlib.util
+import os
 import threading
 import time
 from collections.abc import Callable
@@ -45,10 +46,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from compiled import compile_log
+from compiled import KernelFolderError, compile_log
 from compiled.build_lock import one_builder
 from compiled.entry import entry_stub
-from compiled.folder import private_numba_cache
+from compiled.folder import NUMBA_CACHE_SET, private_numba_cache
 from compiled.linking import BuildError, compiler, link
 from compiled.notices import announce, say
 from compiled.records import library_path, verify
@@ -74,37 +75,66 @@ def load_once(
         found = cache.get(key)
         if found is not None:
             return found
-        problem = ""
-        library, why = verify(path)
-        compiling = False
-        started = time.perf_counter()
-        if library is None:
-            with one_builder(path, what):  # another process's build of it: waited for
-                library, why = verify(path)
-                compiling = library is None
-                if compiling:
-                    if why:
-                        say(f"{what} in {path.parent}: {why}: building it again")
-                    announce(what)
-                    try:
-                        with compile_log.timed("library", what):
-                            build()
-                    except BuildError as error:
-                        problem = str(error)
-                    else:
-                        library, why = verify(path)
-                        problem = why or ("" if library is not None else "it was not written")
-        loaded = None
-        if library is not None:
-            try:
-                loaded = ctypes.CDLL(str(library))
-            except OSError as error:  # a folder mounted noexec ...
-                problem = f"the system cannot load {library}: {error}"
-        found = from_library(loaded) if loaded is not None else fallback(problem)
-        if compiling:
-            announce(what, time.perf_counter() - started)
+        try:
+            found = _load_or_build(path, build, from_library, fallback, what)
+        except (OSError, RuntimeError) as error:  # numba's "no locator available" is one
+            if path.parent.is_dir() and _numba_cache_is_there():
+                raise
+            raise KernelFolderError(
+                f"the kernel folder {path.parent} was removed or emptied while {what} was "
+                f"being loaded or compiled ({type(error).__name__}); nothing was kept: run the "
+                "command again"
+            ) from None
         cache[key] = found
         return found
+
+
+def _numba_cache_is_there() -> bool:
+    """Whether numba's disk cache folder, when it is ours (``private_numba_cache``), is
+    still there."""
+    folder = os.environ.get(NUMBA_CACHE_SET)
+    return folder is None or Path(folder).is_dir()
+
+
+def _load_or_build(
+    path: Path,
+    build: Callable[[], None],
+    from_library: Callable[[ctypes.CDLL], Any],
+    fallback: Callable[[str], Any],
+    what: str,
+) -> Any:
+    """``load_once``'s work, under its lock: the library checked, built when missing, loaded
+    (or the fallback)."""
+    problem = ""
+    library, why = verify(path)
+    compiling = False
+    started = time.perf_counter()
+    if library is None:
+        with one_builder(path, what):  # another process's build of it: waited for
+            library, why = verify(path)
+            compiling = library is None
+            if compiling:
+                if why:
+                    say(f"{what} in {path.parent}: {why}: building it again")
+                announce(what)
+                try:
+                    with compile_log.timed("library", what):
+                        build()
+                except BuildError as error:
+                    problem = str(error)
+                else:
+                    library, why = verify(path)
+                    problem = why or ("" if library is not None else "it was not written")
+    loaded = None
+    if library is not None:
+        try:
+            loaded = ctypes.CDLL(str(library))
+        except OSError as error:  # a folder mounted noexec ...
+            problem = f"the system cannot load {library}: {error}"
+    found = from_library(loaded) if loaded is not None else fallback(problem)
+    if compiling:
+        announce(what, time.perf_counter() - started)
+    return found
 
 
 # ------------------------------------------------------ one function, one library

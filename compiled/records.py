@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import functools
 import hashlib
-import importlib.metadata
 import importlib.util
 import json
 import os
@@ -25,10 +24,8 @@ def _stat_key(package: str) -> str:
     recorded for the package's files, so that the same wheel installed in another
     environment (a fresh clone's ``.venv``) is the same package and the libraries built for
     it are reused; without such a record, its path, size and mtime."""
-    try:
-        record = importlib.metadata.distribution(package).read_text("RECORD") or ""
-    except importlib.metadata.PackageNotFoundError:
-        record = ""
+    spec = importlib.util.find_spec(package)
+    record = _installed_record(package, spec.origin if spec is not None else None)
     files = sorted(
         line
         for line in record.splitlines()
@@ -37,26 +34,48 @@ def _stat_key(package: str) -> str:
     if files:
         digest = hashlib.sha256("\n".join(files).encode("utf-8")).hexdigest()
         return f"{package}: {digest}"
-    spec = importlib.util.find_spec(package)
     if spec is None or spec.origin is None:
         return f"{package}: missing"
     stat = os.stat(spec.origin)
     return f"{package}: {spec.origin} {stat.st_size} {stat.st_mtime_ns}"
 
 
+def _installed_record(package: str, origin: str | None) -> str:
+    """The RECORD its installer wrote for ``package``: read from the ``.dist-info`` folder
+    beside the package (one small file, where importlib.metadata would first be imported
+    and scan every installed package: most of a warm render's kernel check), else found
+    through importlib.metadata; "" when there is none."""
+    if origin is not None:
+        site = Path(origin).parent.parent
+        try:
+            beside = [
+                name for name in os.listdir(site)
+                if name.startswith(f"{package}-") and name.endswith(".dist-info")
+            ]  # fmt: skip
+            if len(beside) == 1:
+                return read_text(site / beside[0] / "RECORD", 16 << 20)
+        except (OSError, ValueError):
+            pass
+    import importlib.metadata  # deferred: only where the record is not beside the package
+
+    try:
+        return importlib.metadata.distribution(package).read_text("RECORD") or ""
+    except importlib.metadata.PackageNotFoundError:
+        return ""
+
+
 @functools.lru_cache(maxsize=1)
 def platform_key() -> str:
     """What machine code depends on besides its source: the CPU (model and instruction-set
     flags), the OS and Python, numba and llvmlite."""
-    cpu = platform.processor()
     try:
         with open("/proc/cpuinfo", encoding="utf-8") as info:
             lines = info.read().split("\n\n", 1)[0].splitlines()
         cpu = "\n".join(
             line for line in lines if line.split(":")[0].strip() in ("model name", "flags")
         )
-    except OSError:
-        pass
+    except OSError:  # not Linux: platform.processor() (which may run uname -p: a process)
+        cpu = platform.processor()
     packages = [_stat_key(name) for name in ("numba", "llvmlite")]
     return "\n".join([cpu, platform.machine(), platform.system(), sys.version, *packages])
 

@@ -24,7 +24,6 @@ from __future__ import annotations
 import errno
 import os
 import stat
-import tempfile
 from pathlib import Path
 
 _KINDS = (
@@ -159,6 +158,8 @@ def resolved(path: Path) -> Path:
 
 def _temporary_beside(path: Path, data: bytes, mode: int, sync: bool) -> str:
     """A temporary file in ``path``'s folder holding ``data`` with permissions ``mode``."""
+    import tempfile  # deferred: rtc --help writes nothing (tempfile brings random and shutil)
+
     fd, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
         with os.fdopen(fd, "wb") as out:

@@ -3,18 +3,18 @@
 A canvas of 16384x16384 pixels in the book's tracer is some 40 GB of ``Color`` values, and a
 huge texture is as bad: without a check the process runs until Python raises ``MemoryError``
 (or the kernel's out-of-memory killer ends it). ``available`` is the least of what bounds
-this process: the machine's available memory and free swap (``psutil``), this process's
-address-space limit (``ulimit -v``, less what it already maps), and its control group's
-memory limit (less what the group already uses). ``check`` compares an estimate with it and
-raises ``NotEnoughMemory``, one line naming what was asked, the estimate and what is left;
-``render_bytes`` estimates what a render of a size needs.
+this process: the machine's available memory and free swap (/proc/meminfo, else
+``psutil``), this process's address-space limit (``ulimit -v``, less what it already
+maps), and its control group's memory limit (less what the group already uses). ``check``
+compares an estimate with it and raises ``NotEnoughMemory``, one line naming what was
+asked, the estimate and what is left; ``render_bytes`` estimates what a render of a size
+needs.
 """
 
 from __future__ import annotations
 
 import re
 import resource
-from dataclasses import dataclass
 from pathlib import Path
 
 from groundwork.files import size_text
@@ -27,12 +27,14 @@ class NotEnoughMemory(MemoryError):
     """Work refused before it starts: the message names it, its estimate and what is left."""
 
 
-@dataclass(frozen=True)
-class Room:
+class Room:  # a plain class: a dataclass or NamedTuple would import most of rtc --help's time
     """``left`` bytes may still be allocated; ``bound`` says what limits it."""
 
-    left: int
-    bound: str
+    __slots__ = ("bound", "left")
+
+    def __init__(self, left: int, bound: str) -> None:
+        self.left = left
+        self.bound = bound
 
     def text(self) -> str:
         return f"{size_text(self.left)} {self.bound}"
@@ -71,19 +73,48 @@ def _cgroup() -> Room | None:
     return None
 
 
+def _meminfo() -> tuple[int, int] | None:
+    """The machine's available memory and free swap in bytes, from Linux's /proc/meminfo
+    (what psutil reads there, without importing it); None elsewhere."""
+    try:
+        text = Path("/proc/meminfo").read_text(encoding="ascii")
+    except (OSError, ValueError):
+        return None
+    fields = dict(re.findall(r"^(MemAvailable|SwapFree):\s+(\d+) kB$", text, re.MULTILINE))
+    if len(fields) != 2:  # a kernel older than 3.14 has no MemAvailable: psutil estimates
+        return None
+    return int(fields["MemAvailable"]) * 1024, int(fields["SwapFree"]) * 1024
+
+
+def _mapped() -> int:
+    """The bytes this process maps (its virtual size), from /proc/self/statm, else psutil."""
+    try:
+        pages = int(Path("/proc/self/statm").read_text(encoding="ascii").split()[0])
+    except (OSError, ValueError, IndexError):
+        import psutil  # deferred: only where /proc is not (see _machine)
+
+        return int(psutil.Process().memory_info().vms)
+    return pages * resource.getpagesize()
+
+
+def _machine() -> Room:
+    """The machine's available memory and free swap: read from /proc on Linux, through
+    ``psutil`` elsewhere (imported only there: it costs ~10 ms of every render's start)."""
+    found = _meminfo()
+    if found is None:
+        import psutil
+
+        found = psutil.virtual_memory().available, psutil.swap_memory().free
+    return Room(found[0] + found[1], "available on this machine")
+
+
 def available() -> Room:
     """The least of what bounds this process's memory (see the module)."""
-    # deferred: saves ~25 ms (psutil) of every command that checks no memory
-    import psutil
-
-    rooms = [
-        Room(psutil.virtual_memory().available + psutil.swap_memory().free,
-             "available on this machine"),
-    ]  # fmt: skip
+    rooms = [_machine()]
     for which, name in ((resource.RLIMIT_AS, "address-space"), (resource.RLIMIT_DATA, "data")):
         soft, _hard = resource.getrlimit(which)
         if soft != resource.RLIM_INFINITY:
-            used = psutil.Process().memory_info().vms if which == resource.RLIMIT_AS else 0
+            used = _mapped() if which == resource.RLIMIT_AS else 0
             rooms.append(
                 Room(max(soft - used, 0),
                      f"left under this process's {name} limit of {size_text(soft)}")

@@ -1,6 +1,8 @@
 """``rtc``: one entry point, one module per sub-command (``rtc/cmd_*.py``).
 
-Each command module defines ``NAME``, ``HELP``, ``add_arguments(parser)`` and ``run(args) -> int``.
+Each command module defines ``NAME``, ``add_arguments(parser)`` and ``run(args) -> int``; its
+one-line help is in ``COMMANDS`` here, so that ``rtc --help`` imports no command module (it
+starts at Python's floor) and ``rtc NAME`` imports only its own.
 A user mistake (bad flag value, broken scene file) raises ``UserError``: one clear line on
 stderr, exit status 2, no traceback.
 """
@@ -12,29 +14,40 @@ import errno
 import importlib
 import os
 import sys
-import tempfile
 from pathlib import Path
-from types import ModuleType
 
 from compiled import KernelFolderError
 from groundwork import knobs
 from groundwork.escapes import printable
 from groundwork.files import writable_target
-from groundwork.images import FORMATS
 from groundwork.memory import NotEnoughMemory, check, render_bytes
 
-COMMANDS = [
-    "rtc.cmd_variants",
-    "rtc.cmd_new",
-    "rtc.cmd_kata",
-    "rtc.cmd_demo",
-    "rtc.cmd_bench",
-    "rtc.cmd_report",
-    "rtc.cmd_compare",
-    "rtc.cmd_render",
-    "rtc.cmd_profile",
-    "rtc.cmd_stability",
-]
+# Each command's module and its one line of help (``rtc --help``, and the command's own).
+COMMANDS = {
+    "rtc.cmd_variants":
+        "list the registered variants, what each overrides, and whether it is available",
+    "rtc.cmd_new":
+        "start your own tracer: a package whose book functions are stubs for you to write",
+    "rtc.cmd_kata":
+        "run .feature files (default: the project's features/) and show progress by chapter",
+    "rtc.cmd_demo": "draw a chapter's 'putting it together' picture (chapters 1 to 16) as a PNG",
+    "rtc.cmd_bench":
+        "time, count allocations and measure image error per variant; writes the runs into "
+        "results/local/ (results/ with --publish)",
+    "rtc.cmd_report":
+        "write README.md and a self-contained report.html from the runs of a results folder "
+        "(yours, results/local/, unless --publish)",
+    "rtc.cmd_compare":
+        "compare two bench runs: per variant the time ratio B/A, whether it is significant "
+        "(Student's t-test over the timed renders, as pyperf compare_to) and the image error",
+    "rtc.cmd_render": "render a scene file (the book's YAML scene format) to a PNG or PPM image",
+    "rtc.cmd_profile":
+        "profile a render of a scene file through a variant: the top functions by own and "
+        "cumulative time, a flame graph, and (numba) the time of each stage",
+    "rtc.cmd_stability":
+        "run stiff and extreme cases (scale, cancellation, grazing rays, the torus's quartic, "
+        "stiff transforms, refraction, degenerate input) on every variant against exact oracles",
+}  # fmt: skip
 
 
 class UserError(Exception):
@@ -106,6 +119,9 @@ def check_writable(path: Path, what: str) -> None:
         folder = folder.parent
     if not folder.is_dir():
         raise UserError(f"{what}: {str(folder)!r} is not a folder")
+    # deferred: tempfile (with random and shutil) is for the commands that write
+    import tempfile
+
     try:
         with tempfile.TemporaryFile(dir=folder, prefix=".rtc-write-check-"):
             pass
@@ -137,6 +153,9 @@ def check_output(text: str) -> Path:
     what = f"cannot write {text!r}"
     if text.endswith(("/", os.sep)):
         raise UserError(f"{what}: it names a folder (it ends with '/')")
+    # deferred: groundwork.images brings numpy and Pillow, which rtc --help does without
+    from groundwork.images import FORMATS
+
     if output.suffix.lower() not in FORMATS:
         raise UserError(
             f"{what}: unknown image extension {output.suffix or '(none)'}; "
@@ -159,6 +178,18 @@ def check_output(text: str) -> Path:
         except OSError as error:
             raise UserError(f"cannot write {text!r}: {error.strerror or error}") from None
     return output
+
+
+def parse_size(text: str) -> tuple[int, int]:
+    """``--size``'s ``"200x100"`` -> (200, 100); anything else is a ``UserError``."""
+    # deferred: groundwork.sizes brings the book's canvas, which rtc --help does without
+    from groundwork import sizes
+
+    try:
+        size = sizes.parse_size(text, "--size")
+    except ValueError as error:
+        raise UserError(str(error)) from None
+    return size.width, size.height
 
 
 def check_target(path: Path, what: str) -> None:
@@ -185,23 +216,28 @@ def check_memory(variant: str, width: int, height: int) -> None:
         raise UserError(f"{error}; choose a smaller --size") from None
 
 
-def _commands(argv: list[str] | None = None) -> list[ModuleType]:
-    """The command modules the parser needs: only the chosen one when ``argv`` starts with a
-    command's name (``rtc/cmd_NAME.py``), so that start-up imports only what runs."""
+def _chosen(argv: list[str] | None) -> str | None:
+    """The command module ``argv`` names first (``rtc/cmd_NAME.py``), if it names one."""
     chosen = f"rtc.cmd_{argv[0]}" if argv else None
-    names = [chosen] if chosen in COMMANDS else COMMANDS
-    return [importlib.import_module(name) for name in names]
+    return chosen if chosen in COMMANDS else None
 
 
 def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
+    """The parser for ``argv``: the chosen command's module imported and its arguments
+    added; without a command (``rtc --help``, a typo) every command by its help line alone,
+    no module imported."""
     parser = argparse.ArgumentParser(
         prog="rtc", description="The Ray Tracer Challenge workbook and benchmark harness."
     )
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    for module in _commands(argv):
-        command = sub.add_parser(module.NAME, help=module.HELP, description=module.HELP)
-        module.add_arguments(command)
-        command.set_defaults(run=module.run)
+    chosen = _chosen(argv)
+    for name, help_line in COMMANDS.items():
+        command = sub.add_parser(name.removeprefix("rtc.cmd_"), help=help_line,
+                                 description=help_line)  # fmt: skip
+        if name == chosen:
+            module = importlib.import_module(name)
+            module.add_arguments(command)
+            command.set_defaults(run=module.run)
     return parser
 
 
@@ -209,6 +245,8 @@ def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     try:  # Ctrl-C while the command's modules are imported: one line too
         args = build_parser(argv).parse_args(argv)
+        if not hasattr(args, "run"):  # the command came after an option (rtc -- render ...)
+            args = build_parser([args.command]).parse_args(argv)
     except KeyboardInterrupt:
         named = f" {argv[0]}" if argv and f"rtc.cmd_{argv[0]}" in COMMANDS else ""
         print(f"rtc{named}: interrupted", file=sys.stderr)

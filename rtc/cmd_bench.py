@@ -39,7 +39,6 @@ if TYPE_CHECKING:
     from harness.engine.plan import BenchSettings
 
 NAME = "bench"
-HELP = "time, count allocations and measure image error per variant; writes results/runs/"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

@@ -9,10 +9,6 @@ import argparse
 from rtc.cli import UserError, add_results_dir
 
 NAME = "compare"
-HELP = (
-    "compare two bench runs: per variant the time ratio B/A, whether it is significant "
-    "(Student's t-test over the timed renders, as pyperf compare_to) and the image error"
-)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

@@ -6,13 +6,11 @@ import argparse
 import time
 from pathlib import Path
 
-from groundwork import sizes
 from groundwork.images import FORMATS, write_image
-from rtc.cli import UserError, check_memory, check_output
+from rtc.cli import UserError, check_memory, check_output, parse_size
 from rtc.demos import DEMOS
 
 NAME = "demo"
-HELP = "draw a chapter's 'putting it together' picture (chapters 1 to 16) as a PNG"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -29,15 +27,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--size", metavar="WxH", help="canvas size in pixels, e.g. 200x100 (default per chapter)"
     )
-
-
-def parse_size(text: str) -> tuple[int, int]:
-    """``--size``'s ``"200x100"`` -> (200, 100); anything else is a ``UserError``."""
-    try:
-        size = sizes.parse_size(text, "--size")
-    except ValueError as error:
-        raise UserError(str(error)) from None
-    return size.width, size.height
 
 
 def parse_chapter(text: str) -> int:

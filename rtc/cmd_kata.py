@@ -14,7 +14,6 @@ from groundwork.progress import MODES, Progress
 from rtc.cli import UserError
 
 NAME = "kata"
-HELP = "run .feature files (default: the project's features/) and show progress by chapter"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

@@ -16,7 +16,6 @@ from rtc.cli import UserError
 from variants.registry import ALL, GROUP
 
 NAME = "new"
-HELP = "start your own tracer: a package whose book functions are stubs for you to write"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

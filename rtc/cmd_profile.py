@@ -14,18 +14,13 @@ from groundwork.sizes import Size
 from harness.engine.plan import refusal
 from harness.scenery.make_meshes import provide
 from raytracer.camera import INTEGRATORS, WHITTED
-from rtc.cli import UserError, check_memory, check_target, say
-from rtc.cmd_demo import parse_size
+from rtc.cli import UserError, check_memory, check_target, parse_size, say
 from scene import SceneError, load_scene
 from variants.registry import load_variant
 
 NAME = "profile"
 DEFAULT_OUTPUT = Path("results/local/profile")
 OUTPUTS = (".svg", ".pstats", ".png")  # profile-SCENE-VARIANT.*: the files the profile writes
-HELP = (
-    "profile a render of a scene file through a variant: the top functions by own and "
-    "cumulative time, a flame graph, and (numba) the time of each stage"
-)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

@@ -15,8 +15,7 @@ from groundwork.images import canvas_problem, write_image
 from groundwork.progress import MODES, Progress, compile_ticker, duration
 from harness.scenery.make_meshes import provide
 from raytracer.camera import INTEGRATORS, PATH, RenderSettings
-from rtc.cli import UserError, check_memory, check_output, say
-from rtc.cmd_demo import parse_size
+from rtc.cli import UserError, check_memory, check_output, parse_size, say
 from scene import SceneError, load_scene
 from variants.registry import (
     RenderError,
@@ -27,10 +26,9 @@ from variants.registry import (
 )
 
 NAME = "render"
-HELP = "render a scene file (the book's YAML scene format) to a PNG or PPM image"
 
 LONG_SECONDS = 30.0  # a render estimated to take longer gets the line naming a faster variant
-FAST_VARIANT = "numba"
+FAST_VARIANT = "numba"  # one of the project's own (OWN): named without a look-up
 COMPILED = ("numba", "wavefront")  # a render through one of these gets no such line
 # How many times faster numba renders than a pure-Python variant, at the least (the bench's
 # table, results/README.md: about 14,000x naive, 400x cached and robust, 130x prealloc): the
@@ -174,10 +172,10 @@ def _advice(name: str, settings: RenderSettings) -> Callable[[float], str | None
     cached, prealloc, robust, a learner's, or a pool of them): given the render's estimated
     seconds, a line naming the variant that renders it fast when the render will take
     longer than ``LONG_SECONDS``, else None. None for a render that goes through a compiled
-    variant already, when no ``FAST_VARIANT`` is registered, and for a path-traced render
+    variant already, and for a path-traced render
     (``_path_estimate`` spoke before it started, naming numba)."""
     chain = _python_chain(name)
-    if chain is None or settings.integrator == PATH or FAST_VARIANT not in _registered():
+    if chain is None or settings.integrator == PATH:
         return None
     speed_up = min(SPEED_UP.get(part, SPEED_UP_OTHERS) for part in chain)
 

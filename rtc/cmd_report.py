@@ -10,10 +10,6 @@ from pathlib import Path
 from rtc.cli import UserError, add_results_dir, cannot_write, check_writable, publishing, say
 
 NAME = "report"
-HELP = (
-    "write README.md and a self-contained report.html from the runs of a results folder "
-    "(yours, results/local/, unless --publish)"
-)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

@@ -14,10 +14,6 @@ from groundwork.sizes import parse_size
 from rtc.cli import UserError, add_results_dir, cannot_write, check_writable
 
 NAME = "stability"
-HELP = (
-    "run stiff and extreme cases (scale, cancellation, grazing rays, the torus's quartic, "
-    "stiff transforms, refraction, degenerate input) on every variant against exact oracles"
-)
 DEFAULT_SIZE = "32x24"
 GROUPS = (
     "scale", "cancel", "graze", "torus", "stiff", "singular", "refract", "degen", "path",

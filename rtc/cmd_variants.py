@@ -12,7 +12,6 @@ from raytracer.api import BOOK_API
 from variants.registry import Variant, registry
 
 NAME = "variants"
-HELP = "list the registered variants, what each overrides, and whether it is available"
 INDENT = " " * 13
 WIDTH = 100
 

@@ -48,7 +48,8 @@ class Parameter:
     default: the value a new shape has (its type says whether the parameter is a number or
     a boolean); infinite: a number that may be infinite (a cylinder's unbounded ends);
     above: the number it must be greater than (None: any), for the error, ``meaning``: what
-    the parameter is.
+    the parameter is; largest: the largest finite size it may have (None: any), past which
+    a ray's arithmetic leaves floating point in every variant, and ``overflow`` says how.
     """
 
     key: str
@@ -57,6 +58,8 @@ class Parameter:
     infinite: bool = False
     above: float | None = None
     meaning: str = ""
+    largest: float | None = None
+    overflow: str = ""
 
     @property
     def boolean(self) -> bool:
@@ -119,16 +122,28 @@ class Kind:
         return (lo, hi)
 
 
+# A cap's height is squared (a cone's radius there) and a torus's radii are raised to the
+# fourth power (its quartic's coefficients): past these sizes the sum overflows to infinity
+# and every variant draws NaN or nothing (a cone's max of 1e300, a torus of radius 1e300)
+CAP_LARGEST = 1e150
+CAP_OVERFLOW = "squared, as the caps' test squares it, it overflows"
+RADIUS_LARGEST = 1e60
+RADIUS_OVERFLOW = "the torus's quartic raises it to the fourth power, which overflows"
+
 CAPPED = (
-    Parameter("min", "minimum", -math.inf, infinite=True),
-    Parameter("max", "maximum", math.inf, infinite=True),
+    Parameter("min", "minimum", -math.inf, infinite=True, largest=CAP_LARGEST,
+              overflow=CAP_OVERFLOW),
+    Parameter("max", "maximum", math.inf, infinite=True, largest=CAP_LARGEST,
+              overflow=CAP_OVERFLOW),
     Parameter("closed", "closed", False),
-)
+)  # fmt: skip
 
 RADII = (
     Parameter("major-radius", "major_radius", 1.0, above=0.0,
-              meaning="the distance from the centre to the middle of the tube"),
-    Parameter("minor-radius", "minor_radius", 0.25, above=0.0, meaning="the tube's radius"),
+              meaning="the distance from the centre to the middle of the tube",
+              largest=RADIUS_LARGEST, overflow=RADIUS_OVERFLOW),
+    Parameter("minor-radius", "minor_radius", 0.25, above=0.0, meaning="the tube's radius",
+              largest=RADIUS_LARGEST, overflow=RADIUS_OVERFLOW),
 )  # fmt: skip
 
 KINDS: tuple[Kind, ...] = (

@@ -6,7 +6,6 @@
 
 from __future__ import annotations
 
-import difflib
 import math
 import re
 from collections.abc import Iterable
@@ -167,6 +166,8 @@ class Reader:
         known = list(known)
         for entry in entries.values():
             if entry.key not in known:
+                import difflib  # deferred: only a misspelt key needs it
+
                 close = difflib.get_close_matches(entry.key, known, n=1)
                 hint = f" (did you mean '{close[0]}'?)" if close else ""
                 self.fail(

@@ -216,6 +216,13 @@ def _parameter(ctx: Context, kind: str, key: str, value: Node, what: str) -> dic
             f"{what} must be greater than {parameter.above:g} ({parameter.meaning}), "
             f"got {number:g}",
         )
+    largest = parameter.largest
+    if largest is not None and math.isfinite(number) and abs(number) > largest:
+        ctx.reader.fail(
+            value,
+            f"{what} is too large for floating point ({number:g}): {parameter.overflow}; "
+            f"expected a size up to {largest:g}" + (", or infinity" if parameter.infinite else ""),
+        )
     return {parameter.attribute: number}
 
 

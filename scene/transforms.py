@@ -7,13 +7,15 @@ Each entry is applied after the previous one, so the list ``[A, B, C]`` is the m
 from __future__ import annotations
 
 import math
-from fractions import Fraction
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from yaml.nodes import Node, ScalarNode, SequenceNode
 
 from scene.context import Context
 from scene.reader import describe
+
+if TYPE_CHECKING:
+    from fractions import Fraction
 
 # entry -> (the book's function, the numbers it takes)
 TRANSFORMS: dict[str, tuple[str, tuple[str, ...]]] = {
@@ -72,6 +74,9 @@ def read_transform(ctx: Context, node: Node, what: str) -> Any:
 
 def _exact_determinant(rows: list[list[float]]) -> Fraction:
     """The determinant of the matrix the floats ``rows`` hold exactly (no rounding)."""
+    # deferred: fractions (with decimal) is for the rare transform that cannot be inverted
+    from fractions import Fraction
+
     m = [[Fraction(value) for value in row] for row in rows]
     n, det = len(m), Fraction(1)
     for col in range(n):

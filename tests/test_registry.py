@@ -251,3 +251,13 @@ def test_a_factory_that_returns_something_else_is_reported(monkeypatch: pytest.M
     _fake_entry_points(monkeypatch, {"odd": lambda: lambda: SimpleNamespace(name="odd")})
     with pytest.raises(VariantError, match=r"its factory returned SimpleNamespace, not a Variant"):
         load_variant("odd")
+
+
+def test_the_own_variants_table_is_the_installed_entry_points() -> None:
+    """``registry.OWN`` (what a render looks its variant up in, without importlib.metadata's
+    scan) names exactly the project's own entry points of pyproject.toml, as installed."""
+    installed = {
+        name: ep.value for name, ep in registry._entry_points().items() if registry.is_own(ep)
+    }
+    assert installed == registry.OWN
+    assert next(iter(registry.OWN)) == "naive"

@@ -52,6 +52,8 @@ from __future__ import annotations
 import asyncio
 import logging
 import pickle
+import re
+import resource
 import socket
 import sys
 import time
@@ -76,6 +78,7 @@ from variants.jobs import (
 )
 from variants.registry import (
     RenderError,
+    Unavailable,
     Variant,
     VariantError,
     canonical_name,
@@ -91,6 +94,9 @@ NAME = "dask"
 DEFAULT_TILE = 32
 DEFAULT_TIMEOUT = 5
 MAX_WORKERS = 256
+# open files a local cluster needs per process (itself, and each worker: its sockets, pipes,
+# the monitors' /proc files), measured: 2 workers failed at ulimit -n 32, rendered at 64
+FILES_PER_WORKER = 20
 WORKER_TTL_SECONDS = 5  # a local worker's silence before it is replaced (pooled's: 10 s)
 USAGE = (
     "workers=N (a local cluster of N single-threaded processes, default: the CPU count) or "
@@ -174,7 +180,57 @@ def _distributed() -> Any:
         raise ImportError(
             "the dask variant needs the 'distributed' package: pip install distributed"
         ) from error
+    except Exception as error:  # Dask reads its configuration (DASK_CONFIG ...) on import
+        raise Unavailable(f"Dask's configuration cannot be read: {_one_line(error)}") from None
     return distributed
+
+
+def _one_line(error: BaseException) -> str:
+    """An error's message on one line: Dask's message for a malformed config file, then
+    YAML's problem and where (its indented excerpt of the file left out)."""
+    text = str(error)
+    lines = [line.strip() for line in text.splitlines() if line and line[0] != " "]
+    where = re.search(r"line (\d+), column (\d+)", text)
+    at = f" (at line {where[1]}, column {where[2]})" if where else ""
+    return (" ".join(line for line in lines if line) or type(error).__name__) + at
+
+
+MEMORY_FRACTIONS = ("target", "spill", "pause", "terminate")
+
+
+def memory_settings_problem(config: Any) -> str | None:
+    """What makes a local worker's memory settings unusable (``distributed.worker.memory``:
+    the fractions of its memory limit at which it spills, pauses, is restarted), as a line
+    naming the setting and where it comes from; None when they are fine. Dask reads them
+    only inside a starting worker, which dies with a traceback (a word as the target:
+    ``MemoryError``), so they are checked before a cluster starts. ``config``: ``dask.config``."""
+    for key in MEMORY_FRACTIONS:
+        name = f"distributed.worker.memory.{key}"
+        value = config.get(name, None)
+        if value is None or value is False:
+            continue
+        if isinstance(value, bool) or not isinstance(value, int | float) or not 0 <= value <= 1:
+            variable = "DASK_" + name.upper().replace(".", "__")
+            return (
+                f"the Dask setting {name} is {value!r} (from {variable} or a Dask config "
+                "file): expected a fraction from 0 to 1, or false"
+            )
+    return None
+
+
+def open_files_problem(workers: int, per_worker: int, what: str) -> str | None:
+    """A line naming the open-file limit (``ulimit -n``) when it is below what ``workers``
+    worker processes need (``per_worker`` each, and as many for this process); else None.
+    Past the limit a cluster's monitors raise in a loop, each with a traceback."""
+    soft, _hard = resource.getrlimit(resource.RLIMIT_NOFILE)
+    needed = (workers + 1) * per_worker
+    if soft == resource.RLIM_INFINITY or soft >= needed:
+        return None
+    return (
+        f"{what}: this process may open only {soft} files (ulimit -n); {workers} workers "
+        f"need about {needed}: raise the limit (ulimit -n {max(1024, needed)}) or use fewer "
+        "workers"
+    )
 
 
 @contextmanager
@@ -186,6 +242,14 @@ def connected(
     variant name) when this yields. ``ClusterError`` when the scheduler cannot be reached
     in ``timeout`` s."""
     distributed = _distributed()
+    if scheduler is None:  # a local cluster: its workers read this process's settings
+        import dask.config  # imported with distributed already
+
+        problem = memory_settings_problem(dask.config) or (
+            open_files_problem(workers, FILES_PER_WORKER, "dask render")
+        )
+        if problem:
+            raise ClusterError(problem)
     quiet = logging.ERROR  # a killed worker's restart is Dask's business, not the user's
     cluster = None
     try:

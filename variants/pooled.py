@@ -52,7 +52,9 @@ progress)``:
 
 from __future__ import annotations
 
+import errno
 import os
+import resource
 import signal
 import sys
 import threading
@@ -251,6 +253,18 @@ def _exit_text(code: int | None) -> str:
     return f"exit code {code}"
 
 
+def start_problem(error: OSError) -> str:
+    """Why a worker process could not be started, from the ``OSError`` its start raised:
+    the open-file limit (``ulimit -n``) named as what to raise, else the error itself."""
+    if error.errno in (errno.EMFILE, errno.ENFILE):
+        soft, _hard = resource.getrlimit(resource.RLIMIT_NOFILE)
+        return (
+            f"too many open files (this process may open {soft}: ulimit -n); raise the "
+            "limit or use fewer workers"
+        )
+    return f"{type(error).__name__}: {error.strerror or error}"
+
+
 class _Pool:
     """Worker processes, each with its own pipe; ``results`` yields (job index, values) as
     jobs finish and raises ``RenderWorkerError`` when a worker fails."""
@@ -269,7 +283,12 @@ class _Pool:
         self.workers: list[_Worker] = []
         try:
             for number in range(count):
-                parent_end, child_end = context.Pipe()
+                try:
+                    parent_end, child_end = context.Pipe()
+                except OSError as error:
+                    raise RenderWorkerError(
+                        f"pooled render: cannot start worker {number}: {start_problem(error)}"
+                    ) from None
                 process = context.Process(
                     target=_worker_main,
                     args=(child_end, inner, c, w, settings, sys.getrecursionlimit()),
@@ -279,6 +298,10 @@ class _Pool:
                 try:
                     with sigint_blocked():
                         process.start()
+                except OSError as error:  # EMFILE: the open-file limit, not the world
+                    raise RenderWorkerError(
+                        f"pooled render: cannot start worker {number}: {start_problem(error)}"
+                    ) from None
                 except Exception as error:
                     raise RenderWorkerError(
                         f"pooled render: cannot start worker {number}: the camera, world and "

@@ -26,6 +26,7 @@ still load.
 
 from __future__ import annotations
 
+import importlib
 import inspect
 import os
 import re
@@ -33,7 +34,6 @@ import subprocess
 import sys
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
-from importlib.metadata import entry_points
 from typing import Any
 
 from raytracer.api import naive_api
@@ -42,6 +42,20 @@ from variants.stubs import is_stub
 from variants.wrapper import steps_overridden
 
 GROUP = "rtc.variants"
+# The project's own variants, as pyproject.toml's entry points name them (naive first; a test
+# holds the two equal): found here without importlib.metadata, whose import and scan of every
+# installed package cost some 30 ms of every render's start. Another package's variant (a
+# learner's, a plug-in) is looked up through the entry points when it is named.
+OWN = {
+    "naive": "variants.naive:variant",
+    "cached": "variants.cached:variant",
+    "dask": "variants.dask_cluster:variant",
+    "numba": "variants.numba:variant",
+    "pooled": "variants.pooled:variant",
+    "prealloc": "variants.prealloc:variant",
+    "robust": "variants.robust:variant",
+    "wavefront": "variants.wavefront:variant",
+}
 ALL = "all"
 MAX_WRAPPED = 32  # variants inside each other in one name (NAME:INNER:...); more is a typo
 IMPORT_SECONDS = 30  # a plug-in's import that takes longer is stopped and reported
@@ -376,9 +390,43 @@ def parse_choice(name: str, key: str, value: str, choices: Iterable[str]) -> str
 # ---------------------------------------------------------------------------- the registry
 
 
+@dataclass(frozen=True)
+class OwnEntry:
+    """One of the project's own variants (``OWN``), loaded as its entry point would be."""
+
+    name: str
+    value: str
+    group: str = GROUP
+
+    def load(self) -> Any:
+        module, _, attribute = self.value.partition(":")
+        return getattr(importlib.import_module(module), attribute)
+
+
+def _own_entries() -> dict[str, Any]:
+    return {name: OwnEntry(name, value) for name, value in OWN.items()}
+
+
 def _entry_points() -> dict[str, Any]:
+    """Every registered variant's entry point, naive first (importlib.metadata's scan)."""
+    # deferred: importlib.metadata's import and scan cost ~30 ms; the own variants need
+    # neither (OWN)
+    from importlib.metadata import entry_points
+
     found = {ep.name: ep for ep in entry_points().select(group=GROUP)}
     return dict(sorted(found.items(), key=lambda item: (item[0] != "naive", item[0])))
+
+
+def _entry(name: str) -> Any:
+    """The entry point of the variant called ``name``: an own one from ``OWN``, any other
+    from the installed entry points; a ``VariantError`` listing them for an unknown name."""
+    if name in OWN:
+        return OwnEntry(name, OWN[name])
+    eps = _entry_points()
+    if name not in eps:
+        known = ", ".join(eps) or "none"
+        raise VariantError(f"unknown variant {name!r}; registered variants: {known}")
+    return eps[name]
 
 
 def variant_names() -> list[str]:
@@ -458,13 +506,10 @@ def _call(
 
 def build_variant(spec: VariantSpec) -> Variant:
     """The variant a parsed name describes (its inner variant first)."""
-    eps = _entry_points()
-    if spec.name not in eps:
-        known = ", ".join(eps) or "none"
-        raise VariantError(f"unknown variant {spec.name!r}; registered variants: {known}")
+    entry = _entry(spec.name)
     inner = build_variant(spec.inner) if spec.inner is not None else None
     try:
-        factory = _factory(spec.name, eps[spec.name])
+        factory = _factory(spec.name, entry)
         built = _call(spec.name, factory, inner, dict(spec.options))
     except (ImportError, Unavailable) as error:
         reason = (
@@ -506,9 +551,8 @@ def registry(everything: bool = False) -> list[VariantEntry]:
     ``everything`` every registered one, a learner's and other plugins' too (``rtc
     variants``); broken ones are reported, not raised. A variant left out of ``all`` still
     loads by name (``--variant mine``)."""
-    return [
-        _load_entry(name, ep) for name, ep in _entry_points().items() if everything or is_own(ep)
-    ]
+    entries = _entry_points() if everything else _own_entries()
+    return [_load_entry(name, ep) for name, ep in entries.items() if everything or is_own(ep)]
 
 
 def available_variants() -> list[Variant]:

@@ -447,12 +447,39 @@ def _plain_name(text: str) -> bool:
     return plain and bool(text) and text[0] != "."
 
 
+# A run of ours holds tens of rows and series (a full bench some hundreds); a file with more
+# is refused before its rows are walked, so that the report's time stays bounded.
+MAX_ROWS = 10_000
+
+
+def _too_many(rtc: Any) -> str | None:
+    """Why ``rtc``'s rows or series are too many to be a run of ours, else None."""
+    if not isinstance(rtc, dict):
+        return None
+    for key in ("rows", "series"):
+        items = rtc.get(key)
+        if isinstance(items, list) and len(items) > MAX_ROWS:
+            return (
+                f"{key}: {len(items):,} of them, more than a run of this project holds "
+                f"({MAX_ROWS:,})"
+            )
+    series = rtc.get("series")
+    points = sum(
+        len(entry["points"])
+        for entry in (series if isinstance(series, list) else [])
+        if isinstance(entry, dict) and isinstance(entry.get("points"), list)
+    )
+    if points > MAX_ROWS:
+        return f"series: {points:,} points, more than a run of this project holds ({MAX_ROWS:,})"
+    return None
+
+
 def check_run(rtc: Any, source: str) -> None:
     """A ``ResultFileError`` naming ``source`` and the first field the report cannot use
     (missing, of the wrong type, or a NaN or infinite number: ``rows[2].wall[0]``); None
     when the run's ``rtc`` section is fit for the report."""
     try:
-        why = _fits(rtc, RUN, "") or number_problem(rtc, "")
+        why = _too_many(rtc) or _fits(rtc, RUN, "") or number_problem(rtc, "")
     except RecursionError:  # lists or objects nested hundreds deep: no run file has them
         why = "values nested too deep to check"
     if why is None and not _plain_name(rtc["stem"]):

@@ -1,0 +1,117 @@
+"""A command starts at Python's floor: ``rtc --help`` imports no command module and no numpy,
+and ``rtc render`` imports what the scene and the variant need and nothing of the report,
+the plots, the bench, psutil or importlib.metadata's scan (issue 36, item 4).
+
+Each case runs the command in a fresh interpreter and looks at ``sys.modules`` after it:
+what was imported, never how long it took (no verdict here depends on the machine)."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from rtc.cli import COMMANDS
+
+ROOT = Path(__file__).resolve().parent.parent
+
+RUN_AND_LIST = (
+    "import json, sys\n"
+    "from rtc.cli import main\n"
+    "try:\n"
+    "    status = main(sys.argv[1:])\n"
+    "except SystemExit as done:\n"
+    "    status = done.code\n"
+    "print('\\n' + json.dumps({'status': status, 'modules': sorted(sys.modules)}))\n"
+)
+
+# What no render imports: the report and its templates, the plots, the bench's rooms, the
+# YAML writers' users, psutil (read from /proc where there is one), importlib.metadata's scan
+# of every installed package (the project's own variants are a table), numpy.ma (np.unique's)
+NEVER_ON_THE_RENDER_PATH = (
+    "jinja2", "markupsafe", "matplotlib", "importlib.metadata", "numpy.ma", "harness.report",
+    "harness.document", "harness.sections", "harness.stability", "harness.engine",
+    "harness.instruments", "harness.numba_targets", "rtc.demos", "rtc.scaffold", "pyperf",
+    "distributed", "dask", "tqdm", *(("psutil",) if Path("/proc/meminfo").exists() else ()),
+)  # fmt: skip
+
+SCENE = """\
+- add: camera
+  width: 16
+  height: 12
+  field-of-view: 1.0
+  from: [0, 1.5, -5]
+  to: [0, 1, 0]
+  up: [0, 1, 0]
+- add: light
+  at: [-10, 10, -10]
+  intensity: [1, 1, 1]
+- add: plane
+  material:
+    pattern:
+      type: checkers
+      colors: [[1, 1, 1], [0, 0, 0]]
+- add: sphere
+  transform: [[translate, 0, 1, 0]]
+  material:
+    color: [1, 0.2, 0.2]
+    reflective: 0.3
+"""
+
+
+def run_listing(*argv: str, cwd: Path = ROOT) -> tuple[int, set[str], str]:
+    """``rtc ARGV`` in a fresh interpreter: its exit status, the modules it had imported
+    when it ended, and its stderr."""
+    done = subprocess.run(
+        [sys.executable, "-c", RUN_AND_LIST, *argv], cwd=cwd, capture_output=True, text=True,
+        env={**os.environ, "PYTHONPATH": str(ROOT)},
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    report = json.loads(done.stdout.rstrip().rpartition("\n")[2])
+    return report["status"], set(report["modules"]), done.stderr
+
+
+def imported(modules: set[str], package: str) -> list[str]:
+    return sorted(m for m in modules if m == package or m.startswith(f"{package}."))
+
+
+def test_rtc_help_imports_no_command_module_and_no_numpy() -> None:
+    status, modules, _ = run_listing("--help")
+    assert status == 0
+    assert imported(modules, "rtc") == ["rtc", "rtc.cli"]
+    for package in ("numpy", "yaml", "PIL", "scene", "variants", "harness", "raytracer"):
+        assert not imported(modules, package), package
+
+
+def test_rtc_help_lists_every_command_from_the_table(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    from rtc.cli import main
+
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    out = capsys.readouterr().out
+    for module, help_line in COMMANDS.items():
+        assert module.removeprefix("rtc.cmd_") in out
+        assert help_line.split()[0] in out
+
+
+@pytest.mark.parametrize("variant", ["naive", "numba"])
+def test_rtc_render_imports_only_what_the_scene_needs(tmp_path: Path, variant: str) -> None:
+    scene = tmp_path / "small.yml"
+    scene.write_text(SCENE, encoding="utf-8")
+    out = tmp_path / "small.png"
+    status, modules, err = run_listing(
+        "render", str(scene), "-o", str(out), "--variant", variant, "--progress", "none"
+    )
+    assert status == 0, err
+    assert out.stat().st_size > 0
+    assert imported(modules, "rtc") == ["rtc", "rtc.cli", "rtc.cmd_render"]
+    crept_in = [name for name in NEVER_ON_THE_RENDER_PATH if imported(modules, name)]
+    assert not crept_in, f"imported by rtc render --variant {variant}: {crept_in}"
+    others = [m for m in modules if m.startswith("variants.")]  # only the one named
+    assert not [m for m in others if m.split(".")[1] in ("wavefront", "pooled", "dask_cluster")]
