@@ -96,7 +96,7 @@ BOOK_API: dict[str, int] = {
     # chapter 21: beyond the book, path tracing (render: 7)
     "path_random": 21, "orthonormal_basis": 21, "cosine_direction": 21, "choose_lobe": 21,
     "sky": 21, "gradient_sky": 21, "sky_color": 21, "scatter": 21, "direct_light": 21,
-    "path_color_at": 21, "russian_roulette": 21, "render_settings": 21,
+    "crossed_lights": 21, "path_color_at": 21, "russian_roulette": 21, "render_settings": 21,
 }  # fmt: skip
 
 

@@ -111,7 +111,10 @@ class RenderSettings:
     the path integrator's random numbers;
     epsilon: the offset for over_point/under_point and friends (``EPSILON`` by default);
     integrator: ``"whitted"`` (the book's, the default) or ``"path"``;
-    roulette: the path integrator's Russian roulette from this bounce on (0: off).
+    roulette: the path integrator's Russian roulette from this bounce on (0: off);
+    light_sampling: the path integrator aims a shadow ray at every light from each diffuse
+    hit (True, the default), or finds an area light only where a path crosses it (False;
+    ``raytracer.path``'s docstring gives both).
     """
 
     depth: int = 5
@@ -120,6 +123,7 @@ class RenderSettings:
     epsilon: float = EPSILON
     integrator: str = WHITTED
     roulette: int = 0
+    light_sampling: bool = True
 
     def __post_init__(self) -> None:
         def whole(value: object) -> bool:
@@ -138,6 +142,11 @@ class RenderSettings:
             raise ValueError(
                 f"RenderSettings: roulette must be a whole number 0 (off) to {MAX_DEPTH}, got "
                 f"{self.roulette!r}"
+            )
+        if not isinstance(self.light_sampling, bool):
+            raise ValueError(
+                f"RenderSettings: light_sampling must be True or False, got "
+                f"{self.light_sampling!r}"
             )
         if not whole(self.samples) or not 1 <= self.samples <= MAX_SAMPLES:
             raise ValueError(
@@ -160,6 +169,6 @@ class RenderSettings:
 
 def render_settings(**options: Any) -> RenderSettings:
     """How to render: ``RenderSettings`` with the ``options`` given (depth, samples, seed,
-    epsilon, integrator, roulette) and the defaults for the others, e.g.
+    epsilon, integrator, roulette, light_sampling) and the defaults for the others, e.g.
     ``render_settings(integrator="path", samples=16)`` (chapter 21 here, beyond the book)."""
     return RenderSettings(**options)

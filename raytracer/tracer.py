@@ -267,6 +267,7 @@ class Tracer:
     path_color_at = path.path_color_at
     scatter = path.scatter
     direct_light = path.direct_light
+    crossed_lights = path.crossed_lights
 
     # -- chapter 7: the camera and the render loop
 
@@ -292,10 +293,13 @@ class Tracer:
         return total * (1.0 / settings.samples)
 
     def _path_trace(self, settings: RenderSettings) -> Callable[[World, Ray, int], Color]:
-        """``path_color_at`` for a camera ray, with the settings' roulette."""
+        """``path_color_at`` for a camera ray, with the settings' roulette and light
+        sampling."""
 
         def trace(w: World, r: Ray, depth: int) -> Color:
-            return self.path_color_at(w, r, depth, settings.roulette)
+            return self.path_color_at(
+                w, r, depth, settings.roulette, light_sampling=settings.light_sampling
+            )
 
         return trace
 
@@ -454,4 +458,5 @@ pixel_color = TRACER.pixel_color
 path_color_at = TRACER.path_color_at
 scatter = TRACER.scatter
 direct_light = TRACER.direct_light
+crossed_lights = TRACER.crossed_lights
 render = TRACER.render

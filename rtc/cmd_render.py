@@ -44,8 +44,9 @@ PROBE_SECONDS = 1.0
 # then RenderSettings' default, decides)
 SETTING_FLAGS = {
     "integrator": "--integrator", "depth": "--depth", "samples": "--samples", "seed": "--seed",
-    "roulette": "--roulette", "epsilon": "--epsilon",
+    "roulette": "--roulette", "epsilon": "--epsilon", "light_sampling": "--light-sampling",
 }  # fmt: skip
+SWITCH = {"on": True, "off": False}  # --light-sampling's words
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -85,6 +86,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "keeping the picture unbiased (default: the scene file's, else 0: off)",
     )  # fmt: skip
     parser.add_argument(
+        "--light-sampling", dest="light_sampling", choices=tuple(SWITCH),
+        help="path tracing: on (the default) aims a shadow ray at every light from each "
+        "diffuse hit; off finds an area light only where a path crosses it (the same "
+        "picture, noisier; point lights are sampled either way; docs/scene-format.md)",
+    )  # fmt: skip
+    parser.add_argument(
         "--epsilon", type=float, default=None, metavar="E",
         help="the offset for over_point/under_point (default: the book's 0.0001; "
         "0.001 matches the Go renderer's reference image)",
@@ -120,6 +127,8 @@ def _flag_settings(args: argparse.Namespace) -> dict[str, Any]:
         for field in SETTING_FLAGS
         if getattr(args, field, None) is not None
     }
+    if "light_sampling" in options:
+        options["light_sampling"] = SWITCH[options["light_sampling"]]
     if "integrator" in options and options["integrator"] not in INTEGRATORS:
         raise UserError(
             f"bad option {SETTING_FLAGS['integrator']} {options['integrator']!r}: expected "
@@ -371,7 +380,8 @@ def _describe(settings: RenderSettings) -> str:
     if settings.integrator != PATH:
         return f"depth {settings.depth}, epsilon {settings.epsilon:g}, {samples}"
     roulette = f"from bounce {settings.roulette}" if settings.roulette else "off"
+    lights = "" if settings.light_sampling else ", light sampling off"
     return (
         f"path tracing: depth {settings.depth}, {samples}, seed {settings.seed}, roulette "
-        f"{roulette}, epsilon {settings.epsilon:g}"
+        f"{roulette}{lights}, epsilon {settings.epsilon:g}"
     )

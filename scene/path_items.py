@@ -1,6 +1,7 @@
 """The scene items of the path integrator (chapter 21 here, beyond the book): ``- add: sky``
 (what a path that escapes sees) and ``- add: render`` (how to render the scene: which
-integrator, samples, depth, seed, roulette; ``rtc render``'s flags win over it).
+integrator, samples, depth, seed, roulette, light sampling; ``rtc render``'s flags win over
+it).
 
 ::
 
@@ -15,6 +16,8 @@ integrator, samples, depth, seed, roulette; ``rtc render``'s flags win over it).
       depth: 5
       seed: 0
       roulette: 3                   # 0: off
+      light-sampling: off           # on (the default): shadow rays to the area lights;
+                                    # off: paths find them by crossing them
 """
 
 from __future__ import annotations
@@ -30,7 +33,7 @@ from scene.context import Context
 from scene.reader import Entry
 
 SKY_KEYS = ("add", "color", "horizon", "zenith")
-RENDER_KEYS = ("add", "integrator", "samples", "depth", "seed", "roulette")
+RENDER_KEYS = ("add", "integrator", "samples", "depth", "seed", "roulette", "light-sampling")
 # what each whole-number setting may be: (low, high)
 RENDER_RANGES = {
     "samples": (1, MAX_SAMPLES),
@@ -75,6 +78,11 @@ def read_render(ctx: Context, node: Node, entries: dict[str, Entry]) -> dict[str
                     f"unknown integrator {name!r}; known: {', '.join(INTEGRATORS)}",
                 )
             settings[key] = name
+        elif key == "light-sampling":
+            value = reader.scalar(entry.value, f"{what}' light-sampling")
+            if not isinstance(value, bool):
+                reader.fail(entry.value, f"{what}' light-sampling must be on or off, got {value!r}")
+            settings["light_sampling"] = value
         elif key in RENDER_RANGES:
             low, high = RENDER_RANGES[key]
             settings[key] = reader.whole(entry.value, f"{what}' {key}", low, high)

@@ -179,7 +179,8 @@ class Bench:
         **settings: Any,
     ) -> tuple[Path, dict[str, Any]]:  # fmt: skip
         """A job's folder (numbered in the run's staging folder) and the job; ``settings``
-        replace the run's ``seed`` or ``integrator`` for this job."""
+        replace the run's ``seed`` or ``integrator`` for this job, or set its
+        ``light_sampling`` (the path integrator's; True when not given)."""
         self._jobs += 1
         job = {
             "variant": variant,
@@ -191,7 +192,7 @@ class Bench:
             "integrator": self.settings.integrator,
             "tasks": tasks,
         }
-        unknown = set(settings) - {"seed", "integrator"}
+        unknown = set(settings) - {"seed", "integrator", "light_sampling"}
         if unknown:
             raise TypeError(f"job_spec: no setting {', '.join(sorted(unknown))}")
         job.update(settings)

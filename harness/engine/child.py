@@ -70,6 +70,7 @@ class Renderer:
         self.seed = int(job["seed"])
         self.epsilon = job.get("epsilon")
         self.integrator = str(job.get("integrator", WHITTED))
+        self.light_sampling = bool(job.get("light_sampling", True))
         self._settings = RenderSettings
         self._scenes: dict[Size, Any] = {}
 
@@ -77,6 +78,8 @@ class Renderer:
         extra: dict[str, Any] = {"integrator": self.integrator}
         if self.epsilon is not None:
             extra["epsilon"] = float(self.epsilon)
+        if not self.light_sampling:
+            extra["light_sampling"] = False
         return self._settings(depth=self.depth, samples=samples, seed=self.seed, **extra)
 
     def scene_at(self, size: Size) -> Any:

@@ -84,7 +84,8 @@ FULL = Mode(
     name="full", size=Size(640, 480), repeat=5, budget=300.0, sweep_size=Size(160, 120),
     sweep_samples=(1, 2, 4, 8, 16, 32, 64), truth_samples=256, scaling_steps=5,
     preset_size=Size(500, 500), compare_pixels=19200, side_repeat=3,
-    convergence_scenes=("cpp-spheres", "spheres-box"), convergence_size=Size(32, 32),
+    convergence_scenes=("cpp-spheres", "spheres-box", "soft-shadows"),
+    convergence_size=Size(32, 32),
     convergence_compiled_size=Size(200, 200), convergence_samples=(1, 2, 4, 8, 16, 32, 64),
     convergence_truth=2048, wait_budget=300.0,
 )  # fmt: skip

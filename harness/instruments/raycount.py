@@ -7,8 +7,12 @@ Two ways, tried in order:
 2. A tracer whose render goes through the pipeline's steps (it overrides none of
    ``prepare``, ``render_region``, ``render``: naive, cached, robust) renders once as a
    copy of itself whose class is a counting subclass: every ``ray_for_pixel`` is a camera
-   ray, every ``color_at`` a traced ray (secondary: traced minus camera, the reflected and
-   refracted ones) and every ``is_shadowed`` a shadow ray. Nothing global is changed.
+   ray, every ``color_at`` or ``path_color_at`` a traced ray (secondary: traced minus
+   camera, the reflected and refracted ones, or a path's bounces) and every
+   ``is_shadowed`` a shadow ray. Nothing global is changed.
+
+Either way ``camera`` is what MRay/s divides by (width x height x samples, as the C++
+report counts): the path integrator's bounces and shadow rays are the other kinds.
 
 Other variants (prealloc, pooled, a learner's) cannot be counted and their rows say so.
 Counting runs in a separate render, never in a timed one.
@@ -42,6 +46,10 @@ class CountingMixin:
     def color_at(self, *args: Any, **kwargs: Any) -> Any:
         self.counts["traced"] += 1
         return super().color_at(*args, **kwargs)  # type: ignore[misc]
+
+    def path_color_at(self, *args: Any, **kwargs: Any) -> Any:
+        self.counts["traced"] += 1
+        return super().path_color_at(*args, **kwargs)  # type: ignore[misc]
 
     def is_shadowed(self, *args: Any, **kwargs: Any) -> Any:
         self.counts["shadow"] += 1

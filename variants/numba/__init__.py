@@ -7,7 +7,8 @@ Options (all off by default; the name spells the ones given, sorted):
 - ``float32``: compute and store in float32 instead of float64;
 - ``fastmath``: LLVM fast-math (reassociation, fused multiply-add, ...);
 - ``threads=N``: render on N threads (default: the CPUs this process may use, or
-  ``NUMBA_NUM_THREADS``);
+  ``NUMBA_NUM_THREADS``); no shared-generator option (the C++ report's lesson): the path
+  numbers are a hash with no state to share (docs/architecture.md, "No shared generator");
 - ``specialize=off``: always the generic kernel, every feature compiled in;
 - ``bvh=sah|groups|off``: how the rays find the primitives they may hit (``bvh``): a
   bounding-volume hierarchy built by the surface area heuristic (the default), the scene's

@@ -25,6 +25,7 @@ from variants.numba.kernels_trace import (
 )
 from variants.numba.layout import (
     INTEGRATOR_PATH,
+    INTEGRATOR_PATH_CROSSED,
 )
 
 # ---- kernel template ----
@@ -37,13 +38,15 @@ def render_entry(
 ):  # fmt: skip
     """The render's entry point, compiled as a C function (``make_render_entry``):
     ``integrator`` ``INTEGRATOR_PATH`` path-traces (under the sky ``sky``, with Russian
-    roulette from bounce ``roulette`` on, 0: never), else the book's integrator."""
+    roulette from bounce ``roulette`` on, 0: never), ``INTEGRATOR_PATH_CROSSED`` too with
+    light sampling off, else the book's integrator."""
     w = (pf, pi, items, n_items, boxes, csg, balls, n_balls, light, n_lights, (ti, tf), (tg, tn))
     s = (sf, si, tb)
-    if HAS_PATH and integrator == INTEGRATOR_PATH:
+    if HAS_PATH and INTEGRATOR_PATH <= integrator <= INTEGRATOR_PATH_CROSSED:
         return path_rows(
-            out, x0, y0, x1, y1, k, step, cam, w, depth, samples, seed_key, eps, s, sky, roulette
-        )
+            out, x0, y0, x1, y1, k, step, cam, w, depth, samples, seed_key, eps, s, sky, roulette,
+            integrator == INTEGRATOR_PATH,
+        )  # fmt: skip
     return render_rows(
         out, x0, y0, x1, y1, k, step, cam, w, depth, samples, seed_key, eps, stack, s
     )

@@ -5,7 +5,8 @@ compiled and iterative.
 over the bounces carrying the path's throughput (as the C++ report's renderer does), adding
 each hit's emission and direct light as it goes, and the sky's light where the path escapes.
 Its arithmetic is the reference's, step by step (``choose_lobe``, ``cosine_direction``,
-``russian_roulette``, ``direct_light``, ``sky_color``), and its random numbers are
+``russian_roulette``, ``direct_light``, ``crossed_lights``, ``sky_color``), and its random
+numbers are
 ``raytracer.sampling.path_random`` bit for bit (``path_random``: splitmix64 of the sample's
 key XOR ``PATH_TAG``, counter ``1 + (bounce << 32) + dimension``), so a pixel is the
 reference's to rounding, whatever thread renders it. The sums differ only in order: the
@@ -149,10 +150,13 @@ def sky_color(sky, dx, dy, dz):
 
 
 @njit(**INLINE)
-def direct_light(w, s, over_x, over_y, over_z, nx, ny, nz, wr, wg, wb, eps, path_key, bounce):
+def direct_light(
+    w, s, over_x, over_y, over_z, nx, ny, nz, wr, wg, wb, eps, path_key, bounce, area
+):  # fmt: skip
     """``raytracer.path.direct_light``: every light's light at a diffuse hit, times the
     path's weight (wr, wg, wb): one shadow ray per light, to a point light or to one point
-    spread uniformly over an area light (its numbers 5 + 2k and 6 + 2k)."""
+    spread uniformly over an area light (its numbers 5 + 2k and 6 + 2k); ``area`` False:
+    the point lights only (light sampling off)."""
     _, _, _, _, _, _, _, _, light, n_lights, _, _ = w
     _, si, _ = s
     dr = ZERO
@@ -164,6 +168,8 @@ def direct_light(w, s, over_x, over_y, over_z, nx, ny, nz, wr, wg, wb, eps, path
         qy = light[lm + 1]
         qz = light[lm + 2]
         if HAS_AREA_LIGHTS and light[lm + LIGHT_USTEPS] > ZERO:
+            if not area:
+                continue
             along_u = F(path_random(path_key, bounce, D_LIGHTS + 2 * k) * light[lm + LIGHT_USTEPS])
             along_v = F(
                 path_random(path_key, bounce, D_LIGHTS + 2 * k + 1) * light[lm + LIGHT_VSTEPS]
@@ -202,9 +208,65 @@ def direct_light(w, s, over_x, over_y, over_z, nx, ny, nz, wr, wg, wb, eps, path
 
 
 @njit(**INLINE)
-def trace_path(w, s, eps, sky, depth, roulette, ox, oy, oz, dx, dy, dz, key):
+def crossed_lights(w, s, ox, oy, oz, dx, dy, dz, wr, wg, wb, eps):
+    """``raytracer.path.crossed_lights`` (light sampling off): the light of the area lights
+    that the ray from (ox, oy, oz) along (dx, dy, dz), leaving a diffuse hit, crosses where
+    they are seen from its origin, times the path's weight (wr, wg, wb)."""
+    _, _, _, _, _, _, _, _, light, n_lights, _, _ = w
+    _, si, _ = s
+    cr = ZERO
+    cg = ZERO
+    cb = ZERO
+    for k in range(n_lights):
+        lm = k * NLIGHT
+        if not (HAS_AREA_LIGHTS and light[lm + LIGHT_USTEPS] > ZERO):
+            continue
+        us = light[lm + LIGHT_USTEPS]
+        vs = light[lm + LIGHT_VSTEPS]
+        u = lm + LIGHT_UVEC
+        v = lm + LIGHT_VVEC
+        c = lm + LIGHT_CORNER
+        ux, uy, uz = light[u] * us, light[u + 1] * us, light[u + 2] * us
+        vx, vy, vz = light[v] * vs, light[v + 1] * vs, light[v + 2] * vs
+        nx = uy * vz - uz * vy
+        ny = uz * vx - ux * vz
+        nz = ux * vy - uy * vx
+        facing = dx * nx + dy * ny + dz * nz
+        if facing == ZERO:
+            continue  # the ray runs along the light's plane
+        t = ((light[c] - ox) * nx + (light[c + 1] - oy) * ny + (light[c + 2] - oz) * nz) / facing
+        if t <= ZERO:
+            continue
+        px = ox + dx * t
+        py = oy + dy * t
+        pz = oz + dz * t
+        qx = px - light[c]
+        qy = py - light[c + 1]
+        qz = pz - light[c + 2]
+        area2 = nx * nx + ny * ny + nz * nz
+        a = ((qy * vz - qz * vy) * nx + (qz * vx - qx * vz) * ny + (qx * vy - qy * vx) * nz) / area2
+        b = ((uy * qz - uz * qy) * nx + (uz * qx - ux * qz) * ny + (ux * qy - uy * qx) * nz) / area2
+        if not (ZERO <= a <= ONE and ZERO <= b <= ONE):
+            continue
+        if HAS_SHADOWS:
+            if COUNT_RAYS:
+                si[1 * NSI + RAYS] += 1
+            if shadowed(w, s, ox, oy, oz, px - ox, py - oy, pz - oz, eps, k % MIN_SCRATCH):
+                continue
+        length = math.sqrt(dx * dx + dy * dy + dz * dz)
+        factor = F(math.pi) * t * t * length * length * length / abs(facing)
+        i = lm + LIGHT_INTENSITY
+        cr += wr * light[i] * factor
+        cg += wg * light[i + 1] * factor
+        cb += wb * light[i + 2] * factor
+    return cr, cg, cb
+
+
+@njit(**INLINE)
+def trace_path(w, s, eps, sky, depth, roulette, light_sampling, ox, oy, oz, dx, dy, dz, key):
     """``raytracer.path.path_color_at`` for a camera ray, as a loop over its bounces: the
-    light it carries back (r, g, b). ``key``: the sample's (``sample_key``)."""
+    light it carries back (r, g, b). ``key``: the sample's (``sample_key``);
+    ``light_sampling``: shadow rays to the area lights, else their crossings."""
     # long: the reference's three steps (path_color_at, scatter, direct_light's call) in
     # one loop, which carries the throughput and the ray from bounce to bounce
     pf, pi, _, _, _, _, _, _, _, _, tex, geo = w
@@ -266,23 +328,32 @@ def trace_path(w, s, eps, sky, depth, roulette, ox, oy, oz, dx, dy, dz, key):
             return r, g, b  # it can add nothing more
         if lobe == LOBE_DIFFUSE:
             lr, lg, lb = direct_light(
-                w, s, over_x, over_y, over_z, nx, ny, nz, tr, tg, tb, eps, path_key, bounce
-            )
+                w, s, over_x, over_y, over_z, nx, ny, nz, tr, tg, tb, eps, path_key, bounce,
+                light_sampling,
+            )  # fmt: skip
             r += lr
             g += lg
             b += lb
+            if HAS_AREA_LIGHTS and not light_sampling:
+                lr, lg, lb = crossed_lights(
+                    w, s, nox, noy, noz, ndx, ndy, ndz, tr, tg, tb, eps
+                )
+                r += lr
+                g += lg
+                b += lb
         ox, oy, oz, dx, dy, dz = nox, noy, noz, ndx, ndy, ndz
         bounce += 1
 
 
 @njit(**INLINE)
 def path_rows(
-    out, x0, y0, x1, y1, k, step, cam, w, depth, samples, seed_key, eps, s, sky, roulette
-):
+    out, x0, y0, x1, y1, k, step, cam, w, depth, samples, seed_key, eps, s, sky, roulette,
+    light_sampling,
+):  # fmt: skip
     """Chapter 21 here: path-trace rows y0 + k, y0 + k + step ... (below y1) of the region
     x0 <= x < x1, y0 <= y < y1 into ``out`` (as ``render_rows``), each pixel the mean of
-    its samples' paths (``trace_path``; one sample: through the pixel's centre). Returns
-    the rows done."""
+    its samples' paths (``trace_path``; one sample: through the pixel's centre;
+    ``light_sampling``: its). Returns the rows done."""
     eps = F(eps)
     scale = ONE / F(samples)
     width = x1 - x0
@@ -296,8 +367,9 @@ def path_rows(
                 ox, oy, oz, dx, dy, dz = sample_ray(cam, seed_key, samples, x, y, i)
                 key = sample_key(seed_key, x, y, i)
                 sr, sg, sb = trace_path(
-                    w, s, eps, sky, depth, roulette, ox, oy, oz, dx, dy, dz, key
-                )
+                    w, s, eps, sky, depth, roulette, light_sampling, ox, oy, oz, dx, dy, dz,
+                    key,
+                )  # fmt: skip
                 r += sr
                 g += sg
                 b += sb

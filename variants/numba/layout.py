@@ -225,6 +225,7 @@ NSKY = 6
 # the render entry's ``integrator`` argument (``kernels_entry``)
 INTEGRATOR_WHITTED = 0  # the book's
 INTEGRATOR_PATH = 1  # the path integrator (chapter 21 here; kernels compiled with HAS_PATH)
+INTEGRATOR_PATH_CROSSED = 2  # ... with light sampling off (area lights found by crossing)
 
 # per-thread scratch for CSG trees, entry j of column c at sf[j * NSF + c] (floats) and
 # si[j * NSI + c] (ints)

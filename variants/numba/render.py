@@ -196,7 +196,9 @@ def prepare_frame(
         float(settings.epsilon),
     )  # fmt: skip
     sky = np.ascontiguousarray(packed.sky, dtype=options.dtype)
-    integrator = L.INTEGRATOR_PATH if path else L.INTEGRATOR_WHITTED
+    integrator = L.INTEGRATOR_WHITTED
+    if path:
+        integrator = L.INTEGRATOR_PATH if settings.light_sampling else L.INTEGRATOR_PATH_CROSSED
     last = (sky.ctypes.data, integrator, settings.roulette)
     addresses = [(*scratch.addresses(k), *last) for k in range(threads)]
     arrays = (pf, pi, items, boxes, csg, balls, lights, ti, tf, tg, tn, sky)

@@ -9,7 +9,9 @@ Options (the name spells the ones that differ from the defaults, sorted):
   memory;
 - ``float32``: rays and the packed world in 32-bit floats;
 - ``threads=N``: passes traced on N threads at once (NumPy lets go of the GIL inside its
-  loops); they share only the read-only packed world.
+  loops); they share only the read-only packed world. There is no shared-generator option
+  (the C++ report's lesson): the path numbers are a hash with no state to share
+  (docs/architecture.md, "No shared generator").
 
 The package: ``scene`` (a world as tables), ``pack`` (a world packed into them, meshes with
 NumPy; what the passes cannot vectorize, it refuses by name), ``geometry`` (each primitive

@@ -5,9 +5,10 @@ its sample's key, and the whole batch is marched one bounce at a time.
 A bounce is one nearest-hit query for every live ray; the rays that meet nothing add the
 sky and are dropped; the others add their emission, then (below the depth cap) survive
 Russian roulette, choose a lobe, take its weight, and the diffuse ones add the lights
-(one batched shadow query per light). The rays that are absorbed, killed or black are
-dropped (the batch is compacted), the others go on as the next bounce's batch, never
-larger than the camera batch, so memory stays bounded by the pass.
+(one batched shadow query per light; with light sampling off, the area lights that their
+new rays cross, one batched shadow query per area light). The rays that are absorbed,
+killed or black are dropped (the batch is compacted), the others go on as the next
+bounce's batch, never larger than the camera batch, so memory stays bounded by the pass.
 
 The random numbers are ``raytracer.sampling.path_random``'s, computed from each ray's
 sample key in uint64 NumPy (``camera.path_numbers``): the generator is per ray, so a
@@ -193,9 +194,12 @@ def _scatter(march: March, paths: Paths, hit: Nearest, hits: Hits, bounce: int) 
         for c in range(3):
             direction[c][place[shine]] = turned[c]
         if len(scene.light_pos):
-            over = _pick(hits.over, shine)
-            light = direct_light(march, over, normal, _pick(weight, shine), keys, bounce)
-            march.add(paths.pixel[shine], light)
+            over, lit = _pick(hits.over, shine), _pick(weight, shine)
+            sampling = march.settings.light_sampling
+            march.add(paths.pixel[shine],
+                      direct_light(march, over, normal, lit, keys, bounce, sampling))  # fmt: skip
+            if not sampling:
+                march.add(paths.pixel[shine], crossed_lights(march, over, turned, lit))
     ray = (*origin, *direction)
     return Paths(ray, _pick(weight, go), paths.pixel[go], paths.key[go])
 
@@ -239,16 +243,19 @@ def cosine_directions(n: Three, u1: np.ndarray, u2: np.ndarray) -> Three:
 
 
 def direct_light(
-    march: March, over: Three, normal: Three, weight: Three, keys: np.ndarray, bounce: int
-) -> Three:
+    march: March, over: Three, normal: Three, weight: Three, keys: np.ndarray, bounce: int,
+    area: bool = True,
+) -> Three:  # fmt: skip
     """``raytracer.path.direct_light`` at many diffuse hits (their over points and normals):
     for each light, its point (an area light's drawn from the path's numbers), and where it
     is in front of the surface a batched shadow query; the lit hits add weight * intensity
-    * cosine."""
+    * cosine. ``area`` False: the point lights only (light sampling off)."""
     scene: Scene = march.idx.scene
     n = len(keys)
     total = [np.zeros(n) for _ in range(3)]
     for k in range(len(scene.light_pos)):
+        if not area and scene.light_steps[k][0] > 0:
+            continue
         target = _light_points(scene, k, keys, bounce)
         toward = tuple(target[c] - over[c] for c in range(3))
         length = np.sqrt(toward[0] * toward[0] + toward[1] * toward[1] + toward[2] * toward[2])
@@ -280,3 +287,50 @@ def _light_points(scene: Scene, k: int, keys: np.ndarray, bounce: int) -> tuple[
     edges = scene.light_edges[k]
     x, y, z = (corner[c] + edges[c] * u + edges[3 + c] * v for c in range(3))
     return x, y, z
+
+
+def crossed_lights(march: March, origin: Three, direction: Three, weight: Three) -> Three:
+    """``raytracer.path.crossed_lights`` for many rays leaving diffuse hits (light sampling
+    off): each area light's crossing, and where it is inside the light a batched shadow
+    query; the rays that see it add weight * intensity * pi t^2 |d|^3 / |d . n|."""
+    scene: Scene = march.idx.scene
+    total = [np.zeros(len(origin[0])) for _ in range(3)]
+    for k in range(len(scene.light_pos)):
+        steps = scene.light_steps[k]
+        if steps[0] <= 0:
+            continue
+        corner, edges = scene.light_pos[k], scene.light_edges[k]
+        u = tuple(edges[c] * steps[0] for c in range(3))
+        v = tuple(edges[3 + c] * steps[1] for c in range(3))
+        n = (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
+        facing = direction[0] * n[0] + direction[1] * n[1] + direction[2] * n[2]
+        t = sum((corner[c] - origin[c]) * n[c] for c in range(3)) / facing
+        q = tuple(origin[c] + direction[c] * t - corner[c] for c in range(3))
+        area2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2]
+        a = _triple(q, v, n) / area2
+        b = _triple(u, q, n) / area2
+        inside = (facing != 0.0) & (t > 0.0) & (a >= 0.0) & (a <= 1.0) & (b >= 0.0) & (b <= 1.0)
+        rows = np.flatnonzero(inside)
+        if not len(rows):
+            continue
+        d = _pick(direction, rows)
+        length = np.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+        unit = (d[0] / length, d[1] / length, d[2] / length)
+        distance = t[rows] * length
+        shadowed = blocked(march.idx, (*_pick(origin, rows), *unit), distance, march.eps,
+                           march.cap)  # fmt: skip
+        seen = rows[~shadowed]
+        factor = (math.pi * t * t)[seen] * (length * length * length)[~shadowed]
+        factor = factor / np.abs(facing[seen])
+        for c in range(3):
+            total[c][seen] += weight[c][seen] * scene.light_int[k][c] * factor
+    return total[0], total[1], total[2]
+
+
+def _triple(a: Three | tuple[Any, ...], b: Three | tuple[Any, ...], n: tuple[Any, ...]) -> Any:
+    """(a x b) . n, component arrays or numbers."""
+    return (
+        (a[1] * b[2] - a[2] * b[1]) * n[0]
+        + (a[2] * b[0] - a[0] * b[2]) * n[1]
+        + (a[0] * b[1] - a[1] * b[0]) * n[2]
+    )

@@ -28,6 +28,7 @@ from raytracer.tracer import Progress, Region, light_and_point
 from raytracer.tuples import Tuple, magnitude, normalize
 from raytracer.world import World
 from variants.arrays.canvas import ArrayCanvas, ArrayCanvasTracer
+from variants.wavefront.allocator import keep_freed_arrays
 from variants.wavefront.camera import lens
 from variants.wavefront.hits import blocked, index, records
 from variants.wavefront.pack import pack, pack_scene
@@ -150,7 +151,9 @@ class WavefrontTracer(ArrayCanvasTracer):
 
     def prepare(self, c: Camera, w: World, settings: RenderSettings) -> Frame:
         """The frame: the world packed and indexed, the camera's numbers, the batch size
-        (either integrator: ``render_block`` follows ``settings.integrator``)."""
+        (either integrator: ``render_block`` follows ``settings.integrator``). The passes'
+        freed arrays are kept for the next ones (``allocator.keep_freed_arrays``)."""
+        keep_freed_arrays()
         return self._make_frame(w, settings, c)
 
     def render_region(

@@ -6,6 +6,9 @@ fresh process); the fastest of them per sample then renders a converged picture 
 seed, so its noise is independent of theirs; each picture's RMSE against it is fitted as a
 power law of the samples and of the wall time (``fit``), with the time to an RMSE of 0.01
 (points with more than a quarter of the converged picture's samples are kept, not fitted).
+In a scene with an area light every variant is measured twice, with explicit light sampling
+(the default) and without (``RenderSettings.light_sampling``), both against the one
+converged picture, rendered with it: both settings converge to the same picture.
 
 Python variants render at ``Mode.convergence_size``, compiled ones (numba, wavefront) at
 ``Mode.convergence_compiled_size``, each against a converged picture of its own size. A
@@ -27,6 +30,8 @@ from harness.scenery import SCENES
 from harness.scenery.presets import SceneRef
 from harness.sections.convergence.fit import power_law, time_to
 from raytracer.camera import PATH
+from raytracer.lights import AreaLight
+from scene import load_scene
 from variants.registry import load_variant
 
 if TYPE_CHECKING:
@@ -61,6 +66,19 @@ def path_tracers(bench: Bench, scene: SceneRef) -> list[str]:
     return found
 
 
+def label(entry: dict[str, Any] | Any) -> str:
+    """An entry's name in the report: the variant's, and "light sampling off" when so."""
+    return entry["name"] + (" (light sampling off)" if entry.get("light_sampling") == "off" else "")
+
+
+def has_area_light(scene: SceneRef) -> bool:
+    """Whether ``scene`` has an area light (light sampling can then be off)."""
+    if scene.path is None:
+        return False
+    loaded = load_scene(scene.path, load_variant("naive").api)
+    return any(isinstance(light, AreaLight) for light in loaded.lights)
+
+
 def _job(
     bench: Bench, name: str, scene: SceneRef, points: list[tuple[Size, int]],
     budget: float | None, extra: dict[str, Any], seed: int | None = None,
@@ -68,7 +86,10 @@ def _job(
     settings: dict[str, Any] = {"integrator": PATH}
     if seed is not None:
         settings["seed"] = seed
-    bench.log(f"{SECTION}: {scene.name}: {name}{' (converged picture)' if seed else ''}")
+    if extra.get("light_sampling") == "off":
+        settings["light_sampling"] = False
+    what = " (converged picture)" if seed else label({"name": "", **extra})
+    bench.log(f"{SECTION}: {scene.name}: {name}{what}")
     if bench.watch is not None:
         bench.watch.sample()
     spec = bench.job_spec(name, scene, [series_task(points, budget)], DEPTH, **settings)
@@ -138,15 +159,18 @@ def measure_scene(bench: Bench, scene: SceneRef) -> None:
     """One scene: the variants' series, the converged pictures, their errors and fits."""
     mode = bench.settings.mode
     measured: list[tuple[dict[str, Any], JobOutcome, Size]] = []
+    both = [{}, {"light_sampling": "off"}] if has_area_light(scene) else [{}]
     for name in path_tracers(bench, scene):
         size = mode.convergence_compiled_size if is_compiled(name) else mode.convergence_size
         points = [(size, n) for n in mode.convergence_samples]
-        entry, outcome = _job(bench, name, scene, points, bench.settings.budget, {})
-        measured.append((entry, outcome, size))
+        for extra in both:
+            entry, outcome = _job(bench, name, scene, points, bench.settings.budget, extra)
+            measured.append((entry, outcome, size))
     if not measured:
         bench.notes.append(f"convergence of {scene.name}: no variant path-traces")
         return
-    fastest = min(measured, key=lambda m: per_sample(m[0]))
+    sampled = [m for m in measured if m[0].get("light_sampling") != "off"]
+    fastest = min(sampled, key=lambda m: per_sample(m[0]))
     pictures: dict[Size, Any] = {}
     truths: dict[Size, int] = {}
     for size in sorted({m[2] for m in measured}, key=lambda s: s.pixels):

@@ -14,6 +14,7 @@ from harness.document.plotting import caption, plt, save
 from harness.document.runinfo import part
 from harness.sections.convergence.fit import TARGET_RMSE
 from harness.sections.convergence.measure import SECTION
+from harness.sections.convergence.measure import label as entry_label
 
 
 def _panel(axes: Any, entries: list[Mapping[str, Any]], key: str, label: str) -> None:
@@ -27,7 +28,7 @@ def _panel(axes: Any, entries: list[Mapping[str, Any]], key: str, label: str) ->
         ys = [max(p["error"]["rmse"], 1e-7) for p in done]
         law = (entry.get("fit") or {}).get(key)
         slope = "" if not law else f" (slope {law['slope']:+.2f})"
-        axes.plot(xs, ys, "o", color=colour, label=f"{entry['name']}{slope}")
+        axes.plot(xs, ys, "o", color=colour, label=f"{entry_label(entry)}{slope}")
         loose = [(x, y) for p, x, y in zip(done, xs, ys, strict=True) if not p.get("fitted", True)]
         if loose:  # too near the converged picture's samples: shown, not fitted
             axes.plot(*zip(*loose, strict=True), "o", color="white", markeredgecolor=colour)

@@ -12,7 +12,7 @@ from harness.document.model import Block, Bullets, Heading, Para, Picture, Table
 from harness.document.runinfo import part, skip_reason
 from harness.engine import figures
 from harness.sections.convergence.fit import TARGET_RMSE
-from harness.sections.convergence.measure import SECTION
+from harness.sections.convergence.measure import SECTION, label
 
 Run = Mapping[str, Any]
 ABOUT = (
@@ -59,12 +59,12 @@ def _row(entry: Mapping[str, Any]) -> list[str]:
         why = entry.get("error") or (
             f"not run: {skip_reason(skipped)}" if skipped else "no point measured"
         )
-        return [f"`{entry['name']}`", "-", "-", "-", "-", "-", str(why)[:200]]
+        return [f"`{label(entry)}`", "-", "-", "-", "-", "-", str(why)[:200]]
     last = done[-1]
     skipped = [str(p["samples"]) for p in entry.get("points", []) if p.get("skipped")]
     size = "x".join(map(str, last["size"]))
     return [
-        f"`{entry['name']}`", size,
+        f"`{label(entry)}`", size,
         ", ".join(f"{p['samples']}{'' if p.get('fitted', True) else ' (not fitted)'}"
                   for p in done),
         f"{last['error']['rmse']:.4g} in {figures.seconds_text(last['wall'])}",
@@ -122,7 +122,7 @@ def console_lines(run: Run) -> list[str]:
     for entry in part(run, SECTION):
         if entry["status"] == "ok" and entry.get("fit"):
             lines.append(
-                f"convergence {entry['scene']:<12} {entry['name']:<24} slope "
+                f"convergence {entry['scene']:<12} {label(entry):<24} slope "
                 f"{_slope(entry, 'samples'):>6} per sample, time to RMSE {TARGET_RMSE:g}: "
                 f"{headline(entry)}"
             )
