@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
+from holding import HANG_SECONDS
 
 from rtc.cli import main
 from scene.limits import DEPTH_VARIABLE, SHAPES_VARIABLE
@@ -115,7 +116,7 @@ def _rtc(*args: str) -> subprocess.CompletedProcess[str]:
         [sys.executable, "-m", "rtc.cli", *args],
         capture_output=True,
         text=True,
-        timeout=120,
+        timeout=HANG_SECONDS,
         check=False,
     )
 

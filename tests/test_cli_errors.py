@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from holding import HANG_SECONDS
 
 from harness.engine.results import ResultFileError, check_run, load_run
 from rtc.cli import main
@@ -153,7 +154,7 @@ def rtc_unprivileged(base: Path, *argv: str) -> subprocess.CompletedProcess[str]
     env = {**os.environ, "MPLCONFIGDIR": str(cache)}
     return subprocess.run(
         [sys.executable, "-m", "rtc.cli", *argv], cwd=ROOT, capture_output=True, text=True,
-        timeout=120, preexec_fn=preexec, env=env,
+        timeout=HANG_SECONDS, preexec_fn=preexec, env=env,
     )  # fmt: skip
 
 

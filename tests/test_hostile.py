@@ -39,6 +39,7 @@ from typing import Any
 
 import numpy as np
 import pytest
+from holding import HANG_SECONDS
 from PIL import Image
 from report_checks import check_html, check_markdown
 
@@ -55,7 +56,6 @@ from scene.obj_mesh import read_mesh
 ROOT = Path(__file__).resolve().parent.parent
 SCHEMA1 = Path(__file__).parent / "data" / "bench-schema1.json"
 VARIANTS = ("naive", "cached", "numba")
-HANG = 120  # seconds: only a process that hangs takes this long
 CAMERA = """\
 - add: camera
   width: 8
@@ -96,8 +96,8 @@ def rtc(*argv: str, env: dict[str, str] | None = None, memory: int | None = None
             resource.setrlimit(resource.RLIMIT_AS, (memory, memory))
 
     return subprocess.run(
-        [sys.executable, "-m", "rtc.cli", *argv], capture_output=True, text=True, timeout=HANG,
-        cwd=cwd, env={**os.environ, **(env or {})}, preexec_fn=limit,
+        [sys.executable, "-m", "rtc.cli", *argv], capture_output=True, text=True,
+        timeout=HANG_SECONDS, cwd=cwd, env={**os.environ, **(env or {})}, preexec_fn=limit,
     )  # fmt: skip
 
 
@@ -651,7 +651,7 @@ def test_a_damaged_file_in_numbas_cache_is_a_miss(
 
     def run() -> subprocess.CompletedProcess[str]:
         return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                              env=env, timeout=HANG, cwd=ROOT)  # fmt: skip
+                              env=env, timeout=HANG_SECONDS, cwd=ROOT)  # fmt: skip
 
     for built in kernels.glob("rtc_tiny_scale_*"):  # no library: numba runs it
         built.unlink()
@@ -807,7 +807,7 @@ def test_a_really_full_disk_stops_a_real_bench_in_one_line(tmp_path: Path) -> No
     if probe.returncode != 0:
         pytest.skip(f"user namespaces are not allowed here: {probe.stderr.decode().strip()}")
     done = subprocess.run(["unshare", "-Urm", "sh", "-c", command, str(mount)], cwd=ROOT,
-                          capture_output=True, text=True, timeout=HANG)  # fmt: skip
+                          capture_output=True, text=True, timeout=HANG_SECONDS)  # fmt: skip
     assert "status=2" in done.stdout, (done.stdout, done.stderr)
     assert done.stderr.splitlines()[-1].endswith("nothing was kept (free some space and run "
                                                  "again)")  # fmt: skip
@@ -829,14 +829,14 @@ def test_a_stopped_dask_worker_is_replaced_and_its_tasks_go_elsewhere(tmp_path: 
         pids = sorted(client.run(os.getpid).values())
         futures = client.map(held, [str(tmp_path)] * 2, [str(release)] * 2, range(2),
                              pure=False)  # fmt: skip
-        deadline = time.monotonic() + HANG
+        deadline = time.monotonic() + HANG_SECONDS
         while len(list(tmp_path.glob("started-*"))) < 2:  # one task on each worker
             assert time.monotonic() < deadline, "the tasks did not start"
             time.sleep(0.05)
         os.kill(pids[0], signal.SIGSTOP)
         try:
             release.touch()
-            results = [f.result(timeout=HANG) for f in futures]  # a hang fails, not hangs
+            results = [f.result(timeout=HANG_SECONDS) for f in futures]  # a hang fails, not hangs
         finally:
             with contextlib.suppress(ProcessLookupError):
                 os.kill(pids[0], signal.SIGKILL)

@@ -19,6 +19,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from holding import HANG_SECONDS
 from test_hostile import scene
 
 from variants import dask_cluster, pooled
@@ -41,7 +42,7 @@ def render(
     done = subprocess.run(
         [sys.executable, "-m", "rtc.cli", "render", str(path), "--variant", variant,
          "-o", str(out), "--progress", "none"],
-        cwd=ROOT, capture_output=True, text=True, timeout=600, preexec_fn=limit,
+        cwd=ROOT, capture_output=True, text=True, timeout=HANG_SECONDS, preexec_fn=limit,
         env={**os.environ, **(env or {})},
     )  # fmt: skip
     return done.returncode, done.stderr, out

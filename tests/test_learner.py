@@ -116,7 +116,7 @@ class Learner:
 
     def rtc(self, *args: str) -> subprocess.CompletedProcess[str]:
         return subprocess.run(
-            self.command(*args), env=self.env, capture_output=True, text=True, timeout=180
+            self.command(*args), env=self.env, capture_output=True, text=True, timeout=HANG_SECONDS
         )
 
     def write(self, code: str) -> None:
@@ -368,7 +368,7 @@ def test_all_leaves_a_half_written_tracer_out_and_runs_it_when_named(learner: Le
     features = subprocess.run(
         [sys.executable, "-m", "pytest", "-q", "-p", "no:randomly", "-p", "no:cacheprovider",
          "tests/test_features.py", "--variant", "all", "-k", "tuple and point"],
-        cwd=root, env=learner.env, capture_output=True, text=True, timeout=300,
+        cwd=root, env=learner.env, capture_output=True, text=True, timeout=HANG_SECONDS,
     )  # fmt: skip
     assert features.returncode == 0, features.stdout[-2000:] + features.stderr[-2000:]
     assert f"[{NAME}]" not in features.stdout and "passed" in features.stdout

@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from holding import HANG_SECONDS
 from test_hostile import TINY
 
 from compiled import library
@@ -25,7 +26,6 @@ from variants.numba import specialize
 
 TESTS = Path(__file__).resolve().parent
 ROOT = TESTS.parent
-HANG_SECONDS = 300  # a hang guard: the processes reach the lock in moments
 LOAD = (  # the recipe's fields as JSON in argv[1]
     "import json, sys\n"
     "import numpy as np\n"

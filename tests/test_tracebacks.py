@@ -11,6 +11,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from holding import HANG_SECONDS
 
 TESTS = Path(__file__).resolve().parent
 
@@ -55,7 +56,7 @@ def test_a_failure_pytest_cannot_format_is_one_failure(tmp_path: Path, workers: 
     done = subprocess.run(
         [sys.executable, "-m", "pytest", "-p", "tracebacks", "-p", "no:cacheprovider", "-rf",
          *workers],
-        cwd=tmp_path, capture_output=True, text=True, env=environment, timeout=600,
+        cwd=tmp_path, capture_output=True, text=True, env=environment, timeout=HANG_SECONDS,
     )  # fmt: skip
     out = done.stdout + done.stderr
     assert "INTERNALERROR" not in out, out
