@@ -2,8 +2,8 @@
 gate's test workers, a bench's children): ``compiled.library.one_builder``, a lock per
 library in the kernel folder. The test holds the lock itself until both processes are
 waiting for it (``/proc/locks``), so that they certainly meet; then one builds and the
-other loads what it built. The book API's entry points take the same lock on their first
-call in a process (``variants.numba.specialize``)."""
+other loads what it built. The book API's entry points take such a lock (one each) on their
+first call in a process (``variants.numba.specialize``)."""
 
 from __future__ import annotations
 
@@ -90,7 +90,7 @@ def test_an_entry_point_s_first_call_holds_the_lock_and_later_ones_do_not(
     tmp_path: Path,
 ) -> None:
     module = tmp_path / "rtc_numba_example.py"
-    lock = tmp_path / ".rtc_numba_example.lock"
+    lock = tmp_path / ".rtc_numba_example.api_example.lock"  # one lock per entry point
     held: list[bool] = []
 
     def locked() -> bool:
