@@ -166,8 +166,14 @@ def summary(lines: list[dict[str, Any]], top: int = 15) -> list[str]:
         f"({sum(x['cpu'] for found in again.values() for x in found[1:]):.0f} s CPU again)"
     )
     for what, found in again.items():
-        folders = {line.get("folder", "") for line in found}
-        where = f"in {len(folders)} kernel folders" if len(folders) > 1 else "in one folder"
+        folders = {line.get("folder") for line in found}
+        where = (
+            "kernel folder not logged"
+            if None in folders
+            else f"in {len(folders)} kernel folders"
+            if len(folders) > 1
+            else "in one kernel folder"
+        )
         out.append(f"  again, {where}: {len(found)}x {what[:200]}")
     out.append(f"the {top} costliest (CPU s, times compiled, what):")
     ranked = sorted(by_what.items(), key=lambda item: -sum(x["cpu"] for x in item[1]))
