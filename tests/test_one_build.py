@@ -20,7 +20,7 @@ from typing import Any
 import pytest
 from test_hostile import TINY
 
-from compiled import library
+from compiled import compile_log, library
 from variants.numba import specialize
 
 TESTS = Path(__file__).resolve().parent
@@ -120,3 +120,18 @@ class _Dispatcher:
 
     def __call__(self, *arguments: Any) -> Any:
         return self.py_func(*arguments)
+
+
+def test_the_compile_log_says_whether_a_repeated_compile_was_in_one_folder() -> None:
+    def line(pid: int, folder: str | None) -> dict[str, Any]:
+        found = {"kind": "library", "what": "k", "wall": 2.0, "cpu": 1.0, "start": 0.0,
+                 "pid": pid, "test": "t"}  # fmt: skip
+        return found if folder is None else {**found, "folder": folder}
+
+    def again(*lines: dict[str, Any]) -> list[str]:
+        return [text for text in compile_log.summary(list(lines)) if "again," in text]
+
+    assert again(line(1, "/a"), line(2, "/a")) == ["  again, in one kernel folder: 2x k"]
+    assert again(line(1, "/a"), line(2, "/b")) == ["  again, in 2 kernel folders: 2x k"]
+    assert again(line(1, None), line(2, "/a")) == ["  again, kernel folder not logged: 2x k"]
+    assert again(line(1, "/a")) == []
