@@ -12,9 +12,11 @@ processes they start inherit it) appends one JSON line to it per compile:
 - ``wait``: a process that waited for another's build of the same library (the kernel
   folder's lock) instead of compiling it again.
 
-Each line names the process, the test it ran in (pytest's ``PYTEST_CURRENT_TEST``) and when
-it started. ``python -m compiled.compile_log FILE`` sums a log up: how many compiles, of what,
-the seconds each, what several processes compiled, the tests that paid for them.
+Each line names the process, the test it ran in (pytest's ``PYTEST_CURRENT_TEST``), when
+it started and the kernel folder (a compile repeated in one folder is a failure to share).
+``python -m compiled.compile_log FILE`` sums a log up: how many compiles, of what, the
+seconds each, what was compiled more than once and in how many folders, the tests that
+paid for them.
 Without ``RTC_COMPILE_LOG`` nothing is recorded and numba is not touched.
 """
 
@@ -52,6 +54,7 @@ def record(kind: str, what: str, wall: float, cpu: float, started: float) -> Non
         "start": round(started, 3),
         "pid": os.getpid(),
         "test": os.environ.get("PYTEST_CURRENT_TEST", "").rsplit(" (", 1)[0],
+        "folder": _folder(),
     }
     data = (json.dumps(line) + "\n").encode("utf-8")
     try:  # one write of a short line to a file opened for appending: lines never mix
@@ -62,6 +65,14 @@ def record(kind: str, what: str, wall: float, cpu: float, started: float) -> Non
             os.close(fd)
     except OSError as error:
         print(f"rtc: cannot write the compile log {path}: {error}", file=sys.stderr)
+
+
+def _folder() -> str:
+    """The kernel folder this process uses (a compile repeated in another folder is no
+    failure to share: a test of the folder's rules, a home of its own), "" before any."""
+    from compiled.folder import current_folder  # deferred: compiled.folder imports this
+
+    return current_folder()
 
 
 @contextmanager
@@ -154,6 +165,16 @@ def summary(lines: list[dict[str, Any]], top: int = 15) -> list[str]:
         f"{len(by_what)} distinct things compiled; {len(again)} of them more than once "
         f"({sum(x['cpu'] for found in again.values() for x in found[1:]):.0f} s CPU again)"
     )
+    for what, found in again.items():
+        folders = {line.get("folder") for line in found}
+        where = (
+            "kernel folder not logged"
+            if None in folders
+            else f"in {len(folders)} kernel folders"
+            if len(folders) > 1
+            else "in one kernel folder"
+        )
+        out.append(f"  again, {where}: {len(found)}x {what[:200]}")
     out.append(f"the {top} costliest (CPU s, times compiled, what):")
     ranked = sorted(by_what.items(), key=lambda item: -sum(x["cpu"] for x in item[1]))
     for what, found in ranked[:top]:

@@ -7,6 +7,8 @@ Two depths (``pytest`` is the gate's; ``pytest --thorough`` a maintainer's befor
   processes it starts), so a cold run compiles one render kernel per precision instead of one
   per scene's feature set; the tests whose subject is specialization ask for it
   (``specialized_kernels``). ``--thorough`` specializes every render, as a user's run does.
+  The kernel folder is named in ``RTC_NUMBA_KERNELS`` for the session, so every worker and
+  the processes they start share it however a test changes the environment.
 - hypothesis: the property tests run under a profile. ``gate`` (the default) draws few
   examples a test (``examples()``: tests/budget.py scales a test's own count) and the same
   ones on every run (``derandomize``: the verdict never depends on the draw, no example
@@ -31,7 +33,10 @@ from hypothesis import HealthCheck, settings
 from hypothesis.database import DirectoryBasedExampleDatabase
 from once_per_run import OncePerRun
 
+from compiled.folder import kernel_folder
 from variants.numba.render import GENERIC_ONLY
+
+KERNELS = "RTC_NUMBA_KERNELS"
 
 # tracebacks: a failure pytest cannot format is still one failure (tests/tracebacks.py);
 # cpu_seconds: each test's CPU seconds, with RTC_TEST_CPU_LOG set (tests/cpu_seconds.py)
@@ -79,6 +84,12 @@ def pytest_configure(config: pytest.Config) -> None:
             settings.load_profile("thorough")
         os.environ.setdefault(GENERIC_ONLY, "on")
     os.environ.setdefault(GENERIC_ONLY, "off")
+    if not os.environ.get(KERNELS):
+        # the run's kernel folder, named: a test that unsets it (``monkeypatch.delenv``)
+        # then gets it back, so a worker never leaves the folder the others share (a test
+        # of the folder's fallback sets it to a private one of its own, which, were it unset
+        # here, would stay set: that worker compiled every kernel again in a cold gate)
+        os.environ[KERNELS] = str(kernel_folder())
 
 
 @pytest.fixture

@@ -2,8 +2,8 @@
 gate's test workers, a bench's children): ``compiled.library.one_builder``, a lock per
 library in the kernel folder. The test holds the lock itself until both processes are
 waiting for it (``/proc/locks``), so that they certainly meet; then one builds and the
-other loads what it built. The book API's entry points take the same lock on their first
-call in a process (``variants.numba.specialize``)."""
+other loads what it built. The book API's entry points take such a lock (one each) on their
+first call in a process (``variants.numba.specialize``)."""
 
 from __future__ import annotations
 
@@ -21,7 +21,7 @@ import pytest
 from holding import HANG_SECONDS
 from test_hostile import TINY
 
-from compiled import library
+from compiled import compile_log, library
 from variants.numba import specialize
 
 TESTS = Path(__file__).resolve().parent
@@ -90,7 +90,7 @@ def test_an_entry_point_s_first_call_holds_the_lock_and_later_ones_do_not(
     tmp_path: Path,
 ) -> None:
     module = tmp_path / "rtc_numba_example.py"
-    lock = tmp_path / ".rtc_numba_example.lock"
+    lock = tmp_path / ".rtc_numba_example.api_example.lock"  # one lock per entry point
     held: list[bool] = []
 
     def locked() -> bool:
@@ -120,3 +120,18 @@ class _Dispatcher:
 
     def __call__(self, *arguments: Any) -> Any:
         return self.py_func(*arguments)
+
+
+def test_the_compile_log_says_whether_a_repeated_compile_was_in_one_folder() -> None:
+    def line(pid: int, folder: str | None) -> dict[str, Any]:
+        found = {"kind": "library", "what": "k", "wall": 2.0, "cpu": 1.0, "start": 0.0,
+                 "pid": pid, "test": "t"}  # fmt: skip
+        return found if folder is None else {**found, "folder": folder}
+
+    def again(*lines: dict[str, Any]) -> list[str]:
+        return [text for text in compile_log.summary(list(lines)) if "again," in text]
+
+    assert again(line(1, "/a"), line(2, "/a")) == ["  again, in one kernel folder: 2x k"]
+    assert again(line(1, "/a"), line(2, "/b")) == ["  again, in 2 kernel folders: 2x k"]
+    assert again(line(1, None), line(2, "/a")) == ["  again, kernel folder not logged: 2x k"]
+    assert again(line(1, "/a")) == []

@@ -315,7 +315,7 @@ class NumbaTracer(ArrayCanvasTracer):
             (k for k, i in enumerate(xs) if i is hit or (i.t == hit.t and i.object is hit.object)),
             -1,
         )
-        n1, n2 = self.k.containers_indices(ids, indices, hit_index)
+        n1, n2 = self.k.api_containers_indices(ids, indices, hit_index)
         return float(n1), float(n2)
 
     def _world_with(self, w: World, shape: Shape, caller: str) -> tuple[Packed, int]:

@@ -542,7 +542,7 @@ def refraction(ex, ey, ez, nx, ny, nz, n1, n2):
 
 
 @njit(**API)
-def containers_indices(ids, indices, hit_index):
+def api_containers_indices(ids, indices, hit_index):
     """Chapter 11: n1 and n2 for entry ``hit_index`` of a sorted intersection list, where
     ``ids[i]`` names entry i's object and ``indices[i]`` is that object's refractive index.
     The objects the ray is inside of are kept in the order they were entered, as the book's

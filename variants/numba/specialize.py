@@ -170,9 +170,11 @@ def load_kernels(config: KernelConfig) -> ModuleType:
 
 def _first_calls_one_at_a_time(module: ModuleType, path: Path) -> None:
     """Each book-API entry point's first call in this process (which compiles it, or loads
-    it from numba's disk cache) holds the kernel module's build lock (``one_builder``):
+    it from numba's disk cache) holds that entry point's build lock (``one_builder``):
     processes that start together (a test run's workers) compile an entry point once, and
-    the others load what it wrote. Later calls go straight to numba."""
+    the others load what it wrote. One lock per entry point: a process that needs one
+    already compiled does not wait for another's compile of a different one. Later calls go
+    straight to numba. Every entry point Python calls is named ``api_*`` (``cache=True``)."""
     for name, dispatcher in list(vars(module).items()):
         if name.startswith("api_") and hasattr(dispatcher, "py_func"):
             setattr(module, name, _locked_first_call(dispatcher, path))
@@ -180,11 +182,13 @@ def _first_calls_one_at_a_time(module: ModuleType, path: Path) -> None:
 
 def _locked_first_call(dispatcher: Any, path: Path) -> Any:
     called: list[bool] = []
+    name = dispatcher.py_func.__name__
+    lock = path.with_name(f"{path.stem}.{name}{path.suffix}")  # the lock: .<stem>.<name>.lock
 
     def first_call(*arguments: Any) -> Any:
         if called:
             return dispatcher(*arguments)
-        with one_builder(path, f"{path.stem}.{dispatcher.py_func.__name__}"):
+        with one_builder(lock, f"{path.stem}.{name}"):
             found = dispatcher(*arguments)
         called.append(True)
         return found
