@@ -21,6 +21,11 @@ from variants.numba.kernels_geometry import INLINE
 
 # ---- kernel template ----
 
+# The solver's two outer steps are called, not inlined: a torus's roots take hundreds of
+# nanoseconds, a call a few, and inlined into every caller of a shape's intersection the
+# solver's code was compiled once per caller (the generic kernel's compile about doubled).
+CALLED = {**INLINE, "forceinline": False}
+
 Q_UNIT = 2.0**-53  # ``roots.UNIT``
 Q_INF = math.inf
 Q_STEPS = 2000  # a bound on a refinement's steps (halving a float64 bracket takes < 2100)
@@ -119,7 +124,7 @@ def quadratic_pair(a, b, c):
     return 2, x, y
 
 
-@njit(**INLINE)
+@njit(**CALLED)
 def isolated_roots(c, slope, nt, t0, t1, t2, t3):
     """``roots.real_roots`` past its derivative: the real roots of ``c`` between its
     turning points (the first ``nt`` of t0 ... t3, increasing; the first three distinct
@@ -167,7 +172,7 @@ def isolated_roots(c, slope, nt, t0, t1, t2, t3):
     return n, r0, r1, r2, r3
 
 
-@njit(**INLINE)
+@njit(**CALLED)
 def quartic_real_roots(a, b, c, d, e):
     """``roots.real_roots`` of a x⁴ + b x³ + c x² + d x + e (a != 0): (count, r0, r1, r2,
     r3), increasing, a double root twice; the cubic's turning points from its derivative's
