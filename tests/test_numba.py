@@ -194,7 +194,11 @@ def test_float64_draws_what_naive_draws(picture: str, once_per_run: OncePerRun) 
 
 
 @pytest.mark.parametrize("name", ["numba[float32]", "numba[fastmath]", "numba[threads=1]"])
-def test_options_stay_close_to_naive(name: str, once_per_run: OncePerRun) -> None:
+def test_options_stay_close_to_naive(
+    name: str, once_per_run: OncePerRun, request: pytest.FixtureRequest
+) -> None:
+    if name == "numba[fastmath]":  # a kernel for this scene: no other test needs the generic
+        request.getfixturevalue("specialized_kernels")  # fast-math kernel (minutes to compile)
     worst, _, beyond, pixels = _compare(name, "reference-16x12", once_per_run)
     assert beyond <= APPROXIMATE_SHARE * pixels, f"{beyond} of {pixels} pixels beyond 1/255"
     assert worst <= 0.5
@@ -393,9 +397,11 @@ def test_a_render_needs_no_numba_once_its_library_is_built() -> None:
         assert np.array_equal(picture, expected)
 
 
-def test_without_a_c_compiler_the_render_falls_back_to_numba() -> None:
+def test_without_a_c_compiler_the_render_falls_back_to_numba(specialized_kernels: None) -> None:
     """When the library cannot be linked (here: CC=/bin/false), the same compiled function
-    runs from numba's own cache, and draws the same picture."""
+    runs from numba's own cache, and draws the same picture. The kernel is the default
+    world's (specialized): the subject is the fallback, and the generic kernel compiled again
+    in this test's own folder cost minutes."""
     api = load_variant("numba").api
     c, w = default_world(api)
     expected = api["render"](c, w).to_array()
