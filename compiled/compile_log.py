@@ -35,6 +35,7 @@ from typing import Any
 ENVIRONMENT = "RTC_COMPILE_LOG"
 _state = threading.local()
 _watching = False
+folder_in_use = ""  # the kernel folder this process last used (set by compiled.folder)
 
 
 def enabled() -> bool:
@@ -70,9 +71,7 @@ def record(kind: str, what: str, wall: float, cpu: float, started: float) -> Non
 def _folder() -> str:
     """The kernel folder this process uses (a compile repeated in another folder is no
     failure to share: a test of the folder's rules, a home of its own), "" before any."""
-    from compiled.folder import current_folder  # deferred: compiled.folder imports this
-
-    return current_folder()
+    return folder_in_use
 
 
 @contextmanager

@@ -20,7 +20,6 @@ from compiled.notices import say
 _lock = threading.Lock()
 
 _folders: dict[tuple[str, ...], Path] = {}
-_last: Path | None = None  # the folder kernel_folder() last gave
 OURS = ("rtc_*", ".rtc_*", "rtc-numba-link-*", "numba-cache", "__pycache__", ".writable")
 """What the kernel folder holds, by name: what is removed from one others could write in."""
 
@@ -31,20 +30,15 @@ def kernel_folder() -> Path:
     ``$RTC_NUMBA_KERNELS`` names one that cannot be."""
     names = ("RTC_NUMBA_KERNELS", "XDG_CACHE_HOME", "HOME", "XDG_RUNTIME_DIR", "TMPDIR")
     memo = tuple(os.environ.get(name, "") for name in names)
-    global _last
     with _lock:
         known = _folders.get(memo)
         if known is not None and known.is_dir():
-            _last = known
+            compile_log.folder_in_use = str(known)
             return known
         folder = _choose_folder()
-        _folders[memo] = _last = folder
+        _folders[memo] = folder
+        compile_log.folder_in_use = str(folder)
         return folder
-
-
-def current_folder() -> str:
-    """The kernel folder this process last used, for the compile log ("" before any)."""
-    return str(_last or "")
 
 
 def _xdg(name: str) -> str | None:

@@ -366,8 +366,10 @@ def run(args: argparse.Namespace) -> int:
         print(f"rtc bench [{elapsed:5.0f} s]: {message}", file=sys.stderr, flush=True)
 
     settings = settings_from(args)  # errors: one line, before any other (no progress yet)
-    log(f"{', '.join(settings.sections)} of {len(settings.variants)} variant(s), mode "
-        f"{settings.mode.name}, into {settings.results}")  # fmt: skip
+    # what the run measures, on stdout: stderr's lines are progress and, for a scene that
+    # does not load, its one error line
+    print(f"rtc bench: {', '.join(settings.sections)} of {len(settings.variants)} variant(s), "
+          f"mode {settings.mode.name}, into {settings.results}", flush=True)  # fmt: skip
 
     try:
         path = run_bench(settings, log, measuring(settings.sections))

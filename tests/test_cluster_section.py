@@ -122,7 +122,7 @@ def test_sweep_on_an_unreachable_scheduler_stops_before_measuring(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     code = main(["bench", "--sweep-on", "dask[scheduler=tcp://127.0.0.1:9]",
-                 "--results-dir", str(tmp_path)])  # fmt: skip
+                 "--sections", "sweep", "--results-dir", str(tmp_path)])  # fmt: skip
     err = capsys.readouterr().err
     assert code == 2 and "--sweep-on" in err and "refused" in err.lower()
     assert not (tmp_path / "runs").exists()
