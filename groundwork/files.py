@@ -214,3 +214,19 @@ def write_new(path: str | os.PathLike[str], data: bytes | str, *, sync: bool = F
     finally:
         Path(temporary).unlink(missing_ok=True)
     return True
+
+
+PROJECT = Path(__file__).resolve().parents[1]
+
+
+def recorded_path(text: str) -> str:
+    """How a run file names a file or folder: relative to the project when inside it (a run
+    file is committed and read on other machines), else only its name after ``.../``: a
+    run records no path of the machine it ran on. A relative path is kept as written."""
+    path = Path(text)
+    if not path.is_absolute():
+        return path.as_posix()
+    try:
+        return path.resolve().relative_to(PROJECT).as_posix()
+    except (ValueError, OSError, RuntimeError):
+        return f".../{path.name}"

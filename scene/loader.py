@@ -306,6 +306,7 @@ def _camera(state: _Loading, node: Node, entries: dict[str, Entry]) -> None:
             value["up"], "the camera's 'up' is zero or points along the line from 'from' to "
             "'to'; expected a direction across it, e.g. [0, 1, 0]"
         )  # fmt: skip
+    _check_pixels_apart(reader, value["from"], eye, width, height, fov)
     point, vector = ctx.need("point", node, "the camera"), ctx.need("vector", node, "the camera")
     try:
         view = ctx.need("view_transform", node, "the camera")(point(*eye), point(*to), vector(*up))
@@ -317,6 +318,28 @@ def _camera(state: _Loading, node: Node, entries: dict[str, Entry]) -> None:
     camera = ctx.need("camera", node, "the camera")(width, height, fov)
     state.camera = updated(camera, transform=view)
     state.camera_line = line_of(node)
+
+
+def _check_pixels_apart(
+    reader: Reader, node: Node, eye: list[float], width: int, height: int, fov: float
+) -> None:
+    """Chapter 7's camera aims a pixel's ray at a point one unit in front of ``from``: that
+    point minus ``from`` is the ray's direction. Far enough from the origin, floats there
+    step by more than a pixel's width, neighbouring pixels get the same ray and every ray a
+    direction of 0 (a black picture): said here, instead of drawn."""
+    half_view = math.tan(fov / 2)
+    aspect = width / height
+    half_width = half_view if aspect >= 1 else half_view * aspect
+    pixel = half_width * 2 / width
+    step = math.ulp(max(abs(c) for c in eye))
+    if step > pixel:
+        reader.fail(
+            node,
+            f"the camera's 'from' is too far from the origin ({max(abs(c) for c in eye):.3g}) "
+            f"for its pixels: floats there step by {step:.3g}, more than a pixel's width "
+            f"({pixel:.3g}) one unit in front of the camera, so its rays cannot aim; move the "
+            f"scene nearer the origin (keep 'from' within about {pixel / 2**-52:.3g} of it)",
+        )
 
 
 def _unit(v: list[float]) -> tuple[float, float, float]:

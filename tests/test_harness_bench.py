@@ -358,3 +358,42 @@ def test_the_ladder_reuses_the_tables_rows_and_says_why_povray_is_absent(tmp_pat
     assert readme.split("\n## ")[1].startswith("Step by step")
     assert "**No C++ anchor in this run:** no .pov version" in readme
     assert "| `cached` |" in readme.split("\n## ")[1]
+
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _strings(value: Any) -> Any:
+    if isinstance(value, dict):
+        for item in value.values():
+            yield from _strings(item)
+    elif isinstance(value, list):
+        for item in value:
+            yield from _strings(item)
+    elif isinstance(value, str):
+        yield value
+
+
+def test_a_run_file_names_no_path_of_the_machine(tmp_path: Path) -> None:
+    """A run file is committed and read elsewhere: the scene it rendered is named relative
+    to the project, a folder outside the project by its name only."""
+    results = tmp_path / "my-results"
+    scene = ROOT / "scenes" / "reference.yml"
+    assert main(["bench", "--scene", str(scene), "--size", "4x3", "--repeat", "1",
+                 "--again", "0", "--variants", "naive", "--sections", "table",
+                 "--results-dir", str(results)]) == 0  # fmt: skip
+    data = load_run(list_runs(results)[0])
+    settings = data["rtc"]["settings"]
+    assert settings["scene"]["path"] == "scenes/reference.yml"
+    assert settings["results"] == ".../my-results"
+    assert not [text for text in _strings(data) if str(tmp_path) in text or str(ROOT) in text]
+
+
+def test_no_committed_run_file_names_an_absolute_path() -> None:
+    found = [
+        (path.name, text)
+        for path in list_runs(ROOT / "results")
+        for text in _strings(load_run(path))
+        if text.startswith("/") and Path(text).is_absolute() and text.count("/") > 1
+    ]
+    assert found == []

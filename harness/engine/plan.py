@@ -15,6 +15,7 @@ from typing import Any
 from groundwork.sizes import Size
 from harness.engine.budget import smaller_sizes
 from harness.engine.figures import PARALLEL_OPTIONS
+from groundwork.files import recorded_path
 from harness.scenery.make_meshes import SCALE_MESHES
 from harness.scenery.presets import PRESETS, SceneRef
 from raytracer.camera import INTEGRATORS, WHITTED, RenderSettings
@@ -139,6 +140,8 @@ class BenchSettings:
     def as_dict(self) -> dict[str, Any]:
         data = asdict(self)
         data["scene"] = self.scene.as_dict()
+        if self.scene.path is not None:
+            data["scene"]["path"] = recorded_path(str(self.scene.path))
         data["size"] = [self.size.width, self.size.height]
         data["mode"] = {
             key: [value.width, value.height] if isinstance(value, Size) else value
@@ -147,7 +150,7 @@ class BenchSettings:
         for key, value in vars(self.mode).items():
             if isinstance(value, Size):
                 data["mode"][key] = [value.width, value.height]
-        data["results"] = str(self.results)
+        data["results"] = recorded_path(str(self.results))
         return data
 
     @property

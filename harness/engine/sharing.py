@@ -32,6 +32,8 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
+from groundwork.files import recorded_path
+
 LOCK_PREFIX = ".bench-"
 LOCK_SUFFIX = ".lock"
 SAMPLE_SECONDS = 0.5
@@ -204,7 +206,9 @@ class BenchLock:
                 found[pid] = {
                     "pid": pid,
                     "started": str(info.get("started", "?")) if isinstance(info, dict) else "?",
-                    "results": str(info.get("results", "?")) if isinstance(info, dict) else "?",
+                    "results": recorded_path(str(info["results"]))
+                    if isinstance(info, dict) and isinstance(info.get("results"), str)
+                    else "?",
                 }
         return found
 
