@@ -12,10 +12,10 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
+from groundwork.files import recorded_path
 from groundwork.sizes import Size
 from harness.engine.budget import smaller_sizes
 from harness.engine.figures import PARALLEL_OPTIONS
-from groundwork.files import recorded_path
 from harness.scenery.make_meshes import SCALE_MESHES
 from harness.scenery.presets import PRESETS, SceneRef
 from raytracer.camera import INTEGRATORS, WHITTED, RenderSettings
