@@ -24,3 +24,4 @@ def _escaped(match: re.Match[str]) -> str:
 def printable(text: str) -> str:
     """``text`` with every control character (and bidirectional override) escaped."""
     return _UNSAFE.sub(_escaped, text)
+

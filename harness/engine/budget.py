@@ -117,3 +117,4 @@ def fit_to_budget(
     if estimate.seconds(size) * renders > budget:
         note += f" (even {size}, the smallest size tried, is estimated over it)"
     return BudgetChoice(size, total, True, note)
+

@@ -83,7 +83,8 @@ def write_result(folder: Path, outcome: Mapping[str, Any], name: str = "result.j
         with contextlib.suppress(OSError):
             temporary.unlink(missing_ok=True)
         print(
-            f"  measuring process: cannot write its result in {folder}: {error.strerror or error}",
+            f"  measuring process: cannot write its result in {folder}: "
+            f"{error.strerror or error}",
             file=sys.stderr,
             flush=True,
         )

@@ -33,6 +33,8 @@ if TYPE_CHECKING:
     pass
 
 
+
+
 def cold_start() -> None:
     """Build the reference scene's render library from nothing (a fresh kernel folder)."""
     with tempfile.TemporaryDirectory(prefix="rtc-numba-cold-") as folder:

@@ -33,7 +33,9 @@ def cpp_workload(runs: int) -> None:
         variant, c, w = load(f"numba[threads={threads}]", CPP)
         warm = load(f"numba[threads={threads}]", CPP, (8, 8))
         variant.api["render"](warm[1], warm[2], settings)
-        median, samples = median_runs(functools.partial(render_once, variant, c, w, settings), runs)
+        median, samples = median_runs(
+            functools.partial(render_once, variant, c, w, settings), runs
+        )
         rays = c.hsize * c.vsize * settings.samples
         mrays = rays / median / 1e6
         target = f" (target 20: {verdict(mrays >= 20)})" if threads == 2 else ""

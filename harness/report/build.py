@@ -38,12 +38,7 @@ from harness.stability import runfile as stability_runs
 from harness.stability import table as stability_table
 
 __all__ = [
-    "ReportError",
-    "build_report",
-    "console_table",
-    "heat_visible",
-    "load_history",
-    "pick_runs",
+    "ReportError", "build_report", "console_table", "heat_visible", "load_history", "pick_runs",
 ]
 
 Run = Mapping[str, Any]
@@ -52,7 +47,6 @@ MANIFEST = ".written"  # in the plots' folder: the names of the plots the report
 
 class ReportError(Exception):
     """Where the report would write is no place of its own (one line for the user)."""
-
 
 OPENING = "ladder"  # the section the report opens with, before the introduction
 INTRO = (

@@ -402,7 +402,10 @@ def in_words(comparison: Comparison) -> str:
         return f"Neither run is faster: B's times are A's, geometric mean {over} ({counts})."
     faster, slower = (b, a) if mean < 1 else (a, b)
     factor = 1 / mean if mean < 1 else mean
-    return f"{faster} is faster than {slower}: {factor:.2f}x, the geometric mean {over} ({counts})."
+    return (
+        f"{faster} is faster than {slower}: {factor:.2f}x, the geometric mean {over} "
+        f"({counts})."
+    )
 
 
 def table_lines(comparison: Comparison) -> list[str]:

@@ -37,10 +37,10 @@ Run = Mapping[str, Any]
 @dataclass(frozen=True)
 class Section:
     """One section (see the module): ``name`` as ``--sections`` and the run files spell
-        it; ``about``: what it measures, for ``rtc bench --help``; ``default``: run without
-        ``--sections`` in full mode (``--full``); ``quick``: run without ``--sections`` in quick mode
-    (the default); ``after``: the sections it reads, measured first when asked for;
-        ``plot_file``: its plot's file in the report folder, if it has one."""
+    it; ``about``: what it measures, for ``rtc bench --help``; ``default``: run without
+    ``--sections`` in full mode (``--full``); ``quick``: run without ``--sections`` in quick mode
+(the default); ``after``: the sections it reads, measured first when asked for;
+    ``plot_file``: its plot's file in the report folder, if it has one."""
 
     name: str
     about: str
@@ -136,7 +136,6 @@ def reporting(name: str) -> ModuleType:
 
 def help_text() -> str:
     """The sections for ``rtc bench --help``."""
-
     def marks(section: Section) -> str:
         found = [m for m, on in (("quick", section.quick), ("full", section.default)) if on]
         return f" (default: {', '.join(found)})" if found else ""

@@ -157,7 +157,6 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
     """One configuration: load it (a dask variant opens its cluster session), a warm-up
     render at ``WARM``, the samples chosen when asked (``calibrate``), then the timed
     renders; the picture of the last one."""
-
     def settings_with(samples: int) -> RenderSettings:
         extra = {} if job.get("epsilon") is None else {"epsilon": job["epsilon"]}
         return RenderSettings(depth=job["depth"], samples=samples, seed=job["seed"], **extra)

@@ -167,9 +167,10 @@ def cprofile_job(job: Mapping[str, Any]) -> dict[str, Any]:
     return {"seconds": seconds, **summarize(table, int(job["top"]))}
 
 
+
+
 def main(argv: list[str] | None = None) -> int:
     """``python -m harness.sections.profile.jobs JOB.json``: a stages or a cProfile job."""
-
     def run(job: dict[str, Any], _: Path) -> dict[str, Any]:
         return stages_job(job) if job["kind"] == "stages" else cprofile_job(job)
 

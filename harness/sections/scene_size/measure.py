@@ -555,7 +555,6 @@ def render_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
 
 def main(argv: list[str] | None = None) -> int:
     """``python -m harness.sections.scene_size.measure JOB.json``: a parse or a render job."""
-
     def run(job: dict[str, Any], folder: Path) -> dict[str, Any]:
         return parse_job(job) if job["kind"] == "parse" else render_job(job, folder)
 
