@@ -7,6 +7,7 @@ from __future__ import annotations
 import math
 import tomllib
 from pathlib import Path
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -17,6 +18,9 @@ import raytracer as book
 from groundwork.sizes import Size
 from harness.document.model import Table, to_markdown
 from harness.instruments import embree
+from harness.scenery.make_meshes import mesh_path
+from harness.sections.ladder import mesh
+from harness.sections.ladder import report as ladder_report
 from harness.sections.scene_size import anchor
 from harness.sections.scene_size import report as scene_size_report
 from harness.sections.scene_size.measure import SECTION, scene_text
@@ -181,3 +185,61 @@ def test_the_report_says_in_one_line_why_embree_is_absent() -> None:
     assert text.count("\n\n") == 1  # the heading and one line
     assert not [b for b in scene_size_report.embree_blocks(run) if isinstance(b, Table)]
     assert "Embree: not run: embreex" in "\n".join(scene_size_report.console_lines(run))
+
+
+# --- the ladder's mesh row -----------------------------------------------------------------
+
+
+class FakeBench:
+    """What ``mesh.entry`` uses of a bench: its log, its repeat and a folder for jobs."""
+
+    def __init__(self, folder: Path) -> None:
+        self.logged: list[str] = []
+        self.settings = SimpleNamespace(repeat=2)
+        self.folder = folder
+
+    def log(self, line: str) -> None:
+        self.logged.append(line)
+
+    def jobs_folder(self, section: str) -> Path:
+        return self.folder / section
+
+
+def test_the_mesh_job_renders_and_intersects_the_same_rays_in_turns() -> None:
+    found_embree()
+    job = {"variant": "cached", "mesh": str(mesh_path("knot-368.obj")), "size": [12, 9],
+           "rounds": 2}  # fmt: skip
+    result = mesh.measure_job(job, Path("unused"))
+    assert result["triangles"] == 368 and result["rays"] == 108
+    assert 0 < result["hits"] < 108  # the knot and the sky around it
+    assert len(result["ours"]) == len(result["embree"]) == len(result["ratios"]) == 2
+    assert result["ratios"] == sorted(result["ratios"]) and result["ours_median"] > 0
+
+
+def test_without_embreex_the_mesh_row_says_why_and_runs_nothing(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    monkeypatch.setattr(embree, "find", lambda: None)
+    bench = FakeBench(tmp_path)
+    entry = mesh.entry(bench, "ladder")  # type: ignore[arg-type]
+    assert entry["status"] == "unavailable" and entry["error"] == embree.missing()
+    assert entry["part"] == mesh.PART and list(tmp_path.iterdir()) == []
+    assert bench.logged == [f"ladder: Embree not run: {embree.missing()}"]
+    assert ladder_report.mesh_text(entry) == (
+        f"**No Embree beside the mesh kernel in this run:** {embree.missing()}."
+    )
+
+
+def test_the_ladder_states_the_mesh_kernels_time_over_embrees() -> None:
+    found = {
+        "section": "ladder", "part": mesh.PART, "status": "ok", "variant": "numba[threads=1]",
+        "mesh": "knot-23k.obj", "size": [640, 480], "triangles": 23000, "rays": 307200,
+        "hits": 127282, "version": "Embree through embreex 4.4.0", "ours_median": 0.1,
+        "embree_median": 0.04, "ratios": [2.0, 2.5, 3.0],
+    }  # fmt: skip
+    run = {"series": [found]}
+    assert ladder_report.mesh_anchor(run) is found
+    text = ladder_report.mesh_text(found)
+    assert "`numba[threads=1]` renders" in text and "23,000 triangles" in text
+    assert "in 100.0 ms CPU" in text and "in 40.0 ms: **2.50x** its time" in text
+    assert "2.00-3.00x" in text
