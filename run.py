@@ -66,7 +66,8 @@ def _requirements() -> str:
             for requirement in requirements
         )  # fmt: skip
 
-    dev = project.get("optional-dependencies", {}).get("dev", [])
+    extras = project.get("optional-dependencies", {})
+    dev = extras.get("dev", []) + extras.get("anchors", [])
     return f"{names(project['dependencies'])}; for the tests: {names(dev)}"
 
 
@@ -141,7 +142,8 @@ class _Ticker:
 
 
 def ensure_environment() -> None:
-    """Create .venv and install the project (editable, with dev tools) unless already current."""
+    """Create .venv and install the project (editable, with dev tools and the anchors a
+    benchmark sets beside its rows) unless already current."""
     if STAMP.exists() and STAMP.read_text().strip() == _wanted_stamp():
         return
     if not (BIN / "python").exists():
@@ -159,7 +161,7 @@ def ensure_environment() -> None:
     )
     # --no-compile: Python compiles each module when first imported, only those used, instead
     # of pip compiling every file of every package before anything runs (a minute or more)
-    _pip("install", "--no-compile", *pinned, "-e", f"{ROOT}[dev]")
+    _pip("install", "--no-compile", *pinned, "-e", f"{ROOT}[dev,anchors]")
     STAMP.write_text(_wanted_stamp())
 
 
@@ -179,7 +181,8 @@ def upgrade() -> int:
         python = Path(folder) / BIN.name / "python"
         _pip("install", "--upgrade", "pip", python=python)
         project = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["project"]
-        wanted = project["dependencies"] + project["optional-dependencies"]["dev"]
+        extras = project["optional-dependencies"]
+        wanted = project["dependencies"] + extras["dev"] + extras["anchors"]
         _pip("install", *wanted, python=python)  # what the project needs, not the project
         frozen = subprocess.run(
             [str(python), "-m", "pip", "freeze", "--all", "--disable-pip-version-check"],

@@ -543,3 +543,36 @@ def test_without_a_c_compiler_the_builder_runs_in_numba(
     fallback = build_tree(unit_items, unit_boxes)
     assert np.array_equal(fallback[0], linked[0]) and np.array_equal(fallback[1], linked[1])
     assert fallback[2].nodes == linked[2].nodes > 100
+
+
+def test_the_box_test_without_slab_checks_answers_as_the_slab_test() -> None:
+    """``box_hit`` (one branch, for rays parallel to no axis) against ``box_range`` (the slab
+    test with its checks) on random boxes and rays, among them rays along an axis and
+    origins on a box's faces, where 0 * inf would arise."""
+    from numba import njit
+
+    from variants.numba.kernels_geometry import box_hit, box_range
+
+    @njit(error_model="numpy")  # 1 / 0 is inf, as in the kernels
+    def both(boxes, rays, thi):
+        out = np.zeros((len(rays), 2), np.bool_)
+        for k in range(len(rays)):
+            ox, oy, oz, dx, dy, dz = rays[k]
+            ix, iy, iz = 1.0 / dx, 1.0 / dy, 1.0 / dz
+            parallel = abs(ix) == np.inf or abs(iy) == np.inf or abs(iz) == np.inf
+            out[k, 0] = box_hit(boxes, k % 50, ox, oy, oz, ix, iy, iz, thi, parallel)
+            out[k, 1] = box_range(boxes, k % 50, ox, oy, oz, ix, iy, iz, 0.0, thi)
+        return out
+
+    rng = np.random.default_rng(36)
+    low = rng.uniform(-2, 1, (50, 3))
+    boxes = np.concatenate([low, low + rng.uniform(0.01, 2, (50, 3))], axis=1).ravel()
+    rays = np.concatenate([rng.uniform(-3, 3, (4000, 3)), rng.normal(size=(4000, 3))], axis=1)
+    rays[::7, 3 + rng.integers(0, 3)] = 0.0  # along a plane of two axes
+    rays[::11, 3:5] = 0.0  # along the z axis
+    faces = np.arange(0, 4000, 13)
+    rays[faces, 0] = boxes.reshape(50, 6)[faces % 50, 0]  # starting on a box's face
+    for thi in (np.inf, 2.5):
+        answers = both(boxes, rays, thi)
+        assert (answers[:, 0] == answers[:, 1]).all()
+        assert 0 < answers[:, 0].sum() < len(rays)  # both answers occur

@@ -131,7 +131,7 @@ def test_a_tiny_run_measures_each_phase_and_records_what_could_not_run(
         saved[name] = image
         return f"run/{name}"
 
-    parse, cached, unavailable, commands = run(plan, Path("jobs"), logged.append, save)
+    parse, cached, unavailable, anchored, commands = run(plan, Path("jobs"), logged.append, save)
     assert (tmp_path / "meshes" / "ring-1k.obj").is_file()
     assert parse["section"] == PARSE_SECTION
     (parsed,) = parse["points"]
@@ -148,6 +148,14 @@ def test_a_tiny_run_measures_each_phase_and_records_what_could_not_run(
     else:
         assert command["povray"]["wall"] > 0 and command["povray"]["peak"] > 1 << 20
     assert (tmp_path / "jobs" / "commands" / "ring-1k.yml").is_file()
+    # Embree's primary rays on the same mesh and camera when embreex is installed (the gate
+    # installs it: tests/test_embree_anchor.py), else the entry says why
+    assert anchored["section"] == "scene-size-embree"
+    if anchored["status"] == "ok":
+        (rays,) = anchored["points"]
+        assert rays["mesh"] == "ring-1k.obj" and rays["rays"] == 12 and len(rays["seconds"]) == 2
+    else:
+        assert anchored["points"] == [] and "embreex" in anchored["error"]
     assert cached["section"] == SECTION and cached["status"] == "ok"
     (point,) = cached["points"]
     assert point["primitives"] == 1001  # the floor and the ring's triangles
@@ -318,7 +326,9 @@ def test_rtc_bench_records_the_section_and_rtc_report_draws_it(
     names = pyperf.BenchmarkSuite.load(str(path)).get_benchmark_names()
     assert names == ["scene-size cached ring-1k.obj"]
     series = document["rtc"]["series"]
-    assert [e["section"] for e in series] == [PARSE_SECTION, SECTION, COMMAND_SECTION]
+    assert [e["section"] for e in series] == [
+        PARSE_SECTION, SECTION, "scene-size-embree", COMMAND_SECTION,
+    ]  # fmt: skip
     assert main(["report", "--results-dir", str(results)]) == 0
     readme = (results / "README.md").read_text()
     assert "## Cost against scene size" in readme and "| `cached` | ring-1k.obj |" in readme

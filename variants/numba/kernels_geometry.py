@@ -270,6 +270,25 @@ def box_range(boxes, b, ox, oy, oz, ix, iy, iz, tlo, thi):
 
 
 @njit(**INLINE)
+def box_hit(boxes, b, ox, oy, oz, ix, iy, iz, thi, parallel):
+    """``box_range`` from t = 0 to ``thi``; for a ray ``parallel`` to no axis (every 1 / d
+    finite, so no slab can give 0 * inf) without ``slab``'s test for it, and with one
+    branch at the end: the same answer."""
+    if parallel:
+        return box_range(boxes, b, ox, oy, oz, ix, iy, iz, ZERO, thi)
+    m = b * NBOX
+    x1 = (boxes[m] - ox) * ix
+    x2 = (boxes[m + 3] - ox) * ix
+    y1 = (boxes[m + 1] - oy) * iy
+    y2 = (boxes[m + 4] - oy) * iy
+    z1 = (boxes[m + 2] - oz) * iz
+    z2 = (boxes[m + 5] - oz) * iz
+    tlo = max(max(ZERO, min(x1, x2)), max(min(y1, y2), min(z1, z2)))
+    thi = min(min(thi, max(x1, x2)), min(max(y1, y2), max(z1, z2)))
+    return tlo <= thi
+
+
+@njit(**INLINE)
 def nth(t0, t1, t2, t3, j):
     """The j-th of four values (tuples indexed by a variable go through memory)."""
     if j == 0:

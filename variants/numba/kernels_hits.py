@@ -43,7 +43,7 @@ from variants.numba.kernels_geometry import (
     ONE,
     ZERO,
     ball_first,
-    box_range,
+    box_hit,
     nth,
 )
 from variants.numba.kernels_prims import (
@@ -227,6 +227,7 @@ def nearest_hit(w, s, ox, oy, oz, dx, dy, dz, eps):
     ix = ONE / dx
     iy = ONE / dy
     iz = ONE / dz
+    parallel = abs(ix) == INF or abs(iy) == INF or abs(iz) == INF  # to an axis: the slow test
     best_t = INF
     best_p = -1
     best_l = 0
@@ -244,23 +245,8 @@ def nearest_hit(w, s, ox, oy, oz, dx, dy, dz, eps):
             end = si[top * NSI + BV_TO]
             continue
         kind = items[i * NITEM + ITEM_TYPE]
-        if kind == I_PRIM:
-            p = items[i * NITEM + ITEM_A]
-            found, t, local, u, v = first_hit_in(pf, pi, p, ox, oy, oz, dx, dy, dz, a, eps, best_t)
-            # a tie goes to the earlier primitive, whatever order the items are in
-            if found or (t == best_t and p < best_p):
-                best_t, best_p, best_l, best_u, best_v = t, p, local, u, v
-            i += 1
-        elif kind == I_TRI:
-            p = items[i * NITEM + ITEM_A]
-            q = items[i * NITEM + ITEM_B]
-            found, t, u, v = compact_first_hit(pf, p, geo[0], q, ox, oy, oz, dx, dy, dz, eps, best_t)
-            # a tie: the earlier run's row, then the earlier triangle of the run
-            if found or (t == best_t and (p < best_p or (p == best_p and q < best_l))):
-                best_t, best_p, best_l, best_u, best_v = t, p, q, u, v
-            i += 1
-        elif HAS_BOXES and kind == I_BOX:
-            if box_range(boxes, items[i * NITEM + ITEM_D], ox, oy, oz, ix, iy, iz, ZERO, best_t):
+        if HAS_BOXES and kind == I_BOX:
+            if box_hit(boxes, items[i * NITEM + ITEM_D], ox, oy, oz, ix, iy, iz, best_t, parallel):
                 axis = items[i * NITEM + ITEM_C]
                 if axis != 0 and (dx if axis == 1 else (dy if axis == 2 else dz)) < ZERO:
                     # a hierarchy's node split along an axis the ray goes down: its second
@@ -280,6 +266,21 @@ def nearest_hit(w, s, ox, oy, oz, dx, dy, dz, eps):
                     i += 1
             else:
                 i = items[i * NITEM + ITEM_A]
+        elif kind == I_PRIM:
+            p = items[i * NITEM + ITEM_A]
+            found, t, local, u, v = first_hit_in(pf, pi, p, ox, oy, oz, dx, dy, dz, a, eps, best_t)
+            # a tie goes to the earlier primitive, whatever order the items are in
+            if found or (t == best_t and p < best_p):
+                best_t, best_p, best_l, best_u, best_v = t, p, local, u, v
+            i += 1
+        elif kind == I_TRI:
+            p = items[i * NITEM + ITEM_A]
+            q = items[i * NITEM + ITEM_B]
+            found, t, u, v = compact_first_hit(pf, p, geo[0], q, ox, oy, oz, dx, dy, dz, eps, best_t)
+            # a tie: the earlier run's row, then the earlier triangle of the run
+            if found or (t == best_t and (p < best_p or (p == best_p and q < best_l))):
+                best_t, best_p, best_l, best_u, best_v = t, p, q, u, v
+            i += 1
         elif HAS_CSG and kind == I_CSG:
             m = csg_collect(w, s, i, ox, oy, oz, dx, dy, dz, eps)
             for j in range(m):
@@ -363,6 +364,7 @@ def shadowed(w, s, ox, oy, oz, vx, vy, vz, eps, slot):
     ix = ONE / dx
     iy = ONE / dy
     iz = ONE / dz
+    parallel = abs(ix) == INF or abs(iy) == INF or abs(iz) == INF
     if HAS_SPHERE and n_balls > 0:
         reached = 0
         for j in range(n_balls):  # counts only: no stores, so no overlap checks
@@ -391,7 +393,7 @@ def shadowed(w, s, ox, oy, oz, vx, vy, vz, eps, slot):
                 return True
             i += 1
         elif HAS_BOXES and kind == I_BOX:
-            if box_range(boxes, items[i * NITEM + ITEM_D], ox, oy, oz, ix, iy, iz, ZERO, distance):
+            if box_hit(boxes, items[i * NITEM + ITEM_D], ox, oy, oz, ix, iy, iz, distance, parallel):
                 i += 1
             else:
                 i = items[i * NITEM + ITEM_A]

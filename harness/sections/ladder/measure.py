@@ -25,7 +25,9 @@ scene's ``.pov`` version (``scenes/reference.pov``) at ``LARGE`` on one thread a
 core, the mode's ``side_repeat`` times each (quick: once; its trace alone outlasts the
 quick bench's Python rows), timed as a whole process (and by its own trace time); its picture is
 compared with the project's at the same size. Without POV-Ray the entry says so (``status:
-unavailable``) and the report prints the note instead of the rows.
+unavailable``) and the report prints the note instead of the rows. When the run measures
+``numba``, its mesh kernel beside Embree on the dragon's stand-in (``harness.sections.ladder.mesh``,
+without ``embreex`` one line why).
 
 ``harness.sections.ladder.report`` draws the report's opening section from these entries.
 """
@@ -42,6 +44,7 @@ from harness.engine import figures
 from harness.instruments import imagediff, povray
 from harness.instruments.usage import available_cores
 from harness.scenery import SCENES
+from harness.sections.ladder import mesh
 from variants.registry import load_variant
 
 if TYPE_CHECKING:
@@ -164,6 +167,9 @@ def measure(bench: Bench) -> None:
         if row["status"] == "ok" and below is not None and below["status"] == "ok":
             _error_over(bench, row, below)
     bench.series.append(anchor(bench))
+    numba = canonical("numba")
+    if numba is not None and numba in s.variants:  # the compiled mesh kernel beside Embree
+        bench.series.append(mesh.entry(bench, SECTION))
 
 
 def _over(step: Step, measured: dict[str, str]) -> str | None:

@@ -14,6 +14,7 @@ from harness.document import summary
 from harness.document.model import Block, Bullets, Gallery, Heading, Para, Picture, Table
 from harness.document.runinfo import part
 from harness.engine import figures
+from harness.sections.ladder import mesh
 from harness.sections.ladder.measure import SECTION, point_busy
 
 REPORT_DIR = "report"  # harness.report.build's: the plots' folder in the results
@@ -369,6 +370,27 @@ def blocks(run: Run, plot: str | None, context: str = "", runs: Sequence[Run] = 
     return out
 
 
+def mesh_anchor(run: Run) -> Mapping[str, Any] | None:
+    """The run's mesh kernel beside Embree (``harness.sections.ladder.mesh``), if measured."""
+    return next(iter(part(run, SECTION, mesh.PART)), None)
+
+
+def mesh_text(found: Mapping[str, Any]) -> str:
+    """The mesh row beside Embree in a sentence, or why there is none."""
+    if found.get("status") != "ok":
+        return f"**No Embree beside the mesh kernel in this run:** {found.get('error')}."
+    ours, theirs, ratios = found["ours_median"], found["embree_median"], found["ratios"]
+    w, h = found["size"]
+    return (
+        f"**The mesh kernel beside Embree:** `{found['variant']}` renders the bonus chapter's "
+        f"dragon (its stand-in `{found['mesh']}`, {found['triangles']:,} triangles) at {w}x{h}, "
+        f"primary rays only (no light), in {figures.seconds_text(ours)} CPU; "
+        f"{found['version']} intersects the same {found['rays']:,} rays "
+        f"({found['hits']:,} hit) in {figures.seconds_text(theirs)}: **{ours / theirs:.2f}x** "
+        f"its time (pairs measured in turns in one process: {ratios[0]:.2f}-{ratios[-1]:.2f}x)."
+    )
+
+
 def _anchor_notes(run: Run) -> list[Block]:
     found = anchor(run)
     if found is None:
@@ -463,6 +485,9 @@ def notes(run: Run, found: Sequence[Row], context: str = "") -> list[Block]:
     if busy:
         out.append(Para(busy))
     out += _anchor_notes(run)
+    found_mesh = mesh_anchor(run)
+    if found_mesh is not None:
+        out.append(Para(mesh_text(found_mesh)))
     out += _step_maps(found)
     out += go_blocks()
     return out
@@ -510,6 +535,9 @@ def console_lines(run: Run) -> list[str]:
                 )
     elif found_anchor is not None:
         lines.append(f"  POV-Ray: {found_anchor.get('error')}")
+    found_mesh = mesh_anchor(run)
+    if found_mesh is not None:
+        lines.append("  " + mesh_text(found_mesh).replace("**", ""))
     text = advice(run)
     if text:
         lines.append("  " + text.replace("**", ""))

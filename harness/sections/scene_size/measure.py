@@ -25,6 +25,10 @@ per mesh, ``repeat`` reads each): the scene loader's ``read_mesh`` (arrays) and 
 reset before each) and, up to ``TRACEMALLOC_MAX`` triangles, ``tracemalloc``'s current and
 peak bytes for the book's parser (it slows the parse about 6x).
 
+Then Embree's primary rays on each mesh (the ``scene-size-embree`` entry,
+``harness.sections.scene_size.anchor``): the same scene's camera and mesh, intersection only,
+one thread, when ``embreex`` is installed; otherwise the entry says why.
+
 And whole commands side by side (the ``scene-size-command`` entry): for each mesh,
 ``rtc render`` with ``numba`` as a user runs it (a fresh process from start to exit, after
 one warm-up command that compiles what it needs) against POV-Ray 3.7 rendering the same
@@ -71,6 +75,7 @@ from harness.instruments.usage import (
     wait_with_usage,
 )
 from harness.scenery.make_meshes import CATALOGUE, GENERATED, SCALE_MESHES, mesh_path
+from harness.sections.scene_size import anchor
 from raytracer.camera import RenderSettings
 from raytracer.obj_file import parse_obj_file
 from scene import load_scene_text
@@ -262,6 +267,8 @@ def run(
                     _picture(point, image, (entry["name"], name), first_images, save_image)
                 entry["points"].append(point)
         entries.append(entry)
+    meshes = {name: (paths[name], CATALOGUE[name].triangles) for name in plan.meshes}
+    entries.append(anchor.entry(meshes, scene_text, plan.size, plan.repeat, folders, log))
     entries.append(commands(plan, paths, jobs, log))
     return entries
 

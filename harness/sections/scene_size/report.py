@@ -11,6 +11,7 @@ from typing import Any
 
 from harness.document.model import Block, Heading, Para, Picture, Table
 from harness.engine import figures
+from harness.sections.scene_size import anchor
 from harness.sections.scene_size.measure import (
     COMMAND_SECTION,
     COMMAND_VARIANT,
@@ -35,6 +36,10 @@ def parse_entry(run: Run) -> Mapping[str, Any] | None:
 
 def command_entry(run: Run) -> Mapping[str, Any] | None:
     return next((e for e in run.get("series", []) if e["section"] == COMMAND_SECTION), None)
+
+
+def embree_entry(run: Run) -> Mapping[str, Any] | None:
+    return next((e for e in run.get("series", []) if e["section"] == anchor.SECTION), None)
 
 
 def has_section(run: Run) -> bool:
@@ -255,6 +260,65 @@ def command_table(entry: Mapping[str, Any]) -> Table:
     )  # fmt: skip
 
 
+def _rate(rays: float, seconds: float | None) -> str:
+    return "-" if not seconds else f"{rays / seconds / 1e6:.2f} M/s"
+
+
+def embree_table(run: Run, found: Mapping[str, Any]) -> Table:
+    """Per mesh: Embree's primary rays (intersection only) and each variant's whole render
+    of the same mesh and camera, as rays per second and as a time per ray over Embree's."""
+    s = run["settings"]
+    pixels = int(s["size"][0]) * int(s["size"][1])
+    renders = {
+        (e["name"], p["mesh"]): p for e in entries(run) if e.get("status") == "ok"
+        for p in measured(e)
+    }  # fmt: skip
+    body = []
+    for p in found.get("points", []):
+        head = [p["mesh"], _count(int(p["triangles"]))]
+        if "error" in p:
+            body.append([*head, "failed: " + str(p["error"])[:160], "-", "-", "-"])
+            continue
+        seconds = float(p["cpu_median"])
+        ours = [
+            f"`{variant}` {_rate(pixels * int(s['samples']), point['render_median'])} "
+            f"({float(point['render_median']) / (seconds * int(s['samples'])):.1f}x)"
+            for (variant, mesh), point in renders.items() if mesh == p["mesh"]
+        ]  # fmt: skip
+        body.append([
+            *head, f"{_seconds(seconds)} ({_rate(int(p['rays']), seconds)})",
+            f"{int(p['hits']):,} of {int(p['rays']):,}", "; ".join(ours) or "-",
+        ])  # fmt: skip
+    return Table(
+        ["mesh", "triangles", "Embree: primary rays, CPU (rays/s)", "rays that hit",
+         "our whole renders: rays/s (time per ray over Embree's)"],
+        body, right={1, 2, 3},
+    )  # fmt: skip
+
+
+def embree_blocks(run: Run) -> list[Block]:
+    """The anchor's paragraph and table, or the line saying why there is none."""
+    found = embree_entry(run)
+    if found is None:
+        return []
+    out: list[Block] = [Heading(3, "Beside Embree")]
+    if found.get("status") != "ok":
+        out.append(Para(f"**No Embree in this run:** {found.get('error', 'not run')}."))
+        return out
+    out += [
+        Para(
+            f"{found.get('version')} (Intel's ray-intersection library, C++ and SIMD) on the "
+            "same mesh and camera, in the same run, one thread, a fresh process per mesh: "
+            "every pixel's primary ray, the nearest hit only (no shading, no shadow rays), "
+            "its hierarchy built before the clock starts; median CPU seconds. Our renders "
+            "beside it are whole renders (shading, the floor, shadow rays), so the factor "
+            "is an upper bound on the gap between the two kernels."
+        ),
+        embree_table(run, found),
+    ]
+    return out
+
+
 def blocks(run: Run, plot: Any, context: str, runs: Sequence[Run] = ()) -> list[Block]:
     """The report's section for ``run`` (nothing if it has none); ``plot``: the plot's path
     relative to the results folder, or None; ``context``: the machine and run line."""
@@ -300,6 +364,7 @@ def blocks(run: Run, plot: Any, context: str, runs: Sequence[Run] = ()) -> list[
         ]
     if plot is not None:
         out.append(Picture(str(plot), "render time against triangle count"))
+    out += embree_blocks(run)
     if entries(run):
         out += [
             variant_table(run),
@@ -345,6 +410,14 @@ def console_lines(run: Run) -> list[str]:
                 if theirs.get("wall")
                 else ""
             )
+        )
+    found = embree_entry(run)
+    if found is not None and found.get("status") != "ok":
+        lines.append(f"Embree: not run: {found.get('error')}")
+    for p in (found or {}).get("points", []):
+        lines.append(
+            f"Embree {p['mesh']:<14} primary rays "
+            + (f"failed: {p['error']}" if "error" in p else f"{_seconds(p['cpu_median']):>9}")
         )
     parse = parse_entry(run)
     if parse is not None:

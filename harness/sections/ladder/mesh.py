@@ -1,0 +1,114 @@
+"""The ladder's mesh row beside Embree (issue 36): the bonus chapter's dragon (its stand-in,
+``knot-23k.obj``, 23,000 triangles) in front of the camera, primary rays only, one thread.
+
+The scene (``SCENE``: a camera 2.5 times the model's radius in front of it, no light, so a
+render is one primary ray per pixel and a black picture) is rendered by ``VARIANT`` and the
+same camera's rays are intersected with the same triangles by Embree
+(``harness.instruments.embree``), in one fresh process, in turns, ``rounds`` times each: CPU
+seconds (the machine may be shared; the medians and the ratio of each pair are kept). A
+render's time includes what a primary-ray render adds to the intersections (the camera's
+rays, the hit's normal, writing the canvas); Embree's is the intersections alone. Without
+``embreex`` the entry says why (``status: unavailable``) and the report prints that line.
+"""
+
+from __future__ import annotations
+
+import statistics
+import sys
+import time
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from groundwork.sizes import Size
+from harness.engine.jobs import job_main, run_in_child
+from harness.instruments import embree
+from harness.scenery.make_meshes import mesh_path
+from raytracer.camera import RenderSettings
+from scene import load_scene_text
+from variants.registry import load_variant
+
+if TYPE_CHECKING:
+    from harness.engine.bench import Bench
+
+PART = "mesh-anchor"
+MESH = "knot-23k.obj"
+VARIANT = "numba[threads=1]"
+SIZE = Size(640, 480)
+SCENE = """\
+# the ladder's mesh row (harness/sections/ladder/mesh.py): the dragon's stand-in, no light
+- add: camera
+  width: {width}
+  height: {height}
+  field-of-view: 0.8
+  from: [0, 0, -3.25]
+  to: [0, 0, 0]
+  up: [0, 1, 0]
+- add: obj
+  file: {mesh}
+"""
+
+
+def entry(bench: Bench, section: str) -> dict[str, Any]:
+    """The ladder's mesh entry for ``bench``'s run (see the module)."""
+    result: dict[str, Any] = {
+        "section": section, "part": PART, "name": "Embree", "mesh": MESH,
+        "variant": VARIANT, "size": [SIZE.width, SIZE.height], "points": [],
+    }  # fmt: skip
+    if embree.find() is None:
+        result.update(status="unavailable", error=embree.missing())
+        bench.log(f"{section}: Embree not run: {result['error']}")
+        return result
+    bench.log(f"{section}: {VARIANT} and Embree on {MESH}, {SIZE}, in turns")
+    job = {"variant": VARIANT, "mesh": str(mesh_path(MESH)), "size": [SIZE.width, SIZE.height],
+           "rounds": max(3, bench.settings.repeat)}  # fmt: skip
+    outcome = run_in_child(__name__, bench.jobs_folder(f"{section}-{PART}"), job, 1)
+    if isinstance(outcome, int):
+        result.update(status="failed", error=f"the measuring process exited with {outcome}")
+    elif "error" in outcome:
+        result.update(status="failed", error=str(outcome["error"]))
+    else:
+        result.update(status="ok", **outcome)
+    return result
+
+
+def measure_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
+    """One process: the variant's render and Embree's rays, in turns (see the module)."""
+    variant = load_variant(job["variant"])
+    tracer = variant.tracer
+    if tracer is None:
+        return {"error": f"{variant.name} has no tracer to render with"}
+    mesh = Path(job["mesh"])
+    text = SCENE.format(width=job["size"][0], height=job["size"][1], mesh=mesh.name)
+    scene = load_scene_text(text, variant.api, path=mesh.parent / "scene.yml",
+                            variant=variant.name)  # fmt: skip
+    (model,) = [spec.mesh for spec in scene.objects if spec.mesh is not None]
+    c, w = scene.camera, variant.world_for(scene)
+    settings = RenderSettings(depth=1, samples=1, seed=0)
+    tracer.render(c, w, settings)  # compiles, builds the hierarchy
+    found = embree.find()
+    ours: list[float] = []
+    theirs: list[float] = []
+    rays = None
+    for _ in range(int(job["rounds"])):
+        canvas = tracer.new_canvas(c)
+        started = time.process_time()
+        tracer.render_into(canvas, c, w, settings)
+        ours.append(time.process_time() - started)
+        rays = embree.primary_rays(c, model.positions, model.triangles, 1, found)
+        theirs.append(rays.cpu[0])
+    assert rays is not None  # rounds >= 1
+    return {
+        "version": rays.version, "triangles": model.count, "rays": rays.rays, "hits": rays.hits,
+        "ours": ours, "embree": theirs, "ours_median": statistics.median(ours),
+        "embree_median": statistics.median(theirs),
+        "ratios": sorted(a / b for a, b in zip(ours, theirs, strict=True)),
+    }  # fmt: skip
+
+
+def main(argv: list[str] | None = None) -> int:
+    """``python -m harness.sections.ladder.mesh JOB.json``."""
+    return job_main(measure_job, sys.argv[1:] if argv is None else argv)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
