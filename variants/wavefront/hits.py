@@ -47,6 +47,7 @@ DIRECT_MAX = 16  # a world with this many bounded units or fewer gets no hierarc
 FEW_PRIMS = 16  # pairs concerning this many primitives or fewer are tested one at a time
 NO_PRIM = np.iinfo(np.int64).max
 SAMPLE = 64  # rays sampled to judge whether a unit's ball culls anything
+WIDE_MIN = 4096  # a smaller batch culls with every ball (the sample would cost more)
 WIDE = 0.75  # the share of the sample near a ball above which the ball is not used
 
 Ray = tuple[Any, Any, Any, Any, Any, Any]
@@ -251,7 +252,7 @@ def unit_lists(scene: Scene, unit: int, ray: Ray, eps: float) -> Lists:
     return Lists(ts, p, u, v)
 
 
-def _near_ball(ball: tuple[float, float, float, float], ray: Ray, dd: Any) -> np.ndarray:
+def _near_ball(ball: tuple[Any, Any, Any, Any], ray: Ray, dd: Any) -> np.ndarray:
     """Which rays come within the ball (x, y, z, radius²) on their lines: the squared
     distance from the centre to the line, |oc|² - (oc . d)² / |d|², at most radius²
     (computed in place on its own temporaries: the cull's cost is its memory traffic)."""
@@ -267,23 +268,23 @@ def _near_ball(ball: tuple[float, float, float, float], ray: Ray, dd: Any) -> np
     ocx += ocy
     ocx += ocz
     ocx -= r2
-    ocx *= dd
-    return np.asarray(tca >= ocx)
+    return np.asarray(tca >= ocx * dd)
 
 
-def _wide(ball: tuple[float, float, float, float], ray: Ray) -> bool:
-    """Does nearly every ray come near the ball (``WIDE`` of a sample of ``SAMPLE``)? Then
-    the cull costs more than it saves: the unit is tested against every ray (the answers
-    are the same: a ray the ball would cull misses the unit)."""
+def _wide(idx: Index, ray: Ray) -> list[bool]:
+    """For each direct unit: does nearly every ray come near its ball (``WIDE`` of a sample
+    of ``SAMPLE`` rays, all balls at once)? Then the cull costs more than it saves: the unit
+    is tested against every ray (the answers are the same: a ray the ball would cull misses
+    the unit). An unbounded unit always; none in a batch under ``WIDE_MIN`` rays."""
     n = size(ray)
-    if ball[3] == INF:
-        return True
-    if n < 4 * SAMPLE:
-        return False
+    if n < WIDE_MIN:
+        return [ball[3] == INF for ball in idx.ball]
     some = sub(ray, slice(None, None, n // SAMPLE))
     dd = some[3] * some[3] + some[4] * some[4] + some[5] * some[5]
-    near = _near_ball(ball, some, dd)
-    return bool(np.count_nonzero(near) >= WIDE * len(near))
+    x, y, z, r2 = (np.array(column)[:, None] for column in zip(*idx.ball, strict=True))
+    near = _near_ball((x, y, z, r2), some, dd)
+    wide: list[bool] = (np.count_nonzero(near, axis=1) >= WIDE * near.shape[1]).tolist()
+    return wide
 
 
 def culled(idx: Index, ray: Ray, skip: Any = None) -> Iterator[tuple[int, Any]]:
@@ -292,10 +293,13 @@ def culled(idx: Index, ray: Ray, skip: Any = None) -> Iterator[tuple[int, Any]]:
     ``skip(unit)``: leave a unit out."""
     dd = None
     everyone = slice(None)
-    for unit, ball in zip(idx.direct, idx.ball, strict=True):
+    if not idx.direct:
+        return
+    wide = _wide(idx, ray)
+    for unit, ball, whole in zip(idx.direct, idx.ball, wide, strict=True):
         if skip is not None and skip(unit):
             continue
-        if _wide(ball, ray):
+        if whole:
             yield unit, everyone
             continue
         if dd is None:
