@@ -83,7 +83,8 @@ def sphere(ox: Any, oy: Any, oz: Any, dx: Any, dy: Any, dz: Any) -> list[Any]:
     discriminant -= 4 * a * c
     meet = discriminant >= 0
     if 2 * np.count_nonzero(meet) > meet.size:
-        root = np.sqrt(discriminant)  # NaN where negative, set to inf below
+        with np.errstate(invalid="ignore"):  # NaN where negative, set to inf below
+            root = np.sqrt(discriminant)
         twice = a
         twice *= 2
         t1 = np.negative(b)

@@ -32,6 +32,7 @@ from variants.wavefront.scene import (
     CONE,
     CYLINDER,
     SMOOTH,
+    SPHERE,
     TORUS,
     TRIANGLE,
     Bunch,
@@ -51,6 +52,7 @@ WIDE_MIN = 4096  # a smaller batch culls with every ball (the sample would cost 
 WIDE = 0.75  # the share of the sample near a ball above which the ball is not used
 
 Ray = tuple[Any, Any, Any, Any, Any, Any]
+Three = tuple[Any, Any, Any]
 
 
 @dataclass
@@ -63,6 +65,7 @@ class Index:
     direct: list[int]
     ball: list[tuple[float, float, float, float]]
     hierarchy: Hierarchy | None
+    solid: list[bool]  # per direct unit: a sphere, which holds every point between its hits
 
 
 def index(scene: Scene) -> Index:
@@ -80,7 +83,11 @@ def index(scene: Scene) -> Index:
         # generous: the ball only decides which rays get the exact test
         r = r * 1.0001 + 1e-6 * (1 + abs(x) + abs(y) + abs(z))
         balls.append((x, y, z, r * r))
-    return Index(scene, direct.tolist(), balls, hierarchy)
+    solid = [
+        bool(scene.unit_prim[unit] >= 0 and scene.kind[scene.unit_prim[unit]] == SPHERE)
+        for unit in direct.tolist()
+    ]
+    return Index(scene, direct.tolist(), balls, hierarchy, solid)
 
 
 # ------------------------------------------------------------------ one unit, or pairs
@@ -287,17 +294,28 @@ def _wide(idx: Index, ray: Ray) -> list[bool]:
     return wide
 
 
-def culled(idx: Index, ray: Ray, skip: Any = None) -> Iterator[tuple[int, Any]]:
+def culled(
+    idx: Index, ray: Ray, skip: Any = None, inside: Three | None = None
+) -> Iterator[tuple[int, Any]]:
     """(unit, rows) for every direct unit (in world order) that some ray may meet: the
     rays that come near its ball (all, a slice, for an unbounded or a wide one, ``_wide``).
-    ``skip(unit)``: leave a unit out."""
+    ``skip(unit)``: leave a unit out. ``inside``: a point per ray; a solid unit (a sphere)
+    is asked only of the rays whose point lies in its ball (a sphere can hold a point
+    between its intersections only then)."""
     dd = None
     everyone = slice(None)
     if not idx.direct:
         return
-    wide = _wide(idx, ray)
-    for unit, ball, whole in zip(idx.direct, idx.ball, wide, strict=True):
+    wide = _wide(idx, ray) if inside is None else [ball[3] == INF for ball in idx.ball]
+    for unit, ball, whole, solid in zip(idx.direct, idx.ball, wide, idx.solid, strict=True):
         if skip is not None and skip(unit):
+            continue
+        if inside is not None and solid and not whole:
+            x, y, z, r2 = ball
+            px, py, pz = inside[0] - x, inside[1] - y, inside[2] - z
+            rows = np.flatnonzero(px * px + py * py + pz * pz <= r2)
+            if len(rows):
+                yield unit, rows
             continue
         if whole:
             yield unit, everyone
@@ -309,11 +327,14 @@ def culled(idx: Index, ray: Ray, skip: Any = None) -> Iterator[tuple[int, Any]]:
             yield unit, rows
 
 
-def direct_lists(idx: Index, ray: Ray, eps: float, skip: Any = None) -> Iterator[tuple[Any, Lists]]:
+def direct_lists(
+    idx: Index, ray: Ray, eps: float, skip: Any = None, inside: Three | None = None
+) -> Iterator[tuple[Any, Lists]]:
     """(rows, lists) for every direct unit (in world order): the rays that may meet it
-    (all: a slice) and their intersections with it. ``skip(unit)``: leave a unit out."""
+    (all: a slice) and their intersections with it. ``skip(unit)``: leave a unit out;
+    ``inside``: see ``culled``."""
     scene = idx.scene
-    for unit, rows in culled(idx, ray, skip):
+    for unit, rows in culled(idx, ray, skip, inside):
         yield rows, unit_lists(scene, unit, ray if isinstance(rows, slice) else sub(ray, rows), eps)
 
 
