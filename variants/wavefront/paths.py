@@ -206,7 +206,8 @@ def _scatter(march: March, paths: Paths, hit: Nearest, hits: Hits, bounce: int) 
     return Paths(ray, _pick(weight, go), paths.pixel[go], paths.key[go])
 
 
-def _put(arrays: Three, rows: Any, values: Three) -> None:
+def _put(arrays: tuple[np.ndarray, ...], rows: Any, values: Three) -> None:
+    """Write ``values`` into the rows ``rows`` of three arrays."""
     for c in range(3):
         arrays[c][rows] = values[c]
 
