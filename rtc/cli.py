@@ -180,6 +180,17 @@ def check_output(text: str) -> Path:
     return output
 
 
+SWITCH = {"on": True, "off": False}  # --light-sampling's words
+
+
+def add_light_sampling(parser: argparse.ArgumentParser, help: str) -> None:
+    """``--light-sampling on|off`` (``RenderSettings.light_sampling``; None when not given),
+    as ``rtc render``, ``rtc bench`` and ``rtc profile`` take it."""
+    parser.add_argument(
+        "--light-sampling", dest="light_sampling", choices=tuple(SWITCH), help=help
+    )
+
+
 def parse_size(text: str) -> tuple[int, int]:
     """``--size``'s ``"200x100"`` -> (200, 100); anything else is a ``UserError``."""
     # deferred: groundwork.sizes brings the book's canvas, which rtc --help does without

@@ -25,7 +25,9 @@ from harness.scenery.presets import resolve_scene
 from harness.sections import DEFAULTS, NAMES, QUICK_DEFAULTS, help_text, measuring, measuring_order
 from raytracer.camera import INTEGRATORS, WHITTED
 from rtc.cli import (
+    SWITCH,
     UserError,
+    add_light_sampling,
     add_results_dir,
     cannot_write,
     check_memory,
@@ -95,6 +97,12 @@ def _what_to_render(parser: argparse.ArgumentParser) -> None:
         "integrator is listed as unavailable with its reason (the convergence section and the "
         "path preset always path-trace)",
     )  # fmt: skip
+    add_light_sampling(
+        parser,
+        "path tracing: on (the default) aims a shadow ray at every light from each diffuse "
+        "hit; off finds an area light only where a path crosses it (as rtc render takes it; "
+        "the convergence section measures both where a scene has an area light)",
+    )
     parser.add_argument(
         "--epsilon", type=float, default=None, metavar="E",
         help="the over/under-point offset (default: the book's 0.0001; the Go renderer the "
@@ -262,6 +270,7 @@ def settings_from(args: argparse.Namespace) -> BenchSettings:
         sweep_on=_sweep_on(args.sweep_on, sections),
         again=args.again,
         integrator=args.integrator,
+        light_sampling=SWITCH[args.light_sampling or "on"],
         variants_asked=",".join(split_names(args.variants)),
     )
 

@@ -14,7 +14,15 @@ from groundwork.sizes import Size
 from harness.engine.plan import refusal
 from harness.scenery.make_meshes import provide
 from raytracer.camera import INTEGRATORS, WHITTED
-from rtc.cli import UserError, check_memory, check_target, parse_size, say
+from rtc.cli import (
+    SWITCH,
+    UserError,
+    add_light_sampling,
+    check_memory,
+    check_target,
+    parse_size,
+    say,
+)
 from scene import SceneError, load_scene
 from variants.registry import load_variant
 
@@ -43,6 +51,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--integrator", default=WHITTED, choices=INTEGRATORS,
         help="whitted (the book's, the default) or path (Monte Carlo path tracing)",
     )  # fmt: skip
+    add_light_sampling(
+        parser,
+        "path tracing: on (the default) aims a shadow ray at every light from each diffuse "
+        "hit; off finds an area light only where a path crosses it (as rtc render takes it)",
+    )
     parser.add_argument(
         "--top", type=int, default=15, metavar="N",
         help="functions in each table (default: 15)",
@@ -80,13 +93,19 @@ def _per_pixel(variant: str, args: argparse.Namespace) -> float | None:
     from harness.engine.child import Renderer
 
     job = {"variant": variant, "scene": {"name": args.scene.stem, "path": str(args.scene)},
-           "depth": 5, "seed": 0, "integrator": args.integrator}  # fmt: skip
+           "depth": 5, "seed": 0, "integrator": args.integrator,
+           "light_sampling": _light_sampling(args)}  # fmt: skip
     try:
         renderer = Renderer(job)
         renderer.render(PROBE, args.spp)
         return renderer.timed(PROBE, args.spp).wall / PROBE.pixels
     except Exception:  # only a default size: the profile's own render reports the error
         return None
+
+
+def _light_sampling(args: argparse.Namespace) -> bool:
+    """``--light-sampling``: True unless off."""
+    return SWITCH[args.light_sampling or "on"]
 
 
 def run(args: argparse.Namespace) -> int:
@@ -122,7 +141,8 @@ def run(args: argparse.Namespace) -> int:
     request = Request(
         variant=variant.name, scene=args.scene.resolve(), size=size, folder=folder,
         stem=f"profile-{slug(args.scene.stem)}-{slug(variant.name)}", samples=args.spp,
-        integrator=args.integrator, top=args.top, flame=not args.no_flame,
+        integrator=args.integrator, light_sampling=_light_sampling(args), top=args.top,
+        flame=not args.no_flame,
         compiled=is_compiled(variant),
     )  # fmt: skip
     for suffix in OUTPUTS:  # never written through a link, nor into a pipe (it would block)
@@ -131,7 +151,7 @@ def run(args: argparse.Namespace) -> int:
     print(
         f"profiling {args.scene} at {size} with {variant.name} ({args.spp} sample"
         f"{'s' if args.spp > 1 else ''} per pixel, depth {request.depth}, the {args.integrator} "
-        "integrator)",
+        f"integrator{'' if request.light_sampling else ', light sampling off'})",
         flush=True,
     )
 

@@ -15,7 +15,15 @@ from groundwork.images import canvas_problem, write_image
 from groundwork.progress import MODES, Progress, compile_ticker, duration
 from harness.scenery.make_meshes import provide
 from raytracer.camera import INTEGRATORS, PATH, RenderSettings
-from rtc.cli import UserError, check_memory, check_output, parse_size, say
+from rtc.cli import (
+    SWITCH,
+    UserError,
+    add_light_sampling,
+    check_memory,
+    check_output,
+    parse_size,
+    say,
+)
 from scene import SceneError, load_scene
 from variants.registry import (
     RenderError,
@@ -46,7 +54,13 @@ SETTING_FLAGS = {
     "integrator": "--integrator", "depth": "--depth", "samples": "--samples", "seed": "--seed",
     "roulette": "--roulette", "epsilon": "--epsilon", "light_sampling": "--light-sampling",
 }  # fmt: skip
-SWITCH = {"on": True, "off": False}  # --light-sampling's words
+
+
+LIGHT_SAMPLING_HELP = (
+    "path tracing: on (the default) aims a shadow ray at every light from each diffuse hit; "
+    "off finds an area light only where a path crosses it (the same picture, noisier; point "
+    "lights are sampled either way; docs/scene-format.md)"
+)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -85,12 +99,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="path tracing: Russian roulette ends paths at random from bounce N on, "
         "keeping the picture unbiased (default: the scene file's, else 0: off)",
     )  # fmt: skip
-    parser.add_argument(
-        "--light-sampling", dest="light_sampling", choices=tuple(SWITCH),
-        help="path tracing: on (the default) aims a shadow ray at every light from each "
-        "diffuse hit; off finds an area light only where a path crosses it (the same "
-        "picture, noisier; point lights are sampled either way; docs/scene-format.md)",
-    )  # fmt: skip
+    add_light_sampling(parser, LIGHT_SAMPLING_HELP)
     parser.add_argument(
         "--epsilon", type=float, default=None, metavar="E",
         help="the offset for over_point/under_point (default: the book's 0.0001; "

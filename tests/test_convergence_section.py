@@ -18,6 +18,7 @@ from harness.document.model import Bullets
 from harness.document.runinfo import REPORT_DIR
 from harness.engine import figures
 from harness.engine.bench import run_bench
+from harness.engine.child import Renderer
 from harness.engine.plan import QUICK, BenchSettings, refusal
 from harness.engine.results import load_run
 from harness.report.build import build_report
@@ -27,9 +28,11 @@ from harness.sections.convergence import report as convergence_report
 from harness.sections.convergence.fit import power_law, time_to
 from harness.sections.convergence.measure import is_compiled
 from harness.sections.convergence.report import headline
+from harness.sections.profile import jobs as profile_jobs
+from harness.sections.profile.profiler import Request
 from raytracer.camera import PATH, WHITTED, RenderSettings
 from raytracer.tracer import Tracer
-from rtc import cmd_bench
+from rtc import cmd_bench, cmd_profile
 from rtc.cli import main
 from variants.integrators import whitted_only
 from variants.registry import load_variant, tracer_variant
@@ -149,6 +152,42 @@ def test_an_unknown_integrator_is_a_one_line_error(command: str, capsys, tmp_pat
         main(args)
     err = capsys.readouterr().err
     assert stopped.value.code == 2 and "--integrator" in err and "photon" in err
+
+
+@pytest.mark.parametrize("command", ["bench", "profile"])
+def test_a_bad_light_sampling_word_is_a_one_line_error(command: str, capsys, tmp_path) -> None:
+    args = [command, "--light-sampling", "maybe"]
+    args += (
+        ["--results-dir", str(tmp_path)] if command == "bench" else ["x.yml", "--variant", "naive"]
+    )
+    with pytest.raises(SystemExit) as stopped:
+        main(args)
+    err = capsys.readouterr().err
+    assert stopped.value.code == 2 and "--light-sampling" in err and "maybe" in err
+
+
+def test_bench_light_sampling_off_reaches_every_jobs_render_settings(tmp_path) -> None:
+    parser = argparse.ArgumentParser()
+    cmd_bench.add_arguments(parser)
+    base = ["--integrator", "path", "--variants", "naive", "--results-dir", str(tmp_path)]
+    assert cmd_bench.settings_from(parser.parse_args(base)).light_sampling is True
+    settings = cmd_bench.settings_from(parser.parse_args([*base, "--light-sampling", "off"]))
+    assert settings.light_sampling is False
+    job = {"variant": "naive", "scene": settings.scene.as_dict(), "depth": 5, "seed": 0,
+           "integrator": PATH, "light_sampling": settings.light_sampling}  # fmt: skip
+    assert Renderer(job).settings(1).light_sampling is False
+
+
+def test_profile_light_sampling_off_reaches_the_profiled_render(tmp_path) -> None:
+    parser = argparse.ArgumentParser()
+    cmd_profile.add_arguments(parser)
+    args = parser.parse_args(["x.yml", "--variant", "naive", "--light-sampling", "off"])
+    assert cmd_profile._light_sampling(args) is False
+    assert cmd_profile._light_sampling(parser.parse_args(["x.yml", "--variant", "naive"]))
+    request = Request(variant="naive", scene=tmp_path / "x.yml", size=Size(4, 3),
+                      folder=tmp_path, stem="p", integrator=PATH, light_sampling=False)  # fmt: skip
+    settings = profile_jobs._settings({**request.job("stages"), "samples": 2})
+    assert settings.integrator == PATH and settings.light_sampling is False
 
 
 def test_bench_integrator_path_lists_a_refusing_variant_as_unavailable(tmp_path) -> None:

@@ -190,6 +190,7 @@ class Bench:
             "epsilon": self.settings.epsilon,
             "threads": self.settings.threads,
             "integrator": self.settings.integrator,
+            "light_sampling": self.settings.light_sampling,
             "tasks": tasks,
         }
         unknown = set(settings) - {"seed", "integrator", "light_sampling"}

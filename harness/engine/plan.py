@@ -108,7 +108,9 @@ class BenchSettings:
     configurations run on (``harness.engine.cluster_jobs``; None: here, one after the other); again:
     how many times a busy row is timed again (``Bench.measure_row``); integrator: the renders'
     (``RenderSettings.integrator``: ``--integrator``; the convergence section and the path
-    preset path-trace whatever it is); variants_asked: ``--variants`` as given ("all": a whole
+    preset path-trace whatever it is); light_sampling: the path integrator's
+    (``--light-sampling``; the convergence section measures both where it matters);
+    variants_asked: ``--variants`` as given ("all": a whole
     run; any other: a partial run, which the report adds and never shows in a fuller run's
     place, ``harness.report.choice``).
     """
@@ -135,6 +137,7 @@ class BenchSettings:
     sweep_on: str | None = None
     again: int = AGAIN
     integrator: str = WHITTED
+    light_sampling: bool = True
     variants_asked: str = "all"
 
     def as_dict(self) -> dict[str, Any]:

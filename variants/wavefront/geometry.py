@@ -67,20 +67,44 @@ def _none_where(t: Any, miss: Any) -> Any:
 
 
 def sphere(ox: Any, oy: Any, oz: Any, dx: Any, dy: Any, dz: Any) -> list[Any]:
-    """Chapter 5: the unit sphere (object space). The roots are computed only for the rays
-    whose discriminant is not negative."""
-    a = dx * dx + dy * dy + dz * dz
-    b = 2 * (dx * ox + dy * oy + dz * oz)
+    """Chapter 5: the unit sphere (object space). The roots are computed for every ray when
+    most rays meet it (then set to inf where the discriminant is negative), else only for
+    those that do; either way each value is the reference's arithmetic in its order, summed
+    in place to spare temporaries."""
+    a = dx * dx
+    a += dy * dy
+    a += dz * dz
+    b = dx * ox
+    b += dy * oy
+    b += dz * oz
+    b *= 2
     c = ox * ox + oy * oy + oz * oz - 1
-    discriminant = b * b - 4 * a * c
-    meet = np.flatnonzero(discriminant >= 0)
+    discriminant = b * b
+    discriminant -= 4 * a * c
+    meet = discriminant >= 0
+    if 2 * np.count_nonzero(meet) > meet.size:
+        with np.errstate(invalid="ignore"):  # NaN where negative, set to inf below
+            root = np.sqrt(discriminant)
+        twice = a
+        twice *= 2
+        t1 = np.negative(b)
+        t1 -= root
+        t1 /= twice
+        t2 = np.negative(b, out=b)
+        t2 += root
+        t2 /= twice
+        miss = ~meet
+        t1[miss] = INF
+        t2[miss] = INF
+        return [t1, t2]
+    rows = np.flatnonzero(meet)
     t1 = np.full(discriminant.shape, INF, dtype=discriminant.dtype)
     t2 = t1.copy()
-    if len(meet):
-        b, root = b[meet], np.sqrt(discriminant[meet])
-        twice = 2 * a[meet]
-        t1[meet] = (-b - root) / twice
-        t2[meet] = (-b + root) / twice
+    if len(rows):
+        b, root = b[rows], np.sqrt(discriminant[rows])
+        twice = 2 * a[rows]
+        t1[rows] = (-b - root) / twice
+        t2[rows] = (-b + root) / twice
     return [t1, t2]
 
 

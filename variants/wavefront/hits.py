@@ -32,6 +32,7 @@ from variants.wavefront.scene import (
     CONE,
     CYLINDER,
     SMOOTH,
+    SPHERE,
     TORUS,
     TRIANGLE,
     Bunch,
@@ -46,8 +47,12 @@ INF = np.inf
 DIRECT_MAX = 16  # a world with this many bounded units or fewer gets no hierarchy
 FEW_PRIMS = 16  # pairs concerning this many primitives or fewer are tested one at a time
 NO_PRIM = np.iinfo(np.int64).max
+SAMPLE = 64  # rays sampled to judge whether a unit's ball culls anything
+WIDE_MIN = 4096  # a smaller batch culls with every ball (the sample would cost more)
+WIDE = 0.75  # the share of the sample near a ball above which the ball is not used
 
 Ray = tuple[Any, Any, Any, Any, Any, Any]
+Three = tuple[Any, Any, Any]
 
 
 @dataclass
@@ -60,6 +65,7 @@ class Index:
     direct: list[int]
     ball: list[tuple[float, float, float, float]]
     hierarchy: Hierarchy | None
+    solid: list[bool]  # per direct unit: a sphere, which holds every point between its hits
 
 
 def index(scene: Scene) -> Index:
@@ -77,7 +83,11 @@ def index(scene: Scene) -> Index:
         # generous: the ball only decides which rays get the exact test
         r = r * 1.0001 + 1e-6 * (1 + abs(x) + abs(y) + abs(z))
         balls.append((x, y, z, r * r))
-    return Index(scene, direct.tolist(), balls, hierarchy)
+    solid = [
+        bool(scene.unit_prim[unit] >= 0 and scene.kind[scene.unit_prim[unit]] == SPHERE)
+        for unit in direct.tolist()
+    ]
+    return Index(scene, direct.tolist(), balls, hierarchy, solid)
 
 
 # ------------------------------------------------------------------ one unit, or pairs
@@ -249,32 +259,83 @@ def unit_lists(scene: Scene, unit: int, ray: Ray, eps: float) -> Lists:
     return Lists(ts, p, u, v)
 
 
-def _near_ball(ball: tuple[float, float, float, float], ray: Ray, dd: Any) -> np.ndarray:
+def _near_ball(ball: tuple[Any, Any, Any, Any], ray: Ray, dd: Any) -> np.ndarray:
     """Which rays come within the ball (x, y, z, radius²) on their lines: the squared
-    distance from the centre to the line, |oc|² - (oc . d)² / |d|², at most radius²."""
+    distance from the centre to the line, |oc|² - (oc . d)² / |d|², at most radius²
+    (computed in place on its own temporaries: the cull's cost is its memory traffic)."""
     x, y, z, r2 = ball
     ocx, ocy, ocz = x - ray[0], y - ray[1], z - ray[2]
-    tca = ocx * ray[3] + ocy * ray[4] + ocz * ray[5]
-    return tca * tca >= (ocx * ocx + ocy * ocy + ocz * ocz - r2) * dd
+    tca = ocx * ray[3]
+    tca += ocy * ray[4]
+    tca += ocz * ray[5]
+    tca *= tca
+    ocx *= ocx  # the origins' own arrays are never these: x - origin made them
+    ocy *= ocy
+    ocz *= ocz
+    ocx += ocy
+    ocx += ocz
+    ocx -= r2
+    return np.asarray(tca >= ocx * dd)
 
 
-def direct_lists(idx: Index, ray: Ray, eps: float, skip: Any = None) -> Iterator[tuple[Any, Lists]]:
-    """(rows, lists) for every direct unit (in world order): the rays that may meet it
-    (all: a slice) and their intersections with it. ``skip(unit)``: leave a unit out."""
-    scene = idx.scene
+def _wide(idx: Index, ray: Ray) -> list[bool]:
+    """For each direct unit: does nearly every ray come near its ball (``WIDE`` of a sample
+    of ``SAMPLE`` rays, all balls at once)? Then the cull costs more than it saves: the unit
+    is tested against every ray (the answers are the same: a ray the ball would cull misses
+    the unit). An unbounded unit always; none in a batch under ``WIDE_MIN`` rays."""
+    n = size(ray)
+    if n < WIDE_MIN:
+        return [ball[3] == INF for ball in idx.ball]
+    some = sub(ray, slice(None, None, n // SAMPLE))
+    dd = some[3] * some[3] + some[4] * some[4] + some[5] * some[5]
+    x, y, z, r2 = (np.array(column)[:, None] for column in zip(*idx.ball, strict=True))
+    near = _near_ball((x, y, z, r2), some, dd)
+    wide: list[bool] = (np.count_nonzero(near, axis=1) >= WIDE * near.shape[1]).tolist()
+    return wide
+
+
+def culled(
+    idx: Index, ray: Ray, skip: Any = None, inside: Three | None = None
+) -> Iterator[tuple[int, Any]]:
+    """(unit, rows) for every direct unit (in world order) that some ray may meet: the
+    rays that come near its ball (all, a slice, for an unbounded or a wide one, ``_wide``).
+    ``skip(unit)``: leave a unit out. ``inside``: a point per ray; a solid unit (a sphere)
+    is asked only of the rays whose point lies in its ball (a sphere can hold a point
+    between its intersections only then)."""
     dd = None
     everyone = slice(None)
-    for unit, ball in zip(idx.direct, idx.ball, strict=True):
+    if not idx.direct:
+        return
+    wide = _wide(idx, ray) if inside is None else [ball[3] == INF for ball in idx.ball]
+    for unit, ball, whole, solid in zip(idx.direct, idx.ball, wide, idx.solid, strict=True):
         if skip is not None and skip(unit):
             continue
-        if ball[3] == INF:
-            yield everyone, unit_lists(scene, unit, ray, eps)
+        if inside is not None and solid and not whole:
+            x, y, z, r2 = ball
+            px, py, pz = inside[0] - x, inside[1] - y, inside[2] - z
+            rows = np.flatnonzero(px * px + py * py + pz * pz <= r2)
+            if len(rows):
+                yield unit, rows
+            continue
+        if whole:
+            yield unit, everyone
             continue
         if dd is None:
             dd = ray[3] * ray[3] + ray[4] * ray[4] + ray[5] * ray[5]
         rows = np.flatnonzero(_near_ball(ball, ray, dd))
         if len(rows):
-            yield rows, unit_lists(scene, unit, sub(ray, rows), eps)
+            yield unit, rows
+
+
+def direct_lists(
+    idx: Index, ray: Ray, eps: float, skip: Any = None, inside: Three | None = None
+) -> Iterator[tuple[Any, Lists]]:
+    """(rows, lists) for every direct unit (in world order): the rays that may meet it
+    (all: a slice) and their intersections with it. ``skip(unit)``: leave a unit out;
+    ``inside``: see ``culled``."""
+    scene = idx.scene
+    for unit, rows in culled(idx, ray, skip, inside):
+        yield rows, unit_lists(scene, unit, ray if isinstance(rows, slice) else sub(ray, rows), eps)
 
 
 def pair_lists(
@@ -412,7 +473,6 @@ def blocked(idx: Index, ray: Ray, distance: np.ndarray, eps: float, cap: int) ->
     shadow = scene.shadow
     n = size(ray)
     hit = np.zeros(n, dtype=bool)
-    live = np.arange(n)
 
     def no_shadow(unit: int) -> bool:
         p = int(scene.unit_prim[unit])
@@ -421,30 +481,20 @@ def blocked(idx: Index, ray: Ray, distance: np.ndarray, eps: float, cap: int) ->
         tree = scene.trees[int(scene.unit_tree[unit])]
         return not shadow[tree.lo : tree.hi].any()
 
-    dd = None
-    for unit, ball in zip(idx.direct, idx.ball, strict=True):
-        if no_shadow(unit):
-            continue
-        rows: Any = slice(None)
-        if ball[3] < INF:
-            if dd is None:
-                dd = ray[3] * ray[3] + ray[4] * ray[4] + ray[5] * ray[5]
-            rows = np.flatnonzero(_near_ball(ball, ray, dd))
+    for unit, rows in culled(idx, ray, no_shadow):
+        if hit.any():  # a ray found blocked is tested no further
+            rows = np.flatnonzero(~hit) if isinstance(rows, slice) else rows[~hit[rows]]
             if not len(rows):
                 continue
-        lists = unit_lists(scene, unit, sub(ray, rows), eps)
-        found = lists.within(distance[rows], shadow)
-        found_rows = np.flatnonzero(found) if isinstance(rows, slice) else rows[found]
-        if len(found_rows):
-            hit[live[found_rows]] = True
-            lit = np.ones(len(live), dtype=bool)
-            lit[found_rows] = False
-            live, distance = live[lit], distance[lit]
-            ray = sub(ray, lit)
-            dd = None if dd is None else dd[lit]
-            if not len(live):
-                return hit
+        whole = isinstance(rows, slice)
+        lists = unit_lists(scene, unit, ray if whole else sub(ray, rows), eps)
+        found = lists.within(distance if whole else distance[rows], shadow)
+        hit[np.flatnonzero(found) if whole else rows[found]] = True
+        if hit.all():
+            return hit
     if idx.hierarchy is not None:
+        live = np.flatnonzero(~hit)
+        ray, distance = sub(ray, live), distance[live]
         limit = distance.copy()
         for rays, units in idx.hierarchy.pairs(
             ray[:3], inverse_direction(ray), limit, pair_cap(cap)

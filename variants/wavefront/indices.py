@@ -79,7 +79,9 @@ def _by_units(idx: Index, ray: Ray, hit: Nearest, eps: float, found: Containers)
     how many of its intersections come before the hit, and the latest of them."""
     n = len(hit.t)
     everyone = np.arange(n)
-    for rows, lists in direct_lists(idx, ray, eps):
+    # a sphere is a container only where it holds the hit point: its ball culls by it
+    point = (ray[0] + ray[3] * hit.t, ray[1] + ray[4] * hit.t, ray[2] + ray[5] * hit.t)
+    for rows, lists in direct_lists(idx, ray, eps, inside=point):
         r = everyone[rows]
         t, prim, _, _ = lists.table()
         slot = np.broadcast_to(np.arange(t.shape[1]), t.shape)

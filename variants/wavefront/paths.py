@@ -125,7 +125,7 @@ def bounce_paths(march: March, paths: Paths, bounce: int) -> Paths | None:
         if not len(live):
             return None
         if len(live) < len(paths.key):
-            paths, hit, hits = paths.take(live), hit.take(live), take_hits(hits, live)
+            paths, hit, hits = paths.take(live), hit.take(live), hits.take(live)
     return _scatter(march, paths, hit, hits, bounce)
 
 
@@ -148,19 +148,11 @@ def _roulette(paths: Paths, bounce: int) -> np.ndarray:
     return np.flatnonzero(survive)
 
 
-def take_hits(hits: Hits, rows: Any) -> Hits:
-    """The hits ``rows``."""
-    return Hits(
-        hits.prim[rows], hits.mat[rows], _pick(hits.point, rows), _pick(hits.eyev, rows),
-        _pick(hits.normal, rows), _pick(hits.over, rows), _pick(hits.under, rows),
-        _pick(hits.reflectv, rows),
-    )  # fmt: skip
-
-
 def _scatter(march: March, paths: Paths, hit: Nearest, hits: Hits, bounce: int) -> Paths | None:
     """``raytracer.path.scatter`` for every path (lobes as in ``raytracer.scatter``), then
     the lights at the diffuse hits; the paths that go on, with their new rays and weights
-    (the mirror's ray and a white weight unless the lobe says otherwise)."""
+    (the mirror's ray and a white weight unless the lobe says otherwise). When every path
+    goes on (the usual case), its arrays are the next bounce's as they are, not copies."""
     scene = march.idx.scene
     r, t = scene.reflective[hits.mat], scene.transparency[hits.mat]
     s = r + t
@@ -177,22 +169,17 @@ def _scatter(march: March, paths: Paths, hit: Nearest, hits: Hits, bounce: int) 
     go = np.flatnonzero(alive)
     if not len(go):
         return None
-    place = np.cumsum(alive) - 1  # each row's place among the paths that go on
-    origin, direction = _pick(hits.over, go), _pick(hits.reflectv, go)
-    rows = np.flatnonzero(glass & alive)
-    if len(rows):
-        through, bent = _refract(march, paths, hit, hits, bounce, rows)
-        for c in range(3):
-            origin[c][place[through]] = hits.under[c][through]
-            direction[c][place[through]] = bent[c]
+    everyone = len(go) == len(alive)
+    place = None if everyone else np.cumsum(alive) - 1  # each row's place among those going on
+    direction = tuple(np.empty(len(go), dtype=hits.over[0].dtype) for _ in range(3))
+    mirrored = alive & ~diffuse  # the mirror's ray, unless the glass refracts
     shine = lambert[alive[lambert]]
     if len(shine):
         keys = paths.key[shine]
         normal = _pick(hits.normal, shine)
         turned = cosine_directions(normal, path_numbers(keys, bounce, DIRECTION),
                                    path_numbers(keys, bounce, DIRECTION + 1))  # fmt: skip
-        for c in range(3):
-            direction[c][place[shine]] = turned[c]
+        _put(direction, shine if place is None else place[shine], turned)
         if len(scene.light_pos):
             over, lit = _pick(hits.over, shine), _pick(weight, shine)
             sampling = march.settings.light_sampling
@@ -200,8 +187,29 @@ def _scatter(march: March, paths: Paths, hit: Nearest, hits: Hits, bounce: int) 
                       direct_light(march, over, normal, lit, keys, bounce, sampling))  # fmt: skip
             if not sampling:
                 march.add(paths.pixel[shine], crossed_lights(march, over, turned, lit))
+    origin = hits.over if everyone else _pick(hits.over, go)
+    rows = np.flatnonzero(glass & alive)
+    if len(rows):
+        through, bent = _refract(march, paths, hit, hits, bounce, rows)
+        if len(through):
+            at = through if place is None else place[through]
+            origin = tuple(c.copy() if everyone else c for c in origin)  # not the hits' own
+            _put(origin, at, hits.under_at(through))
+            _put(direction, at, bent)
+            mirrored[through] = False
+    rows = np.flatnonzero(mirrored)
+    if len(rows):
+        _put(direction, rows if place is None else place[rows], hits.reflect_at(rows))
     ray = (*origin, *direction)
+    if everyone:
+        return Paths(ray, weight, paths.pixel, paths.key)
     return Paths(ray, _pick(weight, go), paths.pixel[go], paths.key[go])
+
+
+def _put(arrays: tuple[np.ndarray, ...], rows: Any, values: Three) -> None:
+    """Write ``values`` into the rows ``rows`` of three arrays."""
+    for c in range(3):
+        arrays[c][rows] = values[c]
 
 
 def _where(mask: np.ndarray, a: Three, b: Three) -> Three:

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -33,7 +34,9 @@ Three = tuple[Any, Any, Any]
 
 @dataclass
 class Hits:
-    """Chapter 7's ``Computations`` for many hits: the prepared state of each."""
+    """Chapter 7's ``Computations`` for many hits: the prepared state of each; ``under``
+    and ``reflectv`` are computed when first asked for (``under_at`` and ``reflect_at``:
+    for some rows only, as the path integrator needs them)."""
 
     prim: np.ndarray
     mat: np.ndarray
@@ -41,8 +44,41 @@ class Hits:
     eyev: Three
     normal: Three
     over: Three
-    under: Three
-    reflectv: Three
+    eps: float
+
+    def take(self, rows: Any) -> Hits:
+        """The hits ``rows``."""
+        return Hits(
+            self.prim[rows], self.mat[rows], _pick(self.point, rows), _pick(self.eyev, rows),
+            _pick(self.normal, rows), _pick(self.over, rows), self.eps,
+        )  # fmt: skip
+
+    @cached_property
+    def under(self) -> Three:
+        return self.under_at(slice(None))
+
+    @cached_property
+    def reflectv(self) -> Three:
+        return self.reflect_at(slice(None))
+
+    def under_at(self, rows: Any) -> Three:
+        """Chapter 11's under points of the hits ``rows``."""
+        (px, py, pz), (nx, ny, nz) = _pick(self.point, rows), _pick(self.normal, rows)
+        eps = self.eps
+        return px - nx * eps, py - ny * eps, pz - nz * eps
+
+    def reflect_at(self, rows: Any) -> Three:
+        """Chapter 11's reflected vectors of the hits ``rows``: the ray's direction (minus
+        the eye vector, exactly) reflected about the normal."""
+        ex, ey, ez = _pick(self.eyev, rows)
+        dx, dy, dz = -ex, -ey, -ez
+        nx, ny, nz = _pick(self.normal, rows)
+        twice = dx * nx + dy * ny + dz * nz
+        return dx - nx * 2 * twice, dy - ny * 2 * twice, dz - nz * 2 * twice
+
+
+def _pick(arrays: Three, rows: Any) -> Three:
+    return arrays[0][rows], arrays[1][rows], arrays[2][rows]
 
 
 def _dot(a: Three, b: Three) -> Any:
@@ -51,7 +87,8 @@ def _dot(a: Three, b: Three) -> Any:
 
 def prepare(scene: Scene, origin: Three, direction: Three, hit: Nearest, eps: float) -> Hits:
     """Chapters 7, 8, 11 (``prepare_computations`` but n1 and n2): the point, eye and
-    normal vectors (the normal flipped towards the eye), over/under points, reflectv."""
+    normal vectors (the normal flipped towards the eye), the over points (the under points
+    and reflectv when asked for: ``Hits``)."""
     t = hit.t
     point = (
         origin[0] + direction[0] * t,
@@ -61,13 +98,11 @@ def prepare(scene: Scene, origin: Three, direction: Three, hit: Nearest, eps: fl
     eyev = (-direction[0], -direction[1], -direction[2])
     normal = _normals(scene, hit, point, eps)
     inside = _dot(normal, eyev) < 0
-    normal = tuple(np.where(inside, -c, c) for c in normal)
-    nudge = tuple(c * eps for c in normal)
-    over = (point[0] + nudge[0], point[1] + nudge[1], point[2] + nudge[2])
-    under = (point[0] - nudge[0], point[1] - nudge[1], point[2] - nudge[2])
-    twice = _dot(direction, normal)
-    reflectv = tuple(d - n * 2 * twice for d, n in zip(direction, normal, strict=True))
-    return Hits(hit.prim, scene.mat[hit.prim], point, eyev, normal, over, under, reflectv)
+    for c in normal:  # the normals' own arrays: flipped in place
+        np.negative(c, out=c, where=inside)
+    (px, py, pz), (nx, ny, nz) = point, normal
+    over = (px + nx * eps, py + ny * eps, pz + nz * eps)
+    return Hits(hit.prim, scene.mat[hit.prim], point, eyev, normal, over, eps)
 
 
 def _groups(

@@ -86,8 +86,8 @@ def _job(
     settings: dict[str, Any] = {"integrator": PATH}
     if seed is not None:
         settings["seed"] = seed
-    if extra.get("light_sampling") == "off":
-        settings["light_sampling"] = False
+    # both ways, whatever the run's --light-sampling
+    settings["light_sampling"] = extra.get("light_sampling") != "off"
     what = " (converged picture)" if seed else label({"name": "", **extra})
     bench.log(f"{SECTION}: {scene.name}: {name}{what}")
     if bench.watch is not None:

@@ -34,6 +34,7 @@ def _settings(job: Mapping[str, Any]) -> Any:
     return RenderSettings(
         depth=job["depth"], samples=job["samples"], seed=job["seed"],
         integrator=job.get("integrator", WHITTED),
+        light_sampling=bool(job.get("light_sampling", True)),
     )  # fmt: skip
 
 

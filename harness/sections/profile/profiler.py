@@ -103,7 +103,8 @@ def py_spy() -> str | None:
 @dataclass(frozen=True)
 class Request:
     """One profile: ``variant`` (a canonical name), ``scene`` (a scene file) at ``size``;
-    samples, depth, seed, integrator: the render's settings; top: functions per table; folder: where
+    samples, depth, seed, integrator, light_sampling: the render's settings; top: functions
+    per table; folder: where
     the flame graph (``STEM.svg``), the cProfile statistics (``STEM.pstats``) and the
     picture (``STEM.png``) go; flame: whether to sample the flame graph; threads: CPUs for
     a numba render (None: all); flame_seconds: how much rendering the flame graph samples
@@ -118,6 +119,7 @@ class Request:
     depth: int = 5
     seed: int = 0
     integrator: str = WHITTED
+    light_sampling: bool = True
     top: int = 15
     flame: bool = True
     compiled: bool = False
@@ -129,7 +131,7 @@ class Request:
             "kind": kind, "variant": self.variant, "scene": str(self.scene),
             "size": [self.size.width, self.size.height], "samples": self.samples,
             "depth": self.depth, "seed": self.seed, "integrator": self.integrator,
-            "top": self.top,
+            "light_sampling": self.light_sampling, "top": self.top,
             "image": str(self.folder / f"{self.stem}.png"),
             "pstats": str(self.folder / f"{self.stem}.pstats"),
             "flame_seconds": self.flame_seconds if self.flame else 0.0,
