@@ -194,11 +194,10 @@ def test_float64_draws_what_naive_draws(picture: str, once_per_run: OncePerRun) 
 
 
 @pytest.mark.parametrize("name", ["numba[float32]", "numba[fastmath]", "numba[threads=1]"])
-def test_options_stay_close_to_naive(
-    name: str, once_per_run: OncePerRun, request: pytest.FixtureRequest
-) -> None:
-    if name == "numba[fastmath]":  # a kernel for this scene: no other test needs the generic
-        request.getfixturevalue("specialized_kernels")  # fast-math kernel (minutes to compile)
+def test_options_stay_close_to_naive(name: str, once_per_run: OncePerRun) -> None:
+    """Each option's render of the reference scene, through the gate's generic kernel of its
+    precision (``test_differential.py`` renders random worlds with the same fast-math and
+    float32 kernels, so the run builds each once; ``--thorough`` specializes them)."""
     worst, _, beyond, pixels = _compare(name, "reference-16x12", once_per_run)
     assert beyond <= APPROXIMATE_SHARE * pixels, f"{beyond} of {pixels} pixels beyond 1/255"
     assert worst <= 0.5
@@ -467,7 +466,11 @@ def test_no_numba_allocation_per_pixel() -> None:
 # ------------------------------------------------------------------------ rays, options
 
 
+@pytest.mark.usefixtures("specialized_kernels")
 def test_count_rays_counts_camera_shadow_and_secondary_rays() -> None:
+    """Counted by kernels of each scene's own features (a sphere and shadows; chapters 9-16),
+    as a user's count is: the generic counting kernel is a build of its own (every feature,
+    about 100 CPU s cold), and the counting code is the same in each."""
     variant = load_variant("numba")
     camera, world = default_world(variant.api)
     counts = variant.tracer.count_rays(camera, world, RenderSettings(samples=2))
