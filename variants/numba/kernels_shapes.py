@@ -22,7 +22,7 @@ from variants.numba.kernels_geometry import (
     to_object_point,
     to_object_vector,
 )
-from variants.numba.kernels_quartic import push_root, quartic_real_roots
+from variants.numba.kernels_quartic import push_root, quartic_roots
 from variants.numba.layout import (
     CLOSED,
     MAXIMUM,
@@ -387,7 +387,7 @@ def torus_intersect(pf, p, ox, oy, oz, dx, dy, dz):
     if not (math.isfinite(a) and math.isfinite(b) and math.isfinite(c) and math.isfinite(d)
             and math.isfinite(e)):  # fmt: skip
         return 0, INF, INF, INF, INF
-    n, t0, t1, t2, t3 = quartic_real_roots(a, b, c, d, e)
+    n, t0, t1, t2, t3 = quartic_roots(a, b, c, d, e)
     m, s0, s1, s2, s3 = 0, D_INF, D_INF, D_INF, D_INF
     roots = (t0, t1, t2, t3)
     for i in range(n):
