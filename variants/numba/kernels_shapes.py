@@ -361,7 +361,8 @@ def torus_missed(ox, oy, oz, dx, dy, dz, big, small):
 def torus_intersect(pf, p, ox, oy, oz, dx, dy, dz):
     """Chapter 20: the quartic's real roots (``raytracer.shapes.torus``) as ``robust`` finds
     them (``variants.robust.geometry.torus_roots``): the ray's origin moved to its closest
-    approach to the centre, the roots isolated and refined (``kernels_quartic``): (count,
+    approach to the centre, the roots by the certified closed form, else isolated and
+    refined (``kernels_quartic.quartic_roots``): (count,
     t0, t1, t2, t3), increasing, a double root (a grazing ray) twice. In float64 under the
     float32 option too (in float32 whole stretches of tube are lost)."""
     big = np.float64(pf[p * NF + TORUS_MAJOR])
