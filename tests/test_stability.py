@@ -159,7 +159,8 @@ BOOK: dict[str, Claim] = {
     "path/box-1000": PASS,
 }
 # robust's way to the torus's quartic (roots isolated between its turning points), which
-# numba and wavefront solve as robust does: every stiff case right
+# wavefront solves as robust does and numba where its closed form's proof fails (the
+# grazing and thin-hole rays): every stiff case right
 TORUS_ISOLATED: dict[str, Claim] = {case.id: PASS for case in CASES if case.group == "torus"}
 # ... but in float32 the ray's origin 1e-9 off the tube's top is the top itself (0.25 ± 1e-9
 # rounds to 0.25): the exact tangent's two double roots, where the oracle has two close

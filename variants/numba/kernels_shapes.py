@@ -22,7 +22,7 @@ from variants.numba.kernels_geometry import (
     to_object_point,
     to_object_vector,
 )
-from variants.numba.kernels_quartic import push_root, quartic_real_roots
+from variants.numba.kernels_quartic import push_root, quartic_roots
 from variants.numba.layout import (
     CLOSED,
     MAXIMUM,
@@ -361,7 +361,8 @@ def torus_missed(ox, oy, oz, dx, dy, dz, big, small):
 def torus_intersect(pf, p, ox, oy, oz, dx, dy, dz):
     """Chapter 20: the quartic's real roots (``raytracer.shapes.torus``) as ``robust`` finds
     them (``variants.robust.geometry.torus_roots``): the ray's origin moved to its closest
-    approach to the centre, the roots isolated and refined (``kernels_quartic``): (count,
+    approach to the centre, the roots by the certified closed form, else isolated and
+    refined (``kernels_quartic.quartic_roots``): (count,
     t0, t1, t2, t3), increasing, a double root (a grazing ray) twice. In float64 under the
     float32 option too (in float32 whole stretches of tube are lost)."""
     big = np.float64(pf[p * NF + TORUS_MAJOR])
@@ -387,7 +388,7 @@ def torus_intersect(pf, p, ox, oy, oz, dx, dy, dz):
     if not (math.isfinite(a) and math.isfinite(b) and math.isfinite(c) and math.isfinite(d)
             and math.isfinite(e)):  # fmt: skip
         return 0, INF, INF, INF, INF
-    n, t0, t1, t2, t3 = quartic_real_roots(a, b, c, d, e)
+    n, t0, t1, t2, t3 = quartic_roots(a, b, c, d, e)
     m, s0, s1, s2, s3 = 0, D_INF, D_INF, D_INF, D_INF
     roots = (t0, t1, t2, t3)
     for i in range(n):
