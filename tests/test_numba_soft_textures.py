@@ -390,8 +390,11 @@ def test_the_light_table_and_the_texture_records() -> None:
     assert images == 2
 
 
+@pytest.mark.usefixtures("specialized_kernels")
 def test_shadow_rays_are_counted_per_cell() -> None:
-    """A shadow ray per cell of the light at every shaded point, as naive casts them."""
+    """A shadow ray per cell of the light at every shaded point, as naive casts them (with a
+    counting kernel of the scene's features: the area light's cells are counted in the same
+    code in every kernel that has them, and no other test needs a generic counting one)."""
     settings = RenderSettings()
     counted = {}
     for name in ("naive", "numba"):
