@@ -221,6 +221,9 @@ INSIDE = """
 """
 
 
+# numba counts with a kernel of the scene's features (the path's counters are the same code in
+# every kernel that path-traces; no other test needs a generic counting kernel)
+@pytest.mark.usefixtures("specialized_kernels")
 @pytest.mark.parametrize(("name", "method"), [("naive", INSTRUMENTED), ("numba", HOOK)])
 def test_count_rays_of_a_path_traced_render_counts_camera_rays_as_mray_s_does(
     name: str, method: str
