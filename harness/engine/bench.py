@@ -542,6 +542,8 @@ class Bench:
                     name += f" {point['threads']} threads"
                 if entry["section"] == "convergence":  # a series per scene, and its truth
                     name += f" {entry['scene']} {entry.get('part') or ''}".rstrip()
+                    if entry.get("light_sampling") == "off":  # the same series both ways
+                        name += " light sampling off"
                 metadata = {
                     **common,
                     "variant": entry["name"],
