@@ -153,7 +153,7 @@ def check_output(text: str) -> Path:
     what = f"cannot write {text!r}"
     if text.endswith(("/", os.sep)):
         raise UserError(f"{what}: it names a folder (it ends with '/')")
-    # deferred: groundwork.images brings numpy and Pillow, which rtc --help does without
+    # deferred: groundwork.images brings numpy, which rtc --help does without
     from groundwork.images import FORMATS
 
     if output.suffix.lower() not in FORMATS:
