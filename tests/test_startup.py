@@ -131,3 +131,34 @@ def test_rtc_render_still_writes_a_generated_mesh_a_scene_names(
     assert (tmp_path / "meshes" / "ring-1k.obj").stat().st_size > 0
     assert not cmd_render._provide(tmp_path / "elsewhere" / "ring-1k.obj")
     assert not cmd_render._provide(tmp_path / "meshes" / "not-generated.obj")
+
+
+def test_the_command_collects_again_once_its_modules_are_loaded(tmp_path: Path) -> None:
+    """``rtc`` as the process (``main()`` reading ``sys.argv``) loads its modules with the
+    cyclic collector off, then freezes them out of its reach and turns it back on for the
+    work; a caller passing its own arguments (a test) keeps the collector as it was."""
+    scene = tmp_path / "small.yml"
+    scene.write_text(SCENE, encoding="utf-8")
+    probe = (
+        "import gc, sys\n"
+        "from rtc.cli import main\n"
+        "collector, caller, *argv = sys.argv[1:]\n"
+        "if collector == 'off':\n"
+        "    gc.disable()\n"
+        "if caller == 'process':\n"
+        "    sys.argv = ['rtc', *argv]\n"
+        "status = main() if caller == 'process' else main(argv)\n"
+        "print(status, gc.isenabled(), gc.get_freeze_count() > 0)\n"
+    )
+    argv = ["render", str(scene), "-o", str(tmp_path / "x.ppm"), "--progress", "none"]
+    answers = {}
+    for collector, caller in (("on", "process"), ("off", "argv"), ("on", "argv")):
+        done = subprocess.run(
+            [sys.executable, "-c", probe, collector, caller, *argv],
+            cwd=ROOT, capture_output=True, text=True, env={**os.environ, "PYTHONPATH": str(ROOT)},
+        )  # fmt: skip
+        assert done.returncode == 0, done.stderr
+        answers[collector, caller] = done.stdout.splitlines()[-1]
+    assert answers["on", "process"] == "0 True True"
+    assert answers["off", "argv"] == "0 False False"
+    assert answers["on", "argv"] == "0 True False"
