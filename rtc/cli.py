@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import errno
+import gc
 import importlib
 import os
 import sys
@@ -153,7 +154,7 @@ def check_output(text: str) -> Path:
     what = f"cannot write {text!r}"
     if text.endswith(("/", os.sep)):
         raise UserError(f"{what}: it names a folder (it ends with '/')")
-    # deferred: groundwork.images brings numpy and Pillow, which rtc --help does without
+    # deferred: groundwork.images brings numpy, which rtc --help does without
     from groundwork.images import FORMATS
 
     if output.suffix.lower() not in FORMATS:
@@ -252,8 +253,22 @@ def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
     return parser
 
 
+def _keep_loaded_modules_out_of_collections() -> None:
+    """After the command's modules were imported with the collector off: move every object
+    alive now (modules, classes, functions, tables: collections walking them again and again
+    took about a tenth of a quick render's startup) out of the collector's reach, and turn
+    it back on for the command's own work. Only when the process is the command: a test
+    calling ``main`` again and again would keep whatever cyclic garbage it has at each
+    call."""
+    gc.freeze()
+    gc.enable()
+
+
 def main(argv: list[str] | None = None) -> int:
+    command_line = argv is None  # the process is this command (not a test calling main)
     argv = sys.argv[1:] if argv is None else argv
+    if command_line:  # its modules live until the exit: not walked by the collector (below)
+        gc.disable()
     try:  # Ctrl-C while the command's modules are imported: one line too
         args = build_parser(argv).parse_args(argv)
         if not hasattr(args, "run"):  # the command came after an option (rtc -- render ...)
@@ -262,6 +277,9 @@ def main(argv: list[str] | None = None) -> int:
         named = f" {argv[0]}" if argv and f"rtc.cmd_{argv[0]}" in COMMANDS else ""
         print(f"rtc{named}: interrupted", file=sys.stderr)
         return 130
+    finally:
+        if command_line:
+            _keep_loaded_modules_out_of_collections()
     try:
         for problem in knobs.problems():  # numba's settings: before numba is imported
             raise UserError(problem)

@@ -13,7 +13,6 @@ from typing import Any
 
 from groundwork.images import canvas_problem, write_image
 from groundwork.progress import MODES, Progress, compile_ticker, duration
-from harness.scenery.make_meshes import provide
 from raytracer.camera import INTEGRATORS, PATH, RenderSettings
 from rtc.cli import (
     SWITCH,
@@ -253,6 +252,14 @@ def _probe(tracer: Any, camera: Any, world: Any, settings: RenderSettings) -> tu
     return traced, _clock() - start
 
 
+def _provide(path: Path) -> bool:
+    """The scene loader's maker of a missing generated mesh (``make_meshes.provide``),
+    imported only when a scene names one (most renders never do)."""
+    from harness.scenery.make_meshes import provide
+
+    return provide(path)
+
+
 def _clock() -> float:
     """The progress's clock (tests put one of their own here)."""
     return time.monotonic()
@@ -311,7 +318,7 @@ def run(args: argparse.Namespace) -> int:
     except LookupError as error:
         raise UserError(f"--variant: {error.args[0] if error.args else error}") from None
     try:
-        scene = load_scene(args.scene, variant.api, variant=variant.name, provide_mesh=provide)
+        scene = load_scene(args.scene, variant.api, variant=variant.name, provide_mesh=_provide)
         if size is not None:
             scene = scene.resized(*size)
         world = variant.world_for(scene)

@@ -1,6 +1,6 @@
 """A command starts at Python's floor: ``rtc --help`` imports no command module and no numpy,
 and ``rtc render`` imports what the scene and the variant need and nothing of the report,
-the plots, the bench, psutil or importlib.metadata's scan (issue 36, item 4).
+the plots, the bench, Pillow, psutil or importlib.metadata's scan (issue 36, item 4).
 
 Each case runs the command in a fresh interpreter and looks at ``sys.modules`` after it:
 what was imported, never how long it took (no verdict here depends on the machine)."""
@@ -29,14 +29,15 @@ RUN_AND_LIST = (
     "print('\\n' + json.dumps({'status': status, 'modules': sorted(sys.modules)}))\n"
 )
 
-# What no render imports: the report and its templates, the plots, the bench's rooms, the
-# YAML writers' users, psutil (read from /proc where there is one), importlib.metadata's scan
-# of every installed package (the project's own variants are a table), numpy.ma (np.unique's)
+# What no render imports: the bench and everything of it (its report and templates, plots,
+# rooms, instruments, the meshes it generates: a scene naming one imports their maker then),
+# Pillow (PNGs are written by groundwork.images), the YAML writers' users, psutil (read from
+# /proc where there is one), importlib.metadata's scan of every installed package (the
+# project's own variants are a table), numpy.ma (np.unique's)
 NEVER_ON_THE_RENDER_PATH = (
-    "jinja2", "markupsafe", "matplotlib", "importlib.metadata", "numpy.ma", "harness.report",
-    "harness.document", "harness.sections", "harness.stability", "harness.engine",
-    "harness.instruments", "harness.numba_targets", "rtc.demos", "rtc.scaffold", "pyperf",
-    "distributed", "dask", "tqdm", *(("psutil",) if Path("/proc/meminfo").exists() else ()),
+    "jinja2", "markupsafe", "matplotlib", "importlib.metadata", "numpy.ma", "harness", "PIL",
+    "logging", "rtc.demos", "rtc.scaffold", "pyperf", "distributed", "dask", "tqdm",
+    *(("psutil",) if Path("/proc/meminfo").exists() else ()),
 )  # fmt: skip
 
 SCENE = """\
@@ -115,3 +116,49 @@ def test_rtc_render_imports_only_what_the_scene_needs(tmp_path: Path, variant: s
     assert not crept_in, f"imported by rtc render --variant {variant}: {crept_in}"
     others = [m for m in modules if m.startswith("variants.")]  # only the one named
     assert not [m for m in others if m.split(".")[1] in ("wavefront", "pooled", "dask_cluster")]
+
+
+def test_rtc_render_still_writes_a_generated_mesh_a_scene_names(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The meshes' maker is imported only when a scene names one (``cmd_render._provide``),
+    and then it writes the mesh as before."""
+    from harness.scenery import make_meshes
+    from rtc import cmd_render
+
+    monkeypatch.setattr(make_meshes, "GENERATED", tmp_path / "meshes")  # the project's, here
+    assert cmd_render._provide(tmp_path / "meshes" / "ring-1k.obj")
+    assert (tmp_path / "meshes" / "ring-1k.obj").stat().st_size > 0
+    assert not cmd_render._provide(tmp_path / "elsewhere" / "ring-1k.obj")
+    assert not cmd_render._provide(tmp_path / "meshes" / "not-generated.obj")
+
+
+def test_the_command_collects_again_once_its_modules_are_loaded(tmp_path: Path) -> None:
+    """``rtc`` as the process (``main()`` reading ``sys.argv``) loads its modules with the
+    cyclic collector off, then freezes them out of its reach and turns it back on for the
+    work; a caller passing its own arguments (a test) keeps the collector as it was."""
+    scene = tmp_path / "small.yml"
+    scene.write_text(SCENE, encoding="utf-8")
+    probe = (
+        "import gc, sys\n"
+        "from rtc.cli import main\n"
+        "collector, caller, *argv = sys.argv[1:]\n"
+        "if collector == 'off':\n"
+        "    gc.disable()\n"
+        "if caller == 'process':\n"
+        "    sys.argv = ['rtc', *argv]\n"
+        "status = main() if caller == 'process' else main(argv)\n"
+        "print(status, gc.isenabled(), gc.get_freeze_count() > 0)\n"
+    )
+    argv = ["render", str(scene), "-o", str(tmp_path / "x.ppm"), "--progress", "none"]
+    answers = {}
+    for collector, caller in (("on", "process"), ("off", "argv"), ("on", "argv")):
+        done = subprocess.run(
+            [sys.executable, "-c", probe, collector, caller, *argv],
+            cwd=ROOT, capture_output=True, text=True, env={**os.environ, "PYTHONPATH": str(ROOT)},
+        )  # fmt: skip
+        assert done.returncode == 0, done.stderr
+        answers[collector, caller] = done.stdout.splitlines()[-1]
+    assert answers["on", "process"] == "0 True True"
+    assert answers["off", "argv"] == "0 False False"
+    assert answers["on", "argv"] == "0 True False"

@@ -10,6 +10,7 @@ passes do not vectorize.
 
 from __future__ import annotations
 
+import itertools
 import math
 import random
 import tracemalloc
@@ -42,6 +43,7 @@ from variants.wavefront.indices import refractive_indices
 from variants.wavefront.pack import pack
 from variants.wavefront.scene import SLOTS, Unsupported
 from variants.wavefront.tracer import WavefrontTracer
+from variants.wavefront.wave import blocks
 
 SCENES = Path(__file__).resolve().parents[1] / "scenes"
 FLOAT64_WORST = 1e-6  # float32 canvas rounding is about 6e-8
@@ -311,6 +313,27 @@ def test_max_mb_and_threads_cut_the_work_but_change_no_bit() -> None:
     first = _pixels("wavefront", build, settings)
     for name in ("wavefront[max_mb=1]", "wavefront[max_mb=1,threads=2]", "wavefront[threads=2]"):
         assert np.array_equal(_pixels(name, build, settings), first), name
+
+
+@pytest.mark.parametrize(
+    ("pixels", "samples", "cap", "threads", "passes"),
+    [(307_200, 1, 131_072, 1, 3), (307_200, 1, 65_536, 2, 6), (307_200, 1, 65_536, 3, 6),
+     (100, 4, 64, 2, 8), (5, 1, 64, 4, 4), (3, 1, 64, 4, 3), (2, 200, 64, 2, 2)],
+)  # fmt: skip
+def test_passes_are_equal_and_a_multiple_of_the_threads(
+    pixels: int, samples: int, cap: int, threads: int, passes: int
+) -> None:
+    """Threads taking the passes in turn end together: as many passes as the cap needs,
+    rounded up to a multiple of the threads (never more passes than pixels), each within a
+    pixel of the others, every pixel in exactly one, none over the cap (a pixel alone may
+    hold more samples: its pass traces them a cap at a time)."""
+    got = list(blocks(pixels, samples, cap, threads))
+    assert len(got) == passes
+    assert got[0][0] == 0 and got[-1][1] == pixels
+    assert all(a[1] == b[0] for a, b in itertools.pairwise(got))
+    sizes = [end - first for first, end in got]
+    assert max(sizes) - min(sizes) <= 1
+    assert all(size * samples <= cap or size == 1 for size in sizes)
 
 
 def test_float32_stays_within_its_tolerance() -> None:

@@ -30,7 +30,6 @@ import importlib
 import inspect
 import os
 import re
-import subprocess
 import sys
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
@@ -444,6 +443,8 @@ def _probe(ep: Any) -> None:
     (``IMPORT_SECONDS``): an ``Unavailable`` naming its package when the import hangs,
     raises, exits (``SystemExit``, ``os._exit``) or is killed, so that none of it can take
     the command down; the import here then runs only code that has imported cleanly."""
+    import subprocess  # deferred: only a plug-in's first load probes, never a render of ours
+
     package = _package(ep)
     path = os.pathsep.join([p for p in sys.path if p] + [os.environ.get("PYTHONPATH", "")])
     try:

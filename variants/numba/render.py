@@ -5,21 +5,22 @@ its feature set, loads the compiled render entry for that set (``specialize.
 load_renderer``: a shared library, built on first use) and allocates each thread's scratch
 (the ray stack and the CSG lists, on pages of its own). A region of the image (a row, a
 tile, the whole image) is then rendered by ``run_region`` on T threads: T - 1 Python
-threads and the calling one, each calling the entry through ctypes (which releases the
-GIL) for the region's rows k, k + T, k + 2T ... Nothing is allocated per pixel, nor in
-compiled code at all.
+threads and the calling one, each taking the next chunk of the region's rows from a shared
+counter (``Rows``) and calling the entry for it through ctypes (which releases the GIL).
+Nothing is allocated per pixel, nor in compiled code at all, and nothing the threads share
+is written while they trace.
 
 Why Python threads rather than numba's ``prange``: a ``parallel=True`` kernel needs numba
 imported and its threading layer started in the process, which costs more than the render
-of the reference scene (``specialize``); with interleaved rows and per-thread scratch,
-Python threads split the work as evenly as ``prange`` did."""
+of the reference scene (``specialize``); with rows handed out as threads ask and
+per-thread scratch, Python threads split the work as evenly as ``prange`` did."""
 
 from __future__ import annotations
 
 import os
 import threading
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -41,6 +42,7 @@ from variants.numba.specialize import KernelConfig, Renderer, library_path, load
 PAGE = 4096  # bytes: each thread's scratch starts on a page of its own (no false sharing)
 CHUNK_SECONDS = 0.25  # with progress: each thread's rows in chunks of about this long
 CHUNK_GROWTH = 4  # a chunk has at most this many times the rows of the one before
+SHARE = 4  # with T threads, a chunk is at most 1 / (SHARE * T) of the rows left (``Rows``)
 GENERIC_ONLY = "RTC_NUMBA_SPECIALIZE"
 """``RTC_NUMBA_SPECIALIZE=off``: every render of this process (and of the processes it
 starts) runs the generic kernel, as ``specialize=off`` does, whatever the variant's option;
@@ -209,8 +211,8 @@ def prepare_frame(
 
 
 def chunk_rows(left: int, last_rows: int, last_seconds: float) -> int:
-    """How many of its rows a thread renders in its next chunk (``chunks``), ``left`` being
-    still to do, after a chunk of ``last_rows`` rows that took ``last_seconds`` (0 rows:
+    """With progress: the most rows a thread's next chunk may have (``Rows.take``), ``left``
+    being still to do, after a chunk of ``last_rows`` rows that took ``last_seconds`` (0 rows:
     the first chunk, one row). The others aim at ``CHUNK_SECONDS`` each at the rate the
     last one ran, growing at most ``CHUNK_GROWTH`` times a chunk (a first row of empty sky
     is fast and says little of the rows below it)."""
@@ -220,17 +222,30 @@ def chunk_rows(left: int, last_rows: int, last_seconds: float) -> int:
     return max(1, min(int(rate * CHUNK_SECONDS), CHUNK_GROWTH * last_rows, left))
 
 
-def chunks(count: int, clock: Callable[[], float] = time.perf_counter) -> Iterator[tuple[int, int]]:
-    """(first, end) of each chunk of a thread's ``count`` rows (its own: first = 0 is its
-    first row), each sized (``chunk_rows``) by how long the one before took on ``clock``:
-    the caller renders a chunk before it asks for the next."""
-    first, rows, seconds = 0, 0, 0.0
-    while first < count:
-        rows = chunk_rows(count - first, rows, seconds)
-        began = clock()
-        yield first, first + rows
-        seconds = clock() - began
-        first += rows
+class Rows:
+    """A region's rows, handed out in chunks of consecutive rows to whichever thread asks
+    next (guided self-scheduling): a chunk is at most ``1 / (SHARE * threads)`` of the rows
+    still left, so the chunks shrink as the region ends and the threads finish together
+    however the rows' costs differ, whichever thread the machine slows. One thread takes
+    every row at once. The only state the threads share, taken under a lock once a chunk."""
+
+    def __init__(self, height: int, threads: int) -> None:
+        self.height = height
+        self.share = SHARE * threads if threads > 1 else 1
+        self.next = 0
+        self.lock = threading.Lock()
+
+    def take(self, most: int | None = None) -> tuple[int, int]:
+        """(first, end) of the next chunk (at most ``most`` rows if given); first == end
+        once every row has been handed out."""
+        with self.lock:
+            left = self.height - self.next
+            rows = min(left, max(1, -(-left // self.share)))
+            if most is not None:
+                rows = min(rows, most)
+            first = self.next
+            self.next += rows
+            return first, first + rows
 
 
 def run_region(
@@ -241,14 +256,14 @@ def run_region(
 ) -> np.ndarray:
     """Chapter 7: the pixels of ``region`` (x0, y0, x1, y1) as a (y1 - y0, x1 - x0, 3)
     array (``out`` if given: C-contiguous, the frame's dtype), on up to ``frame.threads``
-    threads, thread k taking the region's rows k, k + threads, ... (the calling thread is
-    thread 0).
+    threads (the calling thread is thread 0), each taking chunks of consecutive rows from
+    ``Rows`` until none is left: a kernel call a chunk, on the thread's own scratch, into
+    its own rows of ``out``. A pixel is the same whichever thread renders it.
 
-    progress: called with the rows just finished, on the calling thread. Each thread then
-    renders its rows in chunks (``chunks``: a call of the kernel each, on the same rows
-    of the same thread, so the same pixels), without waiting for the others between
-    them; the calling thread reports every thread's rows done after each of its chunks,
-    and the rest once all have ended. Without it each thread's rows are one call."""
+    progress: called with the rows just finished, on the calling thread. Each thread's
+    chunks are then also at most ``chunk_rows`` long (a report about every
+    ``CHUNK_SECONDS``); the calling thread reports every thread's rows done after each of
+    its chunks, and the rest once all have ended."""
     x0, y0, x1, y1 = (int(v) for v in region)
     height, width = max(y1 - y0, 0), max(x1 - x0, 0)
     if out is None:
@@ -258,10 +273,11 @@ def run_region(
     if height == 0 or width == 0:
         return out
     threads = min(frame.threads, height)
+    rows = Rows(height, threads)
     errors: list[BaseException] = []
     finished = [0] * threads  # rows done, by thread (each writes its own)
     reported = 0
-    row_bytes = width * 3 * out.itemsize
+    base, row_bytes = out.ctypes.data, width * 3 * out.itemsize
 
     def report() -> None:
         nonlocal reported
@@ -270,15 +286,20 @@ def run_region(
             progress(done - reported)
             reported = done
 
-    def rows(k: int) -> None:
+    def work(k: int) -> None:
         try:
-            mine = len(range(k, height, threads))
-            for first, end in [(0, mine)] if progress is None else chunks(mine):
-                top, bottom = y0 + first * threads, min(y1, y0 + end * threads)
+            last_rows, last_seconds = 0, 0.0
+            while True:
+                most = None if progress is None else chunk_rows(height, last_rows, last_seconds)
+                first, end = rows.take(most)
+                if first == end:
+                    return
+                began = time.perf_counter()
                 done = frame.renderer.function(
-                    out.ctypes.data + (top - y0) * row_bytes, x0, top, x1, bottom, k, threads,
+                    base + first * row_bytes, x0, y0 + first, x1, y0 + end, 0, 1,
                     *frame.common, *frame.addresses[k],
                 )  # fmt: skip
+                last_rows, last_seconds = end - first, time.perf_counter() - began
                 if done != end - first:
                     raise RuntimeError(f"numba render: thread {k} did {done} of {end - first} rows")
                 finished[k] += done
@@ -288,10 +309,10 @@ def run_region(
             errors.append(error)
 
     with frame.lock:
-        helpers = [threading.Thread(target=rows, args=(k,), daemon=True) for k in range(1, threads)]
+        helpers = [threading.Thread(target=work, args=(k,), daemon=True) for k in range(1, threads)]
         for helper in helpers:
             helper.start()
-        rows(0)
+        work(0)
         for helper in helpers:
             helper.join()
     if errors:
@@ -367,7 +388,7 @@ def explain(options: Options, w: World) -> str:
     lines.append(
         f"  threads: {threads}"
         + (
-            f" (thread k renders rows k, k + {threads}, k + {2 * threads}, ...)"
+            " (each takes the next chunk of rows left, the chunks shrinking to the end)"
             if threads > 1
             else ""
         )

@@ -189,7 +189,7 @@ class WavefrontTracer(ArrayCanvasTracer):
             if isinstance(image, ArrayCanvas)
             else np.zeros((width * height, 3))
         )
-        jobs = list(blocks(width * height, settings.samples, frame.cap))
+        jobs = list(blocks(width * height, settings.samples, frame.cap, self.options.threads))
         reported = 0
         done = 0
 

@@ -145,13 +145,17 @@ def _trace(
     return total
 
 
-def blocks(n_pixels: int, samples: int, cap: int) -> Iterator[tuple[int, int]]:
+def blocks(n_pixels: int, samples: int, cap: int, threads: int = 1) -> Iterator[tuple[int, int]]:
     """(first pixel, end pixel) of each pass over ``n_pixels`` pixels: whole pixels with
     all their samples, at most ``cap`` rays (one pixel when it alone has more samples:
-    ``render_block`` then traces its samples ``cap`` at a time)."""
+    ``render_block`` then traces its samples ``cap`` at a time), as many passes as that
+    takes rounded up to a multiple of ``threads``, all the same size to a pixel, so that
+    ``threads`` threads taking them in turn end together."""
     step = max(1, cap // samples)
-    for first in range(0, n_pixels, step):
-        yield first, min(first + step, n_pixels)
+    count = -(-n_pixels // step)
+    count = min(n_pixels, -(-count // threads) * threads)
+    for k in range(count):
+        yield k * n_pixels // count, (k + 1) * n_pixels // count
 
 
 def render_block(frame: Frame, region: Region, first: int, end: int) -> np.ndarray:
