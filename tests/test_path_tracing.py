@@ -183,6 +183,7 @@ def test_a_whitted_render_through_numba_compiles_no_path_code(
     assert whitted.renderer.origin != path.renderer.origin
 
 
+@pytest.mark.slow
 def test_a_sky_leaves_the_books_picture_unchanged() -> None:
     variant = load_variant("naive")
     scene = load_scene(CPP_SPHERES, variant.api).resized(16, 12)
