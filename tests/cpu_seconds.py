@@ -32,12 +32,17 @@ def _cpu() -> tuple[float, float]:
 
 @pytest.hookimpl(hookwrapper=True)
 def pytest_runtest_protocol(item: pytest.Item, nextitem: pytest.Item | None) -> Iterator[None]:
-    path = os.environ.get(ENVIRONMENT)
+    # out of the environment while the test runs: a pytest the test starts (``rtc kata``'s)
+    # would log its own tests as this worker's; its CPU is this test's ``children``
+    path = os.environ.pop(ENVIRONMENT, None)
     if not path:
         yield
         return
     (own, children), wall = _cpu(), time.perf_counter()
-    yield
+    try:
+        yield
+    finally:
+        os.environ[ENVIRONMENT] = path
     (own_after, children_after) = _cpu()
     line = {
         "test": item.nodeid,
