@@ -92,6 +92,19 @@ def pytest_configure(config: pytest.Config) -> None:
         os.environ[KERNELS] = str(kernel_folder())
 
 
+@pytest.hookimpl(trylast=True)
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    """The tests marked ``slow`` first, the rest after them, each in collection order.
+
+    pytest-xdist's ``worksteal`` gives each worker a run of the list and lets a worker that
+    is done take tests from the end of another's queue: a long test left near the end
+    starts last and the run waits for it on one core. Started first, a long test runs while
+    the other worker takes the short ones, and the run ends on short tests. A whole module
+    is marked with ``pytestmark`` (its tests stay together: a module-scoped fixture is made
+    once); one test of a module only if it uses no module-scoped fixture."""
+    items.sort(key=lambda item: item.get_closest_marker("slow") is None)
+
+
 @pytest.fixture
 def specialized_kernels(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
     """numba's renders in this test compile a kernel for their scene's feature set (the

@@ -32,18 +32,27 @@ def _cpu() -> tuple[float, float]:
 
 @pytest.hookimpl(hookwrapper=True)
 def pytest_runtest_protocol(item: pytest.Item, nextitem: pytest.Item | None) -> Iterator[None]:
-    path = os.environ.get(ENVIRONMENT)
+    # out of the environment while the test runs: a pytest the test starts (``rtc kata``'s)
+    # would log its own tests as this worker's; its CPU is this test's ``children``
+    path = os.environ.pop(ENVIRONMENT, None)
     if not path:
         yield
         return
     (own, children), wall = _cpu(), time.perf_counter()
-    yield
+    try:
+        yield
+    finally:
+        os.environ[ENVIRONMENT] = path
     (own_after, children_after) = _cpu()
     line = {
         "test": item.nodeid,
         "cpu": round(own_after - own, 3),
         "children": round(children_after - children, 3),
         "wall": round(time.perf_counter() - wall, 3),
+        # which worker process ran it (pytest-xdist's ``gw0``; "main" without) and when it
+        # ended: a worker still busy after the others ended is the run's tail
+        "worker": os.environ.get("PYTEST_XDIST_WORKER", "main"),
+        "ended": round(time.time(), 2),
     }
     fd = os.open(path, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o600)
     try:  # one short line appended in one write: the workers' lines never mix
@@ -68,6 +77,21 @@ def summary(lines: list[dict[str, Any]], top: int = 30) -> list[str]:
     out.append(f"the {top} costliest tests:")
     slowest = sorted(lines, key=cost, reverse=True)[:top]
     out += [f"  {cost(line):8.1f}  {line['test']}" for line in slowest]
+    return out + _tail(lines)
+
+
+def _tail(lines: list[dict[str, Any]]) -> list[str]:
+    """When each worker ran its last test, after the first to end (a log with ``ended``)."""
+    ends: dict[str, dict[str, Any]] = {}
+    for line in lines:
+        if "ended" in line and line["ended"] >= ends.get(line["worker"], line)["ended"]:
+            ends[line["worker"]] = line
+    if len(ends) < 2:
+        return []
+    first = min(line["ended"] for line in ends.values())
+    out = ["each worker's last test, seconds after the first worker's last:"]
+    for worker, line in sorted(ends.items(), key=lambda item: item[1]["ended"]):
+        out.append(f"  {line['ended'] - first:8.1f}  {worker}  {line['test']}")
     return out
 
 

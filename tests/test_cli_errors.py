@@ -461,6 +461,7 @@ def test_a_run_that_is_not_json_is_one_line_too(
     assert line.startswith(f"rtc report: warning: skipped {bad}: cannot read the result file")
 
 
+@pytest.mark.slow
 def test_the_report_reads_the_project_results_without_warnings(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

@@ -31,6 +31,7 @@ def test_the_samples_make_a_render_of_the_target_length(
     assert cluster._chosen_samples(per_sample, 6.0, least) == chosen
 
 
+@pytest.mark.slow
 def test_the_section_measures_every_configuration_and_the_pictures_agree(tmp_path: Path) -> None:
     plan = cluster.Plan(
         scene=resolve_scene("reference"),

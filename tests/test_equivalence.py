@@ -261,6 +261,7 @@ def _naive_pixels(scene: Scene, once: OncePerRun) -> list[tuple[float, float, fl
 BOTH_SIZES = [*SCENES, *(small for small in HALVED.values() if small not in SCENES)]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("scene", BOTH_SIZES, ids=[scene.name for scene in BOTH_SIZES])
 def test_the_scene_is_not_blank(scene: Scene, once_per_run: OncePerRun) -> None:
     """A comparison of black images would prove nothing. (One test a scene and size: each

@@ -420,6 +420,7 @@ def test_the_heartbeat_check_blames_silence_not_unread_messages(
 # ------------------------------------------------------------------ two benches at once
 
 
+@pytest.mark.slow
 def test_two_benches_at_once_each_note_the_other_and_the_report_shows_it(
     tmp_path: Path, stop_leftovers: list[subprocess.Popen[str]]
 ) -> None:

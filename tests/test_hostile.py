@@ -531,6 +531,7 @@ def test_a_damaged_library_or_record_is_built_again_with_one_line(
     assert records.verify(TINY.path())[0] is not None  # sound again
 
 
+@pytest.mark.slow
 def test_a_half_cut_render_library_is_rebuilt_and_the_render_is_right(tmp_path: Path) -> None:
     """A real ``rtc render`` with the numba variant: a render library cut in half ended the
     process with SIGBUS, and four changed bytes with SIGILL or SIGSEGV."""
@@ -820,6 +821,7 @@ def test_a_really_full_disk_stops_a_real_bench_in_one_line(tmp_path: Path) -> No
     assert "bench-" not in listing and ".lock" not in listing and ".staging" not in listing
 
 
+@pytest.mark.slow
 def test_a_stopped_dask_worker_is_replaced_and_its_tasks_go_elsewhere(tmp_path: Path) -> None:
     """Each worker holds a task until this test releases them (a file appears), so the stop
     happens while work is out, for certain; the stopped worker's task runs again elsewhere

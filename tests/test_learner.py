@@ -168,6 +168,7 @@ def first_scenario_of_chapter_1() -> tuple[int, int, str]:
     return scenario, scenario + 1, lines[scenario].strip()
 
 
+@pytest.mark.slow
 def test_a_fresh_scaffold_is_all_to_do_and_writing_chapter_1_passes_it(
     learner: Learner,
 ) -> None:
@@ -197,6 +198,7 @@ def test_a_fresh_scaffold_is_all_to_do_and_writing_chapter_1_passes_it(
     assert not written["ok"]
 
 
+@pytest.mark.slow
 def test_next_shows_the_first_scenario_with_the_missing_function_then_a_failed_check(
     learner: Learner,
 ) -> None:
@@ -338,6 +340,7 @@ def watcher(learner: Learner) -> Iterator[Watcher]:
         process.wait(timeout=HANG_SECONDS)
 
 
+@pytest.mark.slow
 def test_watch_runs_again_when_the_learner_saves_and_stops_cleanly_on_ctrl_c(
     learner: Learner, watcher: Watcher
 ) -> None:
@@ -360,6 +363,7 @@ def test_watch_runs_again_when_the_learner_saves_and_stops_cleanly_on_ctrl_c(
     assert "Traceback" not in watcher.all_errors()  # all of it: the readers have finished
 
 
+@pytest.mark.slow
 def test_all_leaves_a_half_written_tracer_out_and_runs_it_when_named(learner: Learner) -> None:
     """With a fresh scaffold installed (every book name a stub), ``--variant all`` is still
     the project's own variants, so ``python3 run.py test`` stays green; the learner's

@@ -113,6 +113,7 @@ PICTURES = {
 }
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("picture", list(PICTURES))
 def test_numba_draws_what_naive_draws(picture: str) -> None:
     build, settings = PICTURES[picture]

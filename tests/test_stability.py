@@ -5,15 +5,21 @@ A case that is wrong for a variant is a known, measured limitation and is assert
 with its figure (``naive at scale/1e-6: at least 24 of 48 pixels off``), so a change in a
 variant's numerics, for better or worse, fails here until the claim is updated. Renders are
 8x6 (naive takes about 18 ms per pixel of the reference scene).
+
+The Dask variant renders every case of a test process on one local cluster (its
+``session``), kept while that variant's cases run and closed before the next variant's:
+a cluster's start (about 2 CPU seconds, twenty render cases) is ``test_dask``'s subject, not
+this module's, and the pictures it draws are the same whichever cluster draws them.
 """
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import json
 import math
 import re
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from fractions import Fraction
 from pathlib import Path
@@ -25,6 +31,7 @@ from harness.stability import oracle
 from harness.stability.model import PASSING, Probe, Verdict
 from harness.stability.suite import CASES, Cell, load, run_case, select_cases, select_variants
 from rtc.cli import main
+from variants.dask_cluster import DaskTracer
 
 SIZE = (8, 6)
 PIXELS = SIZE[0] * SIZE[1]
@@ -232,18 +239,31 @@ def _cell(variant: str, case_id: str) -> Cell:
     return run_case(case, _probe(variant))
 
 
+@pytest.fixture(scope="module")
+def variant_name(request: pytest.FixtureRequest) -> Iterator[str]:
+    """A variant's name, for its cases (a module-scoped parameter: pytest runs each
+    variant's cases together); a Dask variant keeps one cluster while they run."""
+    name: str = request.param
+    with contextlib.ExitStack() as stack:
+        tracer = _probe(name).variant.tracer
+        if isinstance(tracer, DaskTracer):
+            stack.enter_context(tracer.session())
+        yield name
+
+
 @pytest.mark.parametrize("case_id", [case.id for case in CASES])
-@pytest.mark.parametrize("variant", VARIANTS)
-def test_case_gives_what_the_table_claims(variant: str, case_id: str) -> None:
-    claim = CLAIMS[variant][case_id]
-    cell = _cell(variant, case_id)
+@pytest.mark.parametrize("variant_name", VARIANTS, indirect=True)
+def test_case_gives_what_the_table_claims(variant_name: str, case_id: str) -> None:
+    claim = CLAIMS[variant_name][case_id]
+    cell = _cell(variant_name, case_id)
     o = cell.outcome
     measured = f"{o.verdict.value}, error {o.error!r} ({o.detail})"
-    print(f"{variant} at {case_id}: {measured}")
-    assert o.verdict in claim.verdicts, f"{variant} at {case_id}: claimed {claim.text}; {measured}"
-    assert claim.figure(o.error), f"{variant} at {case_id}: claimed {claim.text}; {measured}"
+    print(f"{variant_name} at {case_id}: {measured}")
+    said = f"{variant_name} at {case_id}: claimed {claim.text}; {measured}"
+    assert o.verdict in claim.verdicts, said
+    assert claim.figure(o.error), said
     if claim.note:
-        assert o.note == claim.note, f"{variant} at {case_id}: claimed {claim.text}; {measured}"
+        assert o.note == claim.note, said
     if o.verdict is Verdict.WITHIN:
         assert o.error is not None and o.tolerance is not None and o.error <= o.tolerance
 
