@@ -39,6 +39,9 @@ NEVER_ON_THE_RENDER_PATH = (
     "logging", "rtc.demos", "rtc.scaffold", "pyperf", "distributed", "dask", "tqdm",
     *(("psutil",) if Path("/proc/meminfo").exists() else ()),
 )  # fmt: skip
+# What only building a compiled library needs (running the C compiler): a render that loads
+# one already built imports none of it
+ONLY_TO_BUILD_A_LIBRARY = ("subprocess", "shlex")
 
 SCENE = """\
 - add: camera
@@ -106,11 +109,17 @@ def test_rtc_render_imports_only_what_the_scene_needs(tmp_path: Path, variant: s
     scene = tmp_path / "small.yml"
     scene.write_text(SCENE, encoding="utf-8")
     out = tmp_path / "small.png"
-    status, modules, err = run_listing(
-        "render", str(scene), "-o", str(out), "--variant", variant, "--progress", "none"
-    )
+    argv = ("render", str(scene), "--variant", variant, "--progress", "none")
+    status, modules, err = run_listing(*argv, "-o", str(out))
     assert status == 0, err
     assert out.stat().st_size > 0
+    if "compiling" in err:  # this kernel's first render built its library: render again
+        status, modules, err = run_listing(*argv, "-o", str(tmp_path / "again.png"))
+        assert status == 0, err
+        assert "compiling" not in err
+    # (numba imported: no C compiler here, the kernel came from numba's cache, which may)
+    built = [name for name in ONLY_TO_BUILD_A_LIBRARY if name in modules and "numba" not in modules]
+    assert not built, f"imported by rtc render --variant {variant} loading its kernel: {built}"
     assert imported(modules, "rtc") == ["rtc", "rtc.cli", "rtc.cmd_render"]
     crept_in = [name for name in NEVER_ON_THE_RENDER_PATH if imported(modules, name)]
     assert not crept_in, f"imported by rtc render --variant {variant}: {crept_in}"
