@@ -6,7 +6,6 @@ from __future__ import annotations
 import atexit
 import contextlib
 import os
-import shutil
 import stat
 import sys
 import tempfile
@@ -70,6 +69,8 @@ def _choose_folder() -> Path:
         if not why:
             return folder
         reasons.append(f"{folder}: {why}")
+    import shutil  # deferred, as in remove
+
     fresh = Path(tempfile.mkdtemp(prefix="rtc-numba-kernels-"))  # 0700, a new random name
     atexit.register(shutil.rmtree, fresh, ignore_errors=True)
     os.environ["RTC_NUMBA_KERNELS"] = str(fresh)  # this process's workers share it
@@ -126,6 +127,8 @@ def _empty(folder: Path) -> None:
 
 def remove(path: Path) -> None:
     """Remove ``path``, a file, a link or a folder (what was found where a file belongs)."""
+    import shutil  # deferred: ~10 ms of every render's imports, for an error's clean-up
+
     with contextlib.suppress(OSError):
         if path.is_dir() and not path.is_symlink():
             shutil.rmtree(path, ignore_errors=True)

@@ -3,9 +3,6 @@
 from __future__ import annotations
 
 import os
-import shlex
-import shutil
-import subprocess
 import tempfile
 from pathlib import Path
 from typing import Any
@@ -20,6 +17,10 @@ class BuildError(RuntimeError):
 
 def compiler() -> list[str]:
     """The C compiler: ``$CC``, else ``cc`` or ``gcc``; a ``BuildError`` when none."""
+    # deferred, as in link: only a build needs them, not a render loading a library
+    import shlex
+    import shutil
+
     found = (
         shlex.split(os.environ.get("CC", ""))
         or [found for found in (shutil.which("cc"), shutil.which("gcc")) if found][:1]
@@ -32,6 +33,9 @@ def compiler() -> list[str]:
 def link(entry: Any, stub: str, path: Path, what: str) -> None:
     """Link a compiled ``cfunc`` ``entry`` with the C ``stub`` (which calls it as
     ``ENTRY_SYMBOL``) into the shared library ``path``; ``what`` names it in errors."""
+    # deferred: 5-13 ms of every render's imports, and only a build runs the C compiler
+    import subprocess
+
     command_start = compiler()
     try:
         obj, helpers = _object_code(entry)

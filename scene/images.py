@@ -11,6 +11,7 @@ of the load (``Context.images``): a cube may show one picture on six faces.
 
 from __future__ import annotations
 
+import functools
 import io
 import re
 import struct
@@ -129,7 +130,7 @@ class Texels(Sequence[Color]):
         self.channels = channels
         self.bits = bits
         self._count = len(channels) // 3 if bits == 8 else len(channels) // 2
-        self._table = LEVELS_16 if bits == 16 else LEVELS_8
+        self._table = _levels(bits)
         if bits == 16:
             grey = array("H")
             grey.frombytes(channels)
@@ -176,8 +177,12 @@ class Texels(Sequence[Color]):
         return np.frombuffer(bytes(self.channels), dtype=np.uint8).reshape(-1, 3) / 255.0
 
 
-LEVELS_8 = [i / 255 for i in range(256)]
-LEVELS_16 = [i / 65535 for i in range(65536)]
+@functools.cache
+def _levels(bits: int) -> list[float]:
+    """Each channel value's level (value / 255, or / 65535 for 16 bits), made when a texture
+    first needs it: the 16-bit one is 65,536 divisions, a few milliseconds of every start."""
+    top = 65535 if bits == 16 else 255
+    return [i / top for i in range(top + 1)]
 
 
 class TextureCanvas(Canvas):

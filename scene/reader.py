@@ -19,7 +19,7 @@ from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
 from yaml.reader import ReaderError
 
 from groundwork.progress import LoadProgress
-from scene.composer import LimitedLoader
+from scene.composer import CParser, LibyamlLimitedLoader, LimitedLoader
 from scene.errors import SceneError
 from scene.limits import Limits
 
@@ -37,9 +37,20 @@ def compose(
     """The YAML node tree of ``text`` (None for an empty document) and the number of shapes
     it describes (aliases counted as copies), within ``limits`` (``composer``); YAML's own
     errors become a ``SceneError`` at the line YAML reports."""
+    limits = limits or Limits()
+    if CParser is not None:  # libyaml reads the events; any YAML error: read again below
+        fast = None
+        try:
+            fast = LibyamlLimitedLoader(text, path, limits, progress)
+            return fast.get_single_node(), fast.shapes
+        except (yaml.YAMLError, UnicodeError):
+            pass  # PyYAML's reading names what is wrong, and where, in the words users see
+        finally:
+            if fast is not None:
+                fast.dispose()
     loader = None
     try:
-        loader = LimitedLoader(text, path, limits or Limits(), progress)  # checks characters
+        loader = LimitedLoader(text, path, limits, progress)  # checks characters
         return loader.get_single_node(), loader.shapes
     except yaml.MarkedYAMLError as error:
         mark = error.problem_mark or error.context_mark
