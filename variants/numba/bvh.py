@@ -12,6 +12,11 @@ The variant's ``bvh`` option picks one of three structures (``STRUCTURES``):
   the tree's boxes short. When the world has few spheres with a similarity transform they
   stay the ``balls``, tested all at once (``layout``); from ``BALLS_MAX`` on they join the
   hierarchy;
+- ``sah-items``: the same hierarchy walked only as items (the kernels' loop below), also
+  over compact triangles, where ``sah`` gives a hierarchy of compact triangles alone its
+  compact nodes too (``compact_nodes``): a node's two children side by side, tested
+  together, the nearer taken first and the other dropped when it comes back beyond the
+  nearest hit so far;
 - ``groups``: the scene's own group tree: a group's box skips its children (chapter 14);
 - ``off``: no boxes at all: every ray visits every item.
 
@@ -32,7 +37,8 @@ import numpy as np
 from compiled.library import Compiled, Recipe, load
 from variants.numba import layout as L
 
-STRUCTURES = ("sah", "groups", "off")
+STRUCTURES = ("sah", "sah-items", "groups", "off")
+SAH = ("sah", "sah-items")  # the structures built by the heuristic
 DEFAULT = "sah"
 LEAF_MAX = 4  # the most units in a leaf
 UNIT_COST = 1.0  # a unit's test against a box test, for the heuristic (a primitive is first
@@ -132,6 +138,45 @@ def build_into(
     nodes, leaves, box_items, depth, _ = (int(v) for v in stats)
     hierarchy = Hierarchy("sah", n, 0, nodes, leaves, box_items, depth, seconds)
     return int(count), boxes[:box_items], hierarchy
+
+
+def compact_nodes(
+    items: np.ndarray, start: int, boxes: np.ndarray, units: np.ndarray
+) -> np.ndarray:
+    """The hierarchy written into ``items`` from row ``start`` on (``build_into``: only
+    I_BOX and I_TRI items), as compact nodes (``layout`` NNODE columns, float64 holding
+    float32 boxes and ints): the root in row 0, each inner node's two children side by
+    side, so that a ray tests both from one place; a leaf names its I_TRI items.
+    ``boxes``: the box items' rows; ``units``: the units' boxes in the items' order."""
+    tree = items[start:]
+    kinds = tree[:, L.ITEM_TYPE]
+    where = np.arange(start, start + len(tree))
+    is_box = kinds == L.I_BOX
+    inner = is_box & (tree[:, L.ITEM_B] != 0)
+    # the node each item is: the root, and the two children of each inner node in turn
+    node_of = np.full(len(tree), -1, dtype=np.int64)
+    node_of[0] = 0
+    parents = np.flatnonzero(inner)
+    rank = np.arange(len(parents))
+    node_of[parents + 1] = 1 + 2 * rank
+    node_of[tree[parents, L.ITEM_B] - start] = 2 + 2 * rank
+    is_node = node_of >= 0
+    nodes = np.zeros((1 + 2 * len(parents), L.NNODE), dtype=np.float64)
+    at = node_of[is_node]
+    rows = np.flatnonzero(is_node)
+    boxed = is_box[rows]
+    nodes[at[boxed], : L.NBOX] = boxes[tree[rows[boxed], L.ITEM_D]]
+    unit_of = np.cumsum(kinds == L.I_TRI) - 1  # each I_TRI item's unit
+    single = rows[~boxed]  # a triangle alone: a leaf of one, its unit's box
+    nodes[at[~boxed], : L.NBOX] = units[unit_of[single]]
+    nodes[at[~boxed], L.NODE_A] = where[single]
+    nodes[at[~boxed], L.NODE_C] = 1
+    leaf = rows[boxed & ~inner[rows]]  # a leaf's box: the triangles after it
+    nodes[node_of[leaf], L.NODE_A] = where[leaf] + 1
+    nodes[node_of[leaf], L.NODE_C] = tree[leaf, L.ITEM_A] - where[leaf] - 1
+    nodes[node_of[parents], L.NODE_A] = 1 + 2 * rank
+    nodes[node_of[parents], L.NODE_C] = -1 - tree[parents, L.ITEM_C]
+    return nodes
 
 
 def build_tree(

@@ -43,6 +43,7 @@ class Packed:
     tg: np.ndarray = field(default_factory=lambda: np.zeros((0, L.NTG)), repr=False)
     tn: np.ndarray = field(default_factory=lambda: np.zeros((0, L.NTN)), repr=False)
     sky: np.ndarray = field(default_factory=lambda: np.zeros(L.NSKY), repr=False)
+    nodes: np.ndarray = field(default_factory=lambda: np.zeros((0, L.NNODE)), repr=False)
     _rows_by_id: dict[int, int] | None = field(default=None, repr=False)
     _texture_arrays: tuple[np.ndarray, np.ndarray] | None = field(default=None, repr=False)
 
@@ -61,8 +62,14 @@ class Packed:
         (row-major; ``layout``) and the counts, as the kernels take a world."""
         return (
             flat(self.pf), flat(self.pi), flat(self.items), len(self.items),
-            flat(self.boxes), flat(self.csg), flat(self.balls), self.balls.shape[1],
+            self.box_table(), flat(self.csg), flat(self.balls), self.balls.shape[1],
         )  # fmt: skip
+
+    def box_table(self) -> np.ndarray:
+        """The boxes flattened, then the compact nodes (an I_NODES item's ITEM_B)."""
+        if not len(self.nodes):
+            return flat(self.boxes)
+        return np.concatenate([self.boxes.reshape(-1), self.nodes.reshape(-1)])
 
     def light_table(self) -> tuple[np.ndarray, int]:
         """(lights, n_lights): the lights flattened (``layout``), their sequences' values
