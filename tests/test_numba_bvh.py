@@ -645,6 +645,9 @@ def test_compact_nodes_keep_their_invariants() -> None:
     wide = pack_world(w, compact=True)
     _check_nodes(wide)
     assert len(wide.nodes) == wide.hierarchy.nodes  # every node of the tree, leaves too
+    table = wide.box_table()  # what the kernels take: the boxes, then the nodes
+    assert np.shares_memory(table, wide.nodes) and np.shares_memory(table, wide.boxes)
+    assert np.array_equal(table[wide.boxes.size :], wide.nodes.reshape(-1))
     narrow = pack_world(w, np.float32, compact=True)
     _check_nodes(narrow)
     assert narrow.nodes.dtype == np.float32

@@ -299,12 +299,24 @@ class _Packer(Rows):
         tg = _stack(self.tg, L.NTG, np.float64).astype(dtype, copy=False)
         tn = _stack(self.tn, L.NTN, np.float64).astype(dtype, copy=False)
         seconds = time.perf_counter() - started if started is not None else 0.0
+        boxes, nodes = _box_table(_outward(boxes, dtype), nodes.astype(dtype, copy=False))
         return Packed(
-            pf.astype(dtype, copy=False), pi, items, _outward(boxes, dtype), csg,
+            pf.astype(dtype, copy=False), pi, items, boxes, csg,
             rows, self.shapes, max(self.capacity, 1), self.cs_size,
             self.cs_prims, balls, hierarchy, seconds, textures=self.textures,
-            light_values=sequences, tg=tg, tn=tn, nodes=nodes.astype(dtype, copy=False),
+            light_values=sequences, tg=tg, tn=tn, nodes=nodes,
         )  # fmt: skip
+
+
+def _box_table(boxes: np.ndarray, nodes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(boxes, nodes) as views of one flat table, the nodes after the boxes (what the
+    kernels take: ``Packed.box_table``), so that a render copies neither."""
+    if not len(nodes):
+        return boxes, nodes
+    table = np.empty(boxes.size + nodes.size, dtype=boxes.dtype)
+    table[: boxes.size] = boxes.reshape(-1)
+    table[boxes.size :] = nodes.reshape(-1)
+    return table[: boxes.size].reshape(boxes.shape), table[boxes.size :].reshape(nodes.shape)
 
 
 def _drop_skips(items: np.ndarray, bounds: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

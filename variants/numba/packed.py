@@ -69,6 +69,10 @@ class Packed:
         """The boxes flattened, then the compact nodes (an I_NODES item's ITEM_B)."""
         if not len(self.nodes):
             return flat(self.boxes)
+        table = self.boxes.base
+        size = self.boxes.size + self.nodes.size
+        if table is not None and table is self.nodes.base and table.size == size:
+            return table  # packed as one table (``pack``): no copy
         return np.concatenate([self.boxes.reshape(-1), self.nodes.reshape(-1)])
 
     def light_table(self) -> tuple[np.ndarray, int]:
