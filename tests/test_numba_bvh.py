@@ -334,6 +334,7 @@ def test_the_builder_constants_are_the_layout_ones() -> None:
     assert bvh_kernel.BINS == L.BVH_BINS and bvh_kernel.STACK == L.BVH_STACK
     assert bvh_kernel.UNIT_WIDTH == L.BVH_UNIT and bvh_kernel.STATS == L.BVH_STATS
     assert bvh_kernel.WORK == L.BVH_WORK and bvh_kernel.FWORK == L.BVH_FWORK
+    assert (bvh_kernel.NODE_A, bvh_kernel.NODE_C, bvh_kernel.NNODE) == (L.NODE_A, L.NODE_C, L.NNODE)
     assert L.MIN_SCRATCH >= 2 * L.BVH_DEPTH  # the hit ray's range stack
 
 
@@ -612,7 +613,10 @@ def _check_nodes(packed: Packed) -> None:
     I_TRI items) inside its box; every triangle item of the hierarchy in one leaf."""
     items, nodes = packed.items, packed.nodes
     (at,) = np.flatnonzero(items[:, L.ITEM_TYPE] == L.I_NODES)
-    assert items[at, L.ITEM_B] == packed.boxes.size, "the nodes follow the boxes"
+    start = int(items[at, L.ITEM_B])  # where the nodes are in the kernels' box table
+    table = packed.box_table()
+    assert start >= packed.boxes.size, "the nodes follow the boxes"
+    assert np.array_equal(table[start : start + nodes.size], nodes.reshape(-1))
     end = int(items[at, L.ITEM_A])
     boxes = _node_boxes(packed)
     reached: list[int] = []
@@ -647,7 +651,6 @@ def test_compact_nodes_keep_their_invariants() -> None:
     assert len(wide.nodes) == wide.hierarchy.nodes  # every node of the tree, leaves too
     table = wide.box_table()  # what the kernels take: the boxes, then the nodes
     assert np.shares_memory(table, wide.nodes) and np.shares_memory(table, wide.boxes)
-    assert np.array_equal(table[wide.boxes.size :], wide.nodes.reshape(-1))
     narrow = pack_world(w, np.float32, compact=True)
     _check_nodes(narrow)
     assert narrow.nodes.dtype == np.float32

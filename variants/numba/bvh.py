@@ -14,7 +14,7 @@ The variant's ``bvh`` option picks one of three structures (``STRUCTURES``):
   hierarchy;
 - ``sah-items``: the same hierarchy walked only as items (the kernels' loop below), also
   over compact triangles, where ``sah`` gives a hierarchy of compact triangles alone its
-  compact nodes too (``compact_nodes``): a node's two children side by side, tested
+  compact nodes too (written by the builder): a node's two children side by side, tested
   together, the nearer taken first and the other dropped when it comes back beyond the
   nearest hit so far;
 - ``groups``: the scene's own group tree: a group's box skips its children (chapter 14);
@@ -54,7 +54,7 @@ BVH_BUILDER = Recipe(
         ("int32_t *", "uitems"), ("int32_t *", "items"), ("double *", "boxes"),
         ("int64_t", "base"), ("int64_t *", "work"), ("double *", "fwork"),
         ("int64_t", "leaf_max"), ("int64_t", "sah_depth"), ("double", "unit_cost"),
-        ("int64_t *", "stats"),
+        ("int64_t *", "stats"), ("double *", "nodes"), ("int64_t", "with_nodes"),
     ),
     what="the hierarchy builder",
 )  # fmt: skip
@@ -112,16 +112,28 @@ def outward32(boxes: np.ndarray) -> np.ndarray:
 
 
 def build_into(
-    items: np.ndarray, units: np.ndarray, order: np.ndarray, out: np.ndarray, base: int
-) -> tuple[int, np.ndarray, Hierarchy]:
+    items: np.ndarray,
+    units: np.ndarray,
+    order: np.ndarray,
+    out: np.ndarray,
+    base: int,
+    with_nodes: bool = False,
+) -> tuple[int, np.ndarray, np.ndarray, Hierarchy]:
     """The hierarchy over n units written into ``out`` (int32, NITEM columns) from row
     ``base`` on (room for 2 n - 1 rows there). ``units``: their world boxes (n x 6 float32,
     rounded outwards; reordered); ``order``: the row of ``items`` each unit stands for (n
-    ints; reordered). Returns (rows of ``out`` used, the box items' boxes: one row each,
-    named by their ITEM_D, what was built)."""
+    ints; reordered); ``with_nodes``: the tree as compact nodes too (``layout``: the root
+    in row 0, a node's two children side by side; a row per node of the tree), in the same
+    flat table as the boxes, after them. Returns (rows of ``out`` used, the box items'
+    boxes: one row each, named by their ITEM_D, the compact nodes (none without
+    ``with_nodes``), what was built)."""
     n = len(units)
     started = time.perf_counter()
-    boxes = np.zeros((max(n, 1), L.NBOX), dtype=np.float64)
+    # one table (not zeroed: every row kept is written): the boxes, then the nodes
+    rows = 2 * n - 1 if with_nodes else 0
+    table = np.empty(max(n, 1) * L.NBOX + rows * L.NNODE, dtype=np.float64)
+    boxes = table[: max(n, 1) * L.NBOX].reshape(-1, L.NBOX)
+    nodes = table[boxes.size :].reshape(-1, L.NNODE)
     work = np.zeros(L.BVH_WORK, dtype=np.int64)
     fwork = np.zeros(L.BVH_FWORK, dtype=np.float64)
     stats = np.zeros(L.BVH_STATS, dtype=np.int64)
@@ -130,53 +142,15 @@ def build_into(
     sah_depth = L.BVH_DEPTH - math.ceil(math.log2(max(n, 2))) - 2
     count = load_bvh_builder().function(
         n, units.reshape(-1), order, items.reshape(-1), out.reshape(-1), boxes.reshape(-1),
-        base, work, fwork, LEAF_MAX, sah_depth, UNIT_COST, stats,
+        base, work, fwork, LEAF_MAX, sah_depth, UNIT_COST, stats, table[boxes.size :],
+        int(with_nodes),
     )  # fmt: skip
     if count < 0 or stats[3] >= L.BVH_DEPTH:
         raise RuntimeError(f"numba: the hierarchy over {n} units went too deep (a bug)")
     seconds = time.perf_counter() - started
-    nodes, leaves, box_items, depth, _ = (int(v) for v in stats)
-    hierarchy = Hierarchy("sah", n, 0, nodes, leaves, box_items, depth, seconds)
-    return int(count), boxes[:box_items], hierarchy
-
-
-def compact_nodes(
-    items: np.ndarray, start: int, boxes: np.ndarray, units: np.ndarray
-) -> np.ndarray:
-    """The hierarchy written into ``items`` from row ``start`` on (``build_into``: only
-    I_BOX and I_TRI items), as compact nodes (``layout`` NNODE columns, float64 holding
-    float32 boxes and ints): the root in row 0, each inner node's two children side by
-    side, so that a ray tests both from one place; a leaf names its I_TRI items.
-    ``boxes``: the box items' rows; ``units``: the units' boxes in the items' order."""
-    tree = items[start:]
-    kinds = tree[:, L.ITEM_TYPE]
-    where = np.arange(start, start + len(tree))
-    is_box = kinds == L.I_BOX
-    inner = is_box & (tree[:, L.ITEM_B] != 0)
-    # the node each item is: the root, and the two children of each inner node in turn
-    node_of = np.full(len(tree), -1, dtype=np.int64)
-    node_of[0] = 0
-    parents = np.flatnonzero(inner)
-    rank = np.arange(len(parents))
-    node_of[parents + 1] = 1 + 2 * rank
-    node_of[tree[parents, L.ITEM_B] - start] = 2 + 2 * rank
-    is_node = node_of >= 0
-    nodes = np.zeros((1 + 2 * len(parents), L.NNODE), dtype=np.float64)
-    at = node_of[is_node]
-    rows = np.flatnonzero(is_node)
-    boxed = is_box[rows]
-    nodes[at[boxed], : L.NBOX] = boxes[tree[rows[boxed], L.ITEM_D]]
-    unit_of = np.cumsum(kinds == L.I_TRI) - 1  # each I_TRI item's unit
-    single = rows[~boxed]  # a triangle alone: a leaf of one, its unit's box
-    nodes[at[~boxed], : L.NBOX] = units[unit_of[single]]
-    nodes[at[~boxed], L.NODE_A] = where[single]
-    nodes[at[~boxed], L.NODE_C] = 1
-    leaf = rows[boxed & ~inner[rows]]  # a leaf's box: the triangles after it
-    nodes[node_of[leaf], L.NODE_A] = where[leaf] + 1
-    nodes[node_of[leaf], L.NODE_C] = tree[leaf, L.ITEM_A] - where[leaf] - 1
-    nodes[node_of[parents], L.NODE_A] = 1 + 2 * rank
-    nodes[node_of[parents], L.NODE_C] = -1 - tree[parents, L.ITEM_C]
-    return nodes
+    nodes_count, leaves, box_items, depth, _ = (int(v) for v in stats)
+    hierarchy = Hierarchy("sah", n, 0, nodes_count, leaves, box_items, depth, seconds)
+    return int(count), boxes[:box_items], nodes[: nodes_count if with_nodes else 0], hierarchy
 
 
 def build_tree(
@@ -187,7 +161,7 @@ def build_tree(
     n = len(unit_items)
     items = np.ascontiguousarray(unit_items, dtype=np.int32)
     out = np.zeros((max(2 * n - 1, 1), L.NITEM), dtype=np.int32)
-    count, boxes, hierarchy = build_into(
+    count, boxes, _, hierarchy = build_into(
         items, outward32(unit_boxes), np.arange(n, dtype=np.int64), out, 0
     )
     return out[:count], boxes, hierarchy

@@ -201,7 +201,7 @@ BVH_BINS = 16  # bins per axis
 BVH_STACK = 256  # its stack of nodes to build
 BVH_UNIT = 6  # per unit (float32): box lo x, y, z, hi x, y, z
 BVH_STATS = 5  # what it reports: nodes, leaves, box items, depth, items
-BVH_WORK = 6 * BVH_STACK + 3 * BVH_BINS  # its scratch: ints (pending nodes, open boxes, counts)
+BVH_WORK = 7 * BVH_STACK + 3 * BVH_BINS  # its scratch: ints (pending nodes, open boxes, counts)
 BVH_FWORK = 3 * BVH_BINS * 6 + 2 * BVH_BINS + 15  # ... and floats (the bins' boxes, areas ...)
 
 # lights: one row per light, then the area lights' jitter sequences (the values of each,

@@ -47,7 +47,6 @@ from variants.numba.bvh import (
     STRUCTURES,
     Hierarchy,
     build_into,
-    compact_nodes,
     outward32,
 )
 from variants.numba.errors import PackError, refusal
@@ -299,7 +298,8 @@ class _Packer(Rows):
         tg = _stack(self.tg, L.NTG, np.float64).astype(dtype, copy=False)
         tn = _stack(self.tn, L.NTN, np.float64).astype(dtype, copy=False)
         seconds = time.perf_counter() - started if started is not None else 0.0
-        boxes, nodes = _box_table(_outward(boxes, dtype), nodes.astype(dtype, copy=False))
+        boxes, nodes, at = _box_table(_outward(boxes, dtype), nodes.astype(dtype, copy=False))
+        items[items[:, L.ITEM_TYPE] == L.I_NODES, L.ITEM_B] = at
         return Packed(
             pf.astype(dtype, copy=False), pi, items, boxes, csg,
             rows, self.shapes, max(self.capacity, 1), self.cs_size,
@@ -308,15 +308,20 @@ class _Packer(Rows):
         )  # fmt: skip
 
 
-def _box_table(boxes: np.ndarray, nodes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(boxes, nodes) as views of one flat table, the nodes after the boxes (what the
-    kernels take: ``Packed.box_table``), so that a render copies neither."""
+def _box_table(boxes: np.ndarray, nodes: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
+    """(boxes, nodes, where the nodes start) as views of one flat table, the nodes after
+    the boxes (what the kernels take: ``Packed.box_table``), so that a render copies
+    neither: the builder's own table (``bvh.build_into``), or a new one (float32)."""
     if not len(nodes):
-        return boxes, nodes
-    table = np.empty(boxes.size + nodes.size, dtype=boxes.dtype)
-    table[: boxes.size] = boxes.reshape(-1)
-    table[boxes.size :] = nodes.reshape(-1)
-    return table[: boxes.size].reshape(boxes.shape), table[boxes.size :].reshape(nodes.shape)
+        return boxes, nodes, 0
+    table = boxes.base
+    if table is None or table is not nodes.base or table.ndim != 1:
+        table = np.empty(boxes.size + nodes.size, dtype=boxes.dtype)
+        table[: boxes.size] = boxes.reshape(-1)
+        table[boxes.size :] = nodes.reshape(-1)
+        boxes = table[: boxes.size].reshape(boxes.shape)
+        nodes = table[boxes.size :].reshape(nodes.shape)
+    return boxes, nodes, (nodes.ctypes.data - table.ctypes.data) // table.itemsize
 
 
 def _drop_skips(items: np.ndarray, bounds: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -347,7 +352,7 @@ def _hierarchy(
     straight into the final table (items, boxes, compact nodes, what it is). ``given``:
     [the items' bounds], taken out of the list and let go once the units' float32 boxes
     are made from them; ``compact``: a hierarchy over compact triangles alone is also
-    given as compact nodes, after an I_NODES item (``bvh.compact_nodes``)."""
+    given as compact nodes, after an I_NODES item (``bvh.build_into``)."""
     bounds = given.pop()
     bounded = ~np.isnan(bounds).any(axis=1)
     outside = np.flatnonzero(~bounded)
@@ -370,11 +375,9 @@ def _hierarchy(
     base = len(outside) + nodes_item
     out = np.empty((base + 2 * n - 1, L.NITEM), dtype=np.int32)
     out[: len(outside)] = items[outside]
-    count, boxes, hierarchy = build_into(items, units, order, out, base)
-    nodes = np.zeros((0, L.NNODE))
+    count, boxes, nodes, hierarchy = build_into(items, units, order, out, base, nodes_item)
     if nodes_item:
-        nodes = compact_nodes(out[:count], base, boxes, units)
-        out[base - 1] = (L.I_NODES, count, boxes.size, 0, 0)
+        out[base - 1] = (L.I_NODES, count, 0, 0, 0)  # ITEM_B: set with the box table
     return out[:count], boxes, nodes, replace(hierarchy, outside=len(outside))
 
 

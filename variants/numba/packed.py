@@ -66,14 +66,14 @@ class Packed:
         )  # fmt: skip
 
     def box_table(self) -> np.ndarray:
-        """The boxes flattened, then the compact nodes (an I_NODES item's ITEM_B)."""
+        """The boxes flattened, then the compact nodes (where: an I_NODES item's ITEM_B),
+        as ``pack`` made them: one table, handed over without a copy."""
         if not len(self.nodes):
             return flat(self.boxes)
         table = self.boxes.base
-        size = self.boxes.size + self.nodes.size
-        if table is not None and table is self.nodes.base and table.size == size:
-            return table  # packed as one table (``pack``): no copy
-        return np.concatenate([self.boxes.reshape(-1), self.nodes.reshape(-1)])
+        if table is None or table is not self.nodes.base or table.ndim != 1:
+            raise ValueError("numba: the compact nodes are not in the boxes' table (a bug)")
+        return table  # packed as one table (``pack``): no copy
 
     def light_table(self) -> tuple[np.ndarray, int]:
         """(lights, n_lights): the lights flattened (``layout``), their sequences' values
