@@ -101,6 +101,11 @@ from variants.numba.layout import (
 
 # ---- kernel template ----
 
+# the compact nodes' walks: called, not inlined into each of ``nearest_hit``'s and
+# ``shadowed``'s callers (once per ray, a call costs nothing; inlined, a mesh scene's kernel
+# took half as long again to compile)
+CALLED = {**INLINE, "forceinline": False}
+
 
 @njit(inline="always", fastmath=FASTMATH, error_model="numpy")
 def scratch(cs_size, cs_prims, n_balls):
@@ -313,7 +318,7 @@ def nearest_hit(w, s, ox, oy, oz, dx, dy, dz, eps):
     return best_t, best_p, best_l, best_u, best_v
 
 
-@njit(**INLINE)
+@njit(**CALLED)
 def nodes_nearest(w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, eps,
                   best_t, best_p, best_l, best_u, best_v):  # fmt: skip
     """``nearest_hit`` through I_NODES item i's compact nodes (``layout``): a node's two
@@ -477,7 +482,7 @@ def shadowed(w, s, ox, oy, oz, vx, vy, vz, eps, slot):
     return False
 
 
-@njit(**INLINE)
+@njit(**CALLED)
 def nodes_occluded(w, s, i, last, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, a, eps,
                    distance, slot):  # fmt: skip
     """``shadowed`` through I_NODES item i's compact nodes: does a shadow-casting
