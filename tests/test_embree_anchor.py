@@ -207,13 +207,16 @@ class FakeBench:
 
 def test_the_mesh_job_renders_and_intersects_the_same_rays_in_turns() -> None:
     found_embree()
-    job = {"variant": "cached", "mesh": str(mesh_path("knot-368.obj")), "size": [12, 9],
-           "rounds": 2}  # fmt: skip
+    job = {"variant": "cached", "steps": ["naive"], "mesh": str(mesh_path("knot-368.obj")),
+           "size": [12, 9], "rounds": 2}  # fmt: skip
     result = mesh.measure_job(job, Path("unused"))
     assert result["triangles"] == 368 and result["rays"] == 108
     assert 0 < result["hits"] < 108  # the knot and the sky around it
     assert len(result["ours"]) == len(result["embree"]) == len(result["ratios"]) == 2
     assert result["ratios"] == sorted(result["ratios"]) and result["ours_median"] > 0
+    (step,) = result["steps"]  # the step rendered in the same turns
+    assert step["variant"] == "naive" and len(step["ours"]) == len(step["ratios"]) == 2
+    assert step["median"] > 0 and step["ratios"] == sorted(step["ratios"])
 
 
 def test_without_embreex_the_mesh_row_says_why_and_runs_nothing(
@@ -243,3 +246,9 @@ def test_the_ladder_states_the_mesh_kernels_time_over_embrees() -> None:
     assert "`numba[threads=1]` renders" in text and "23,000 triangles" in text
     assert "in 100.0 ms CPU" in text and "in 40.0 ms: **2.50x** its time" in text
     assert "2.00-3.00x" in text
+    assert "In the same turns" not in text  # no steps measured
+    step, told = mesh.STEPS[0]
+    stepped = {**found, "steps": [{"variant": step, "median": 0.12, "ratios": [3.0]}]}
+    assert text + f" In the same turns: `{step}` ({told}) 120.0 ms, 3.00x." == (
+        ladder_report.mesh_text(stepped)
+    )

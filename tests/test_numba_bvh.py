@@ -334,6 +334,7 @@ def test_the_builder_constants_are_the_layout_ones() -> None:
     assert bvh_kernel.BINS == L.BVH_BINS and bvh_kernel.STACK == L.BVH_STACK
     assert bvh_kernel.UNIT_WIDTH == L.BVH_UNIT and bvh_kernel.STATS == L.BVH_STATS
     assert bvh_kernel.WORK == L.BVH_WORK and bvh_kernel.FWORK == L.BVH_FWORK
+    assert (bvh_kernel.NODE_A, bvh_kernel.NODE_C, bvh_kernel.NNODE) == (L.NODE_A, L.NODE_C, L.NNODE)
     assert L.MIN_SCRATCH >= 2 * L.BVH_DEPTH  # the hit ray's range stack
 
 
@@ -446,7 +447,8 @@ def test_the_option_is_named_and_checked() -> None:
     assert load_variant("numba[bvh=off]").name == "numba[bvh=off]"
     assert load_variant("numba[bvh=groups,threads=1]").name == "numba[bvh=groups,threads=1]"
     assert load_variant("numba[bvh=sah]").name == "numba"
-    with pytest.raises(VariantError, match="bvh='octree' must be one of sah, groups, off"):
+    expected = "bvh='octree' must be one of sah, sah-items, groups, off"
+    with pytest.raises(VariantError, match=expected):
         load_variant("numba[bvh=octree]")
 
 
@@ -576,3 +578,122 @@ def test_the_box_test_without_slab_checks_answers_as_the_slab_test() -> None:
         answers = both(boxes, rays, thi)
         assert (answers[:, 0] == answers[:, 1]).all()
         assert 0 < answers[:, 0].sum() < len(rays)  # both answers occur
+
+
+# ---------------------------------------------- compact nodes (a hierarchy of triangles)
+
+
+def _two_meshes(api: Any) -> tuple[Any, Any]:
+    """Two icospheres of compact triangles (one smooth) over a floor, the one casting a
+    shadow on the other: a hierarchy of triangles alone, the floor outside it."""
+    c = api["color"]
+    near = _icosahedron(api, smooth=False, splits=2)
+    api["set_transform"](near, api["translation"](-0.6, 1.2, -0.8) * api["scaling"](0.5, 0.5, 0.5))
+    far = _icosahedron(api, smooth=True, splits=3)
+    api["set_transform"](far, api["translation"](0.5, 0.6, 0.6) * api["rotation_y"](0.4))
+    for child in near.children:
+        child.material = material(color=c(0.9, 0.4, 0.2), specular=0.6)
+    floor = api["plane"]()
+    w = api["world"]()
+    w.objects.extend([floor, near, far])
+    w.light = api["point_light"](api["point"](-5, 8, -6), c(1, 1, 1))
+    view = api["view_transform"](
+        api["point"](0, 1.8, -5), api["point"](0, 0.7, 0), api["vector"](0, 1, 0)
+    )
+    return replace(api["camera"](40, 30, math.pi / 3), transform=view), w
+
+
+def _node_boxes(packed: Packed) -> np.ndarray:
+    return packed.nodes[:, : L.NBOX].astype(np.float64)
+
+
+def _check_nodes(packed: Packed) -> None:
+    """The I_NODES item and its compact nodes: the root in row 0, an inner node's two
+    children side by side in rows of their own, inside its box; a leaf's triangles (its
+    I_TRI items) inside its box; every triangle item of the hierarchy in one leaf."""
+    items, nodes = packed.items, packed.nodes
+    (at,) = np.flatnonzero(items[:, L.ITEM_TYPE] == L.I_NODES)
+    start = int(items[at, L.ITEM_B])  # where the nodes are in the kernels' box table
+    table = packed.box_table()
+    assert start >= packed.boxes.size, "the nodes follow the boxes"
+    assert np.array_equal(table[start : start + nodes.size], nodes.reshape(-1))
+    end = int(items[at, L.ITEM_A])
+    boxes = _node_boxes(packed)
+    reached: list[int] = []
+    children: list[int] = []
+    for row in range(len(nodes)):
+        first, code = int(nodes[row, L.NODE_A]), int(nodes[row, L.NODE_C])
+        outer = boxes[row]
+        if code < 0:
+            assert code >= -4 and first % 2 == 1 and first + 1 < len(nodes)
+            children += [first, first + 1]
+            for child in (first, first + 1):
+                assert _contains(outer, boxes[child]), f"node {row} does not hold {child}"
+            continue
+        assert code > 0 and at < first and first + code <= end
+        for k in range(first, first + code):
+            assert items[k, L.ITEM_TYPE] == L.I_TRI
+            shape = packed.shapes[int(items[k, L.ITEM_A])]
+            run_first = packed.pi[items[k, L.ITEM_A], L.TRI_FIRST]
+            shape = _triangle_of(packed, int(items[k, L.ITEM_B]) - int(run_first), shape)
+            assert _contains(outer, _world_box(shape)), f"leaf {row} misses item {k}"
+            reached.append(k)
+    assert sorted(children) == list(range(1, len(nodes))), "every node a child once"
+    triangles = [k for k in range(at, end) if items[k, L.ITEM_TYPE] == L.I_TRI]
+    assert sorted(reached) == triangles, "every triangle in one leaf"
+
+
+def test_compact_nodes_keep_their_invariants() -> None:
+    api = load_variant("naive").api
+    _, w = _two_meshes(api)
+    wide = pack_world(w, compact=True)
+    _check_nodes(wide)
+    assert len(wide.nodes) == wide.hierarchy.nodes  # every node of the tree, leaves too
+    table = wide.box_table()  # what the kernels take: the boxes, then the nodes
+    assert np.shares_memory(table, wide.nodes) and np.shares_memory(table, wide.boxes)
+    narrow = pack_world(w, np.float32, compact=True)
+    _check_nodes(narrow)
+    assert narrow.nodes.dtype == np.float32
+    # float32 boxes hold the float64 ones (the builder's boxes are float32 values already)
+    assert (narrow.nodes[:, :3].astype(np.float64) <= wide.nodes[:, :3]).all()
+    assert (narrow.nodes[:, 3:6].astype(np.float64) >= wide.nodes[:, 3:6]).all()
+    assert np.array_equal(narrow.nodes[:, 6:], wide.nodes[:, 6:])
+    # the items' walk and the book's API never see them; sah-items builds none
+    items_only = pack_world(w, structure="sah-items", compact=True)
+    assert L.I_NODES not in set(items_only.items[:, L.ITEM_TYPE].tolist())
+    assert len(items_only.nodes) == 0
+    assert len(pack_world(w).nodes) == 0  # the book's API: a row per triangle
+    mixed_world = pack_world(mixed(api)[1], compact=True)  # not triangles alone: no nodes
+    assert len(mixed_world.nodes) == 0
+
+
+def test_compact_nodes_draw_the_same_picture_as_the_items_walk() -> None:
+    api = load_variant("naive").api
+    camera, w = _two_meshes(api)
+    pictures = {}
+    for name in ("numba[threads=1]", "numba[bvh=sah-items,threads=1]", "numba[bvh=off,threads=1]"):
+        image = load_variant(name).tracer.render(camera, w, RenderSettings())
+        pictures[name] = np.asarray(image.array, dtype=np.float64)
+    ours = pictures["numba[threads=1]"]
+    assert len({tuple(np.round(p, 3)) for p in ours.reshape(-1, 3)}) > 50, "not blank"
+    for name, picture in pictures.items():
+        assert np.array_equal(picture, ours), f"{name} differs from the compact nodes'"
+
+
+def test_a_broken_node_table_fails_the_checks_and_the_picture() -> None:
+    api = load_variant("naive").api
+    camera, w = _two_meshes(api)
+    tracer = load_variant("numba[threads=1]").tracer
+    right = np.asarray(tracer.render(camera, w, RenderSettings()).array)
+    shrunk = pack_world(w, compact=True)
+    leaf = int(np.flatnonzero(shrunk.nodes[:, L.NODE_C] > 0)[0])
+    shrunk.nodes[leaf, 3:6] = shrunk.nodes[leaf, 0:3]  # a leaf's box made a point
+    with pytest.raises(AssertionError, match="misses item"):
+        _check_nodes(shrunk)
+    lost = pack_world(w, compact=True)
+    lost.nodes[lost.nodes[:, L.NODE_C] > 0, L.NODE_C] = 1  # leaves keep one triangle
+    with pytest.raises(AssertionError, match="every triangle in one leaf"):
+        _check_nodes(lost)
+    for broken in (shrunk, lost):
+        picture = np.asarray(tracer.render(camera, broken, RenderSettings()).array)
+        assert not np.array_equal(picture, right)

@@ -12,6 +12,11 @@ The variant's ``bvh`` option picks one of three structures (``STRUCTURES``):
   the tree's boxes short. When the world has few spheres with a similarity transform they
   stay the ``balls``, tested all at once (``layout``); from ``BALLS_MAX`` on they join the
   hierarchy;
+- ``sah-items``: the same hierarchy walked only as items (the kernels' loop below), also
+  over compact triangles, where ``sah`` gives a hierarchy of compact triangles alone its
+  compact nodes too (written by the builder): a node's two children side by side, tested
+  together, the nearer taken first and the other dropped when it comes back beyond the
+  nearest hit so far;
 - ``groups``: the scene's own group tree: a group's box skips its children (chapter 14);
 - ``off``: no boxes at all: every ray visits every item.
 
@@ -32,7 +37,8 @@ import numpy as np
 from compiled.library import Compiled, Recipe, load
 from variants.numba import layout as L
 
-STRUCTURES = ("sah", "groups", "off")
+STRUCTURES = ("sah", "sah-items", "groups", "off")
+SAH = ("sah", "sah-items")  # the structures built by the heuristic
 DEFAULT = "sah"
 LEAF_MAX = 4  # the most units in a leaf
 UNIT_COST = 1.0  # a unit's test against a box test, for the heuristic (a primitive is first
@@ -48,7 +54,7 @@ BVH_BUILDER = Recipe(
         ("int32_t *", "uitems"), ("int32_t *", "items"), ("double *", "boxes"),
         ("int64_t", "base"), ("int64_t *", "work"), ("double *", "fwork"),
         ("int64_t", "leaf_max"), ("int64_t", "sah_depth"), ("double", "unit_cost"),
-        ("int64_t *", "stats"),
+        ("int64_t *", "stats"), ("double *", "nodes"), ("int64_t", "with_nodes"),
     ),
     what="the hierarchy builder",
 )  # fmt: skip
@@ -106,16 +112,28 @@ def outward32(boxes: np.ndarray) -> np.ndarray:
 
 
 def build_into(
-    items: np.ndarray, units: np.ndarray, order: np.ndarray, out: np.ndarray, base: int
-) -> tuple[int, np.ndarray, Hierarchy]:
+    items: np.ndarray,
+    units: np.ndarray,
+    order: np.ndarray,
+    out: np.ndarray,
+    base: int,
+    with_nodes: bool = False,
+) -> tuple[int, np.ndarray, np.ndarray, Hierarchy]:
     """The hierarchy over n units written into ``out`` (int32, NITEM columns) from row
     ``base`` on (room for 2 n - 1 rows there). ``units``: their world boxes (n x 6 float32,
     rounded outwards; reordered); ``order``: the row of ``items`` each unit stands for (n
-    ints; reordered). Returns (rows of ``out`` used, the box items' boxes: one row each,
-    named by their ITEM_D, what was built)."""
+    ints; reordered); ``with_nodes``: the tree as compact nodes too (``layout``: the root
+    in row 0, a node's two children side by side; a row per node of the tree), in the same
+    flat table as the boxes, after them. Returns (rows of ``out`` used, the box items'
+    boxes: one row each, named by their ITEM_D, the compact nodes (none without
+    ``with_nodes``), what was built)."""
     n = len(units)
     started = time.perf_counter()
-    boxes = np.zeros((max(n, 1), L.NBOX), dtype=np.float64)
+    # one table (not zeroed: every row kept is written): the boxes, then the nodes
+    rows = 2 * n - 1 if with_nodes else 0
+    table = np.empty(max(n, 1) * L.NBOX + rows * L.NNODE, dtype=np.float64)
+    boxes = table[: max(n, 1) * L.NBOX].reshape(-1, L.NBOX)
+    nodes = table[boxes.size :].reshape(-1, L.NNODE)
     work = np.zeros(L.BVH_WORK, dtype=np.int64)
     fwork = np.zeros(L.BVH_FWORK, dtype=np.float64)
     stats = np.zeros(L.BVH_STATS, dtype=np.int64)
@@ -124,14 +142,15 @@ def build_into(
     sah_depth = L.BVH_DEPTH - math.ceil(math.log2(max(n, 2))) - 2
     count = load_bvh_builder().function(
         n, units.reshape(-1), order, items.reshape(-1), out.reshape(-1), boxes.reshape(-1),
-        base, work, fwork, LEAF_MAX, sah_depth, UNIT_COST, stats,
+        base, work, fwork, LEAF_MAX, sah_depth, UNIT_COST, stats, table[boxes.size :],
+        int(with_nodes),
     )  # fmt: skip
     if count < 0 or stats[3] >= L.BVH_DEPTH:
         raise RuntimeError(f"numba: the hierarchy over {n} units went too deep (a bug)")
     seconds = time.perf_counter() - started
-    nodes, leaves, box_items, depth, _ = (int(v) for v in stats)
-    hierarchy = Hierarchy("sah", n, 0, nodes, leaves, box_items, depth, seconds)
-    return int(count), boxes[:box_items], hierarchy
+    nodes_count, leaves, box_items, depth, _ = (int(v) for v in stats)
+    hierarchy = Hierarchy("sah", n, 0, nodes_count, leaves, box_items, depth, seconds)
+    return int(count), boxes[:box_items], nodes[: nodes_count if with_nodes else 0], hierarchy
 
 
 def build_tree(
@@ -142,7 +161,7 @@ def build_tree(
     n = len(unit_items)
     items = np.ascontiguousarray(unit_items, dtype=np.int32)
     out = np.zeros((max(2 * n - 1, 1), L.NITEM), dtype=np.int32)
-    count, boxes, hierarchy = build_into(
+    count, boxes, _, hierarchy = build_into(
         items, outward32(unit_boxes), np.arange(n, dtype=np.int64), out, 0
     )
     return out[:count], boxes, hierarchy

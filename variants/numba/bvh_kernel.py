@@ -43,6 +43,9 @@ ITEM_C = 3
 ITEM_D = 4
 I_BOX = 1
 NBOX = 6
+NODE_A = 6  # compact nodes (layout.NNODE columns): after the box, a leaf's first item or
+NODE_C = 7  # an inner node's first child row; a leaf's count, an inner node's -2 - axis
+NNODE = 8
 
 BINS = 16  # bins per axis (layout.BVH_BINS)
 STACK = 256  # the most pending nodes (layout.BVH_STACK; the depth stays far below)
@@ -51,11 +54,12 @@ STATS = 5  # nodes, leaves, box items, depth, items written (layout.BVH_STATS)
 TRAVERSAL = 1.0  # the cost of a box test (``unit_cost``: a unit's test, in box tests)
 WIDEST_ONLY = 256  # a node of more units bins only its widest axis (a third of the work)
 
-# work (ints): the pending nodes (start, end, depth, the parent box whose ITEM_B each is),
-# the open boxes (item, depth), the bins' counts (axis * BINS + b)
+# work (ints): the pending nodes (start, end, depth, the parent box whose ITEM_B each is,
+# its compact node's row), the open boxes (item, depth), the bins' counts (axis * BINS + b)
+TASK = 5
 TASKS = 0
-OPENED = 4 * STACK
-COUNTS = 6 * STACK
+OPENED = TASK * STACK
+COUNTS = OPENED + 2 * STACK
 WORK = COUNTS + 3 * BINS
 # fwork (floats): the bins' boxes (axis * BINS + b), per boundary b the area and count
 # right of it, the node's box, its centroids' box, each axis's bin scale (0: not binned)
@@ -300,18 +304,29 @@ def _box_item(items, pos, after, second, axis, boxes, box_items, fwork):
 
 
 @njit(**HELPER)
-def _push(work, tasks, start, end, depth, parent):
-    t = TASKS + 4 * tasks
+def _push(work, tasks, start, end, depth, parent, row):
+    t = TASKS + TASK * tasks
     work[t] = start
     work[t + 1] = end
     work[t + 2] = depth
     work[t + 3] = parent
+    work[t + 4] = row
     return tasks + 1
+
+
+@njit(**HELPER)
+def _node(nodes, row, first, code, fwork):
+    """Compact node ``row``: the node's box (from ``fwork``), then ``first`` and ``code``."""
+    at = row * NNODE
+    for c in range(NBOX):
+        nodes[at + c] = fwork[NODE_BOX + c]
+    nodes[at + NODE_A] = first
+    nodes[at + NODE_C] = code
 
 
 @njit(cache=True, error_model="numpy")
 def build(n, units, order, uitems, items, boxes, base, work, fwork, leaf_max, sah_depth,
-          unit_cost, stats):  # fmt: skip
+          unit_cost, stats, nodes, with_nodes):  # fmt: skip
     """Build the hierarchy over ``n`` units; returns the number of items written.
 
     units: n x UNIT_WIDTH float32 boxes (flat; reordered in place); order: each unit's item
@@ -321,22 +336,26 @@ def build(n, units, order, uitems, items, boxes, base, work, fwork, leaf_max, sa
     box item); boxes: one row per box item written (at most n - 1), whose ITEM_D names it;
     work: ``WORK`` ints; fwork: ``FWORK`` floats (see above); leaf_max: the most units in a leaf;
     sah_depth: the depth from which stretches are halved; unit_cost: a unit's test in box
-    tests; stats: STATS ints written (nodes, leaves, box items, depth, items)."""
-    nodes = leaves = box_items = deepest = n_open = tasks = 0
+    tests; stats: STATS ints written (nodes, leaves, box items, depth, items); nodes:
+    with_nodes != 0: the tree as compact nodes too (NNODE floats each, at most 2 n - 1;
+    ``bvh.build_into``), the root in row 0, each inner node's two children side by side."""
+    count = leaves = box_items = deepest = n_open = tasks = 0
+    rows = 1  # compact nodes given a row
     pos = base
     if n > 0:
-        tasks = _push(work, tasks, 0, n, 0, -1)
+        tasks = _push(work, tasks, 0, n, 0, -1, 0)
     while tasks > 0:
         tasks -= 1
-        t = TASKS + 4 * tasks
+        t = TASKS + TASK * tasks
         start, end, depth, parent = work[t], work[t + 1], work[t + 2], work[t + 3]
+        row = work[t + 4]
         # every open box at this depth or deeper ends here
         while n_open > 0 and work[OPENED + 2 * (n_open - 1) + 1] >= depth:
             n_open -= 1
             items[work[OPENED + 2 * n_open] * NITEM + ITEM_A] = pos
         if parent >= 0:
             items[parent * NITEM + ITEM_B] = pos
-        nodes += 1
+        count += 1
         deepest = max(deepest, depth)
         m = end - start
         _extent(units, start, end, fwork)
@@ -345,6 +364,8 @@ def build(n, units, order, uitems, items, boxes, base, work, fwork, leaf_max, sa
         if axis < 0 and m <= leaf_max:
             # a leaf: a box (when it holds more than one unit), then the units' items
             leaves += 1
+            if with_nodes != 0:
+                _node(nodes, row, pos + 1 if m > 1 else pos, m, fwork)
             if m > 1:
                 _box_item(items, pos, pos + 1 + m, 0, 0, boxes, box_items, fwork)
                 box_items += 1
@@ -361,19 +382,22 @@ def build(n, units, order, uitems, items, boxes, base, work, fwork, leaf_max, sa
             mid = _partition(units, order, start, end, axis, split, fwork)
         _box_item(items, pos, 0, 0, axis + 1, boxes, box_items, fwork)
         box_items += 1
+        if with_nodes != 0:
+            _node(nodes, row, rows, -2 - axis, fwork)
         if n_open >= STACK or tasks + 2 > STACK:
             return -1  # cannot happen: the depth is bounded (see above)
         work[OPENED + 2 * n_open] = pos
         work[OPENED + 2 * n_open + 1] = depth
         n_open += 1
         # the second child first on the stack, so the first is written first
-        tasks = _push(work, tasks, mid, end, depth + 1, pos)
-        tasks = _push(work, tasks, start, mid, depth + 1, -1)
+        tasks = _push(work, tasks, mid, end, depth + 1, pos, rows + 1)
+        tasks = _push(work, tasks, start, mid, depth + 1, -1, rows)
+        rows += 2
         pos += 1
     while n_open > 0:
         n_open -= 1
         items[work[OPENED + 2 * n_open] * NITEM + ITEM_A] = pos
-    stats[0] = nodes
+    stats[0] = count
     stats[1] = leaves
     stats[2] = box_items
     stats[3] = deepest
@@ -385,14 +409,14 @@ def make_entry(cache):
     """``build`` as a C function over raw pointers (numba's ``cfunc``): ``int64 f(int64 n,
     float *units, int64 *order, int32 *uitems, int32 *items, double *boxes, int64 base,
     int64 *work, double *fwork, int64 leaf_max, int64 sah_depth, double unit_cost, int64
-    *stats)``; ``cache``: numba's disk cache."""
+    *stats, double *nodes, int64 with_nodes)``; ``cache``: numba's disk cache."""
     fp = types.CPointer(types.float64)
     ip = types.CPointer(types.int64)
     i32p = types.CPointer(types.int32)
     i64 = types.int64
     signature = types.int64(
         i64, types.CPointer(types.float32), ip, i32p, i32p, fp, i64, ip, fp, i64, i64,
-        types.float64, ip,
+        types.float64, ip, fp, i64,
     )  # fmt: skip
     flags: dict[str, Any] = {"_nrt": False, "error_model": "numpy"}
     return cfunc(signature, cache=cache, **flags)(build.py_func)

@@ -289,6 +289,26 @@ def box_hit(boxes, b, ox, oy, oz, ix, iy, iz, thi, parallel):
 
 
 @njit(**INLINE)
+def box_enter(boxes, m, ox, oy, oz, ix, iy, iz, thi, parallel):
+    """``box_hit`` for the box at ``boxes[m]`` (a compact node's): where the ray enters
+    it (t >= 0), or INF when it misses it or enters it only beyond ``thi``."""
+    if parallel:
+        tlo, thi = slab(ox, ix, boxes[m], boxes[m + 3], ZERO, thi)
+        tlo, thi = slab(oy, iy, boxes[m + 1], boxes[m + 4], tlo, thi)
+        tlo, thi = slab(oz, iz, boxes[m + 2], boxes[m + 5], tlo, thi)
+        return tlo if tlo <= thi else INF
+    x1 = (boxes[m] - ox) * ix
+    x2 = (boxes[m + 3] - ox) * ix
+    y1 = (boxes[m + 1] - oy) * iy
+    y2 = (boxes[m + 4] - oy) * iy
+    z1 = (boxes[m + 2] - oz) * iz
+    z2 = (boxes[m + 5] - oz) * iz
+    tlo = max(max(ZERO, min(x1, x2)), max(min(y1, y2), min(z1, z2)))
+    thi = min(min(thi, max(x1, x2)), min(max(y1, y2), max(z1, z2)))
+    return tlo if tlo <= thi else INF
+
+
+@njit(**INLINE)
 def nth(t0, t1, t2, t3, j):
     """The j-th of four values (tuples indexed by a variable go through memory)."""
     if j == 0:

@@ -43,6 +43,7 @@ from variants.numba.kernels_geometry import (
     ONE,
     ZERO,
     ball_first,
+    box_enter,
     box_hit,
     nth,
 )
@@ -75,6 +76,7 @@ from variants.numba.layout import (
     CSG_START,
     I_BOX,
     I_CSG,
+    I_NODES,
     I_PRIM,
     I_TRI,
     ITEM_A,
@@ -87,6 +89,9 @@ from variants.numba.layout import (
     NCSG,
     NI,
     NITEM,
+    NNODE,
+    NODE_A,
+    NODE_C,
     NSF,
     NSI,
     OP_DIFFERENCE,
@@ -95,6 +100,11 @@ from variants.numba.layout import (
 )
 
 # ---- kernel template ----
+
+# the compact nodes' walks: called, not inlined into each of ``nearest_hit``'s and
+# ``shadowed``'s callers (once per ray, a call costs nothing; inlined, a mesh scene's kernel
+# took half as long again to compile)
+CALLED = {**INLINE, "forceinline": False}
 
 
 @njit(inline="always", fastmath=FASTMATH, error_model="numpy")
@@ -266,6 +276,12 @@ def nearest_hit(w, s, ox, oy, oz, dx, dy, dz, eps):
                     i += 1
             else:
                 i = items[i * NITEM + ITEM_A]
+        elif HAS_BOXES and kind == I_NODES:
+            best_t, best_p, best_l, best_u, best_v = nodes_nearest(
+                w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, eps,
+                best_t, best_p, best_l, best_u, best_v,
+            )  # fmt: skip
+            i = items[i * NITEM + ITEM_A]
         elif kind == I_PRIM:
             p = items[i * NITEM + ITEM_A]
             found, t, local, u, v = first_hit_in(pf, pi, p, ox, oy, oz, dx, dy, dz, a, eps, best_t)
@@ -299,6 +315,59 @@ def nearest_hit(w, s, ox, oy, oz, dx, dy, dz, eps):
     if HAS_SPHERE and n_balls > 0:
         return nearest_ball(balls, n_balls, tb, ox, oy, oz, dx, dy, dz, a,
                             best_t, best_p, best_l, best_u, best_v)  # fmt: skip
+    return best_t, best_p, best_l, best_u, best_v
+
+
+@njit(**CALLED)
+def nodes_nearest(w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, eps,
+                  best_t, best_p, best_l, best_u, best_v):  # fmt: skip
+    """``nearest_hit`` through I_NODES item i's compact nodes (``layout``): a node's two
+    children's boxes tested together, the nearer along the node's split axis taken first,
+    the other kept on the range stack (above ``top``) with where the ray enters it, and
+    dropped when it comes back beyond the nearest hit so far. Returns the hit (t,
+    primitive, index, u, v) after the node's triangles; ties as ``nearest_hit``'s."""
+    pf, _, items, _, boxes, _, _, _, _, _, _, geo = w
+    sf, si, _ = s
+    base = items[i * NITEM + ITEM_B]
+    bottom = top
+    node = 0
+    enter = box_enter(boxes, base, ox, oy, oz, ix, iy, iz, best_t, parallel)
+    while True:
+        if enter != INF:
+            m = base + node * NNODE
+            first = int(boxes[m + NODE_A])
+            code = int(boxes[m + NODE_C])
+            if code < 0:
+                m = base + first * NNODE
+                near = box_enter(boxes, m, ox, oy, oz, ix, iy, iz, best_t, parallel)
+                far = box_enter(boxes, m + NNODE, ox, oy, oz, ix, iy, iz, best_t, parallel)
+                node = first
+                if code < -1 and (dx if code == -2 else (dy if code == -3 else dz)) < ZERO:
+                    near, far = far, near
+                    node = first + 1
+                if near == INF:
+                    node = 2 * first + 1 - node
+                    enter = far
+                    continue
+                if far != INF:
+                    si[top * NSI + BV_FROM] = 2 * first + 1 - node
+                    sf[top * NSF + CS_T] = far
+                    top += 1
+                enter = near
+                continue
+            for k in range(first, first + code):
+                p = items[k * NITEM + ITEM_A]
+                q = items[k * NITEM + ITEM_B]
+                found, t, u, v = compact_first_hit(pf, p, geo[0], q, ox, oy, oz, dx, dy, dz, eps, best_t)
+                if found or (t == best_t and (p < best_p or (p == best_p and q < best_l))):
+                    best_t, best_p, best_l, best_u, best_v = t, p, q, u, v
+        if top == bottom:
+            break
+        top -= 1
+        node = si[top * NSI + BV_FROM]
+        enter = sf[top * NSF + CS_T]
+        if enter > best_t:
+            enter = INF
     return best_t, best_p, best_l, best_u, best_v
 
 
@@ -397,6 +466,10 @@ def shadowed(w, s, ox, oy, oz, vx, vy, vz, eps, slot):
                 i += 1
             else:
                 i = items[i * NITEM + ITEM_A]
+        elif HAS_BOXES and kind == I_NODES:
+            if nodes_occluded(w, s, i, last, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, a, eps, distance, slot):
+                return True
+            i = items[i * NITEM + ITEM_A]
         elif HAS_CSG and kind == I_CSG:
             m = csg_collect(w, s, i, ox, oy, oz, dx, dy, dz, eps)
             for j in range(m):
@@ -407,3 +480,45 @@ def shadowed(w, s, ox, oy, oz, vx, vy, vz, eps, slot):
         else:
             i += 1
     return False
+
+
+@njit(**CALLED)
+def nodes_occluded(w, s, i, last, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, a, eps,
+                   distance, slot):  # fmt: skip
+    """``shadowed`` through I_NODES item i's compact nodes: does a shadow-casting
+    triangle other than item ``last`` meet the ray before ``distance``? Any one answers
+    (it becomes the light's memo); both children of a node the ray enters are visited."""
+    pf, pi, items, _, boxes, _, _, _, _, _, _, geo = w
+    _, si, _ = s
+    base = items[i * NITEM + ITEM_B]
+    top = 0
+    node = 0
+    inside = box_enter(boxes, base, ox, oy, oz, ix, iy, iz, distance, parallel) != INF
+    while True:
+        if inside:
+            m = base + node * NNODE
+            first = int(boxes[m + NODE_A])
+            code = int(boxes[m + NODE_C])
+            if code < 0:
+                m = base + first * NNODE
+                near = box_enter(boxes, m, ox, oy, oz, ix, iy, iz, distance, parallel) != INF
+                far = box_enter(boxes, m + NNODE, ox, oy, oz, ix, iy, iz, distance, parallel) != INF
+                if near and far:
+                    si[top * NSI + BV_FROM] = first + 1
+                    top += 1
+                node = first if near else first + 1
+                inside = near or far
+                continue
+            for k in range(first, first + code):
+                if (
+                    k != last
+                    and pi[items[k * NITEM + ITEM_A] * NI + CASTS_SHADOW] != 0
+                    and occludes(pf, pi, items, geo, k, ox, oy, oz, dx, dy, dz, a, eps, distance)
+                ):
+                    si[slot * NSI + MEMO] = k
+                    return True
+        if top == 0:
+            return False
+        top -= 1
+        node = si[top * NSI + BV_FROM]
+        inside = True

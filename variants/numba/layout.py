@@ -162,6 +162,9 @@ I_BOX = 1
 I_CSG = 2
 I_SKIP = 3  # nothing (a group whose box would not help; dropped when packing ends)
 I_TRI = 4  # a compact triangle (``tg``) of a run
+I_NODES = 5  # a hierarchy over compact triangles only, also as compact nodes (``bvh``):
+# ITEM_A: the item after the hierarchy's items (which follow it, for the kernels that walk
+# the items), ITEM_B: where its root node starts in the flat box table (``nodes``)
 
 # csg nodes (post-order): the left operand is primitives [START, MID), the right [MID, END)
 CSG_START = 0
@@ -185,13 +188,20 @@ NBALL = 6
 
 # boxes: one row per box item (its ITEM_D): lo x, y, z, hi x, y, z
 NBOX = 6
+# nodes (after the boxes in the flat box table): a hierarchy over compact triangles, a
+# node per row, a node's two children side by side: its box (NBOX), then
+NODE_A = 6  # an inner node: its first child's row; a leaf: its first I_TRI item
+NODE_C = 7  # a leaf: how many triangles (> 0); an inner node: -1 - its split axis + 1
+# (-1: no axis, the first child first; -2, -3, -4: x, y, z, the second child first for
+# a ray going down that axis)
+NNODE = 8
 
 # the hierarchy's builder (``bvh``, ``bvh_kernel``: its own copies, checked by the tests)
 BVH_BINS = 16  # bins per axis
 BVH_STACK = 256  # its stack of nodes to build
 BVH_UNIT = 6  # per unit (float32): box lo x, y, z, hi x, y, z
 BVH_STATS = 5  # what it reports: nodes, leaves, box items, depth, items
-BVH_WORK = 6 * BVH_STACK + 3 * BVH_BINS  # its scratch: ints (pending nodes, open boxes, counts)
+BVH_WORK = 7 * BVH_STACK + 3 * BVH_BINS  # its scratch: ints (pending nodes, open boxes, counts)
 BVH_FWORK = 3 * BVH_BINS * 6 + 2 * BVH_BINS + 15  # ... and floats (the bins' boxes, areas ...)
 
 # lights: one row per light, then the area lights' jitter sequences (the values of each,

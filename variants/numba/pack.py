@@ -40,7 +40,15 @@ from raytracer.world import World
 from variants.arrays import flatten as F
 from variants.arrays.rows import rgb, rows3x4
 from variants.numba import layout as L
-from variants.numba.bvh import BALLS_MAX, DEFAULT, STRUCTURES, Hierarchy, build_into, outward32
+from variants.numba.bvh import (
+    BALLS_MAX,
+    DEFAULT,
+    SAH,
+    STRUCTURES,
+    Hierarchy,
+    build_into,
+    outward32,
+)
 from variants.numba.errors import PackError, refusal
 from variants.numba.lights import light_rows
 from variants.numba.packed import Packed, PackedCamera, flat
@@ -262,16 +270,18 @@ class _Packer(Rows):
         prim = items[:, L.ITEM_TYPE] == L.I_PRIM
         ball = np.zeros(len(items), dtype=bool)
         ball[prim] = pi[items[prim, L.ITEM_A], L.WORLD_SPHERE] != 0
-        if self.structure == "sah" and ball.sum() >= BALLS_MAX:
+        if self.structure in SAH and ball.sum() >= BALLS_MAX:
             ball[:] = False
         ball_rows = items[ball, L.ITEM_A]
         items[ball, L.ITEM_TYPE] = L.I_SKIP
         items, bounds = _drop_skips(items, bounds)
         hierarchy = Hierarchy(self.structure)
-        if self.structure == "sah":
+        nodes = np.zeros((0, L.NNODE))
+        if self.structure in SAH:
             given = [bounds]
             del bounds  # given away: _hierarchy lets it go as soon as it can
-            items, boxes, hierarchy = _hierarchy(items, given)
+            with_nodes = self.compact and self.structure == "sah"
+            items, boxes, nodes, hierarchy = _hierarchy(items, given, with_nodes)
         else:
             box = np.flatnonzero(items[:, L.ITEM_TYPE] == L.I_BOX)
             boxes = bounds[box].reshape(len(box), L.NBOX)
@@ -288,12 +298,30 @@ class _Packer(Rows):
         tg = _stack(self.tg, L.NTG, np.float64).astype(dtype, copy=False)
         tn = _stack(self.tn, L.NTN, np.float64).astype(dtype, copy=False)
         seconds = time.perf_counter() - started if started is not None else 0.0
+        boxes, nodes, at = _box_table(_outward(boxes, dtype), nodes.astype(dtype, copy=False))
+        items[items[:, L.ITEM_TYPE] == L.I_NODES, L.ITEM_B] = at
         return Packed(
-            pf.astype(dtype, copy=False), pi, items, _outward(boxes, dtype), csg,
+            pf.astype(dtype, copy=False), pi, items, boxes, csg,
             rows, self.shapes, max(self.capacity, 1), self.cs_size,
             self.cs_prims, balls, hierarchy, seconds, textures=self.textures,
-            light_values=sequences, tg=tg, tn=tn,
+            light_values=sequences, tg=tg, tn=tn, nodes=nodes,
         )  # fmt: skip
+
+
+def _box_table(boxes: np.ndarray, nodes: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
+    """(boxes, nodes, where the nodes start) as views of one flat table, the nodes after
+    the boxes (what the kernels take: ``Packed.box_table``), so that a render copies
+    neither: the builder's own table (``bvh.build_into``), or a new one (float32)."""
+    if not len(nodes):
+        return boxes, nodes, 0
+    table = boxes.base
+    if table is None or table is not nodes.base or table.ndim != 1:
+        table = np.empty(boxes.size + nodes.size, dtype=boxes.dtype)
+        table[: boxes.size] = boxes.reshape(-1)
+        table[boxes.size :] = nodes.reshape(-1)
+        boxes = table[: boxes.size].reshape(boxes.shape)
+        nodes = table[boxes.size :].reshape(nodes.shape)
+    return boxes, nodes, (nodes.ctypes.data - table.ctypes.data) // table.itemsize
 
 
 def _drop_skips(items: np.ndarray, bounds: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -318,11 +346,13 @@ UNIT_CHUNK = 1 << 16  # units rounded to float32 at a time (no full-size float64
 
 
 def _hierarchy(
-    items: np.ndarray, given: list[np.ndarray]
-) -> tuple[np.ndarray, np.ndarray, Hierarchy]:
+    items: np.ndarray, given: list[np.ndarray], compact: bool
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, Hierarchy]:
     """``sah``: the unbounded items first, then the hierarchy over the others, written
-    straight into the final table. ``given``: [the items' bounds], taken out of the list
-    and let go once the units' float32 boxes are made from them."""
+    straight into the final table (items, boxes, compact nodes, what it is). ``given``:
+    [the items' bounds], taken out of the list and let go once the units' float32 boxes
+    are made from them; ``compact``: a hierarchy over compact triangles alone is also
+    given as compact nodes, after an I_NODES item (``bvh.build_into``)."""
     bounds = given.pop()
     bounded = ~np.isnan(bounds).any(axis=1)
     outside = np.flatnonzero(~bounded)
@@ -330,15 +360,25 @@ def _hierarchy(
     n = len(order)
     if n < 2:
         ordered = np.concatenate([items[outside], items[order]])
-        return ordered, np.zeros((0, L.NBOX)), Hierarchy("sah", n, len(outside))
+        return (
+            ordered,
+            np.zeros((0, L.NBOX)),
+            np.zeros((0, L.NNODE)),
+            Hierarchy("sah", n, len(outside)),
+        )
     units = np.empty((n, L.BVH_UNIT), dtype=np.float32)
     for at in range(0, n, UNIT_CHUNK):
         units[at : at + UNIT_CHUNK] = outward32(bounds[order[at : at + UNIT_CHUNK]])
     del bounds
-    out = np.empty((len(outside) + 2 * n - 1, L.NITEM), dtype=np.int32)
+    # a hierarchy over compact triangles only gets its compact nodes too (``I_NODES``)
+    nodes_item = compact and bool((items[order, L.ITEM_TYPE] == L.I_TRI).all())
+    base = len(outside) + nodes_item
+    out = np.empty((base + 2 * n - 1, L.NITEM), dtype=np.int32)
     out[: len(outside)] = items[outside]
-    count, boxes, hierarchy = build_into(items, units, order, out, len(outside))
-    return out[:count], boxes, replace(hierarchy, outside=len(outside))
+    count, boxes, nodes, hierarchy = build_into(items, units, order, out, base, nodes_item)
+    if nodes_item:
+        out[base - 1] = (L.I_NODES, count, 0, 0, 0)  # ITEM_B: set with the box table
+    return out[:count], boxes, nodes, replace(hierarchy, outside=len(outside))
 
 
 def _pack(

@@ -43,6 +43,7 @@ class Packed:
     tg: np.ndarray = field(default_factory=lambda: np.zeros((0, L.NTG)), repr=False)
     tn: np.ndarray = field(default_factory=lambda: np.zeros((0, L.NTN)), repr=False)
     sky: np.ndarray = field(default_factory=lambda: np.zeros(L.NSKY), repr=False)
+    nodes: np.ndarray = field(default_factory=lambda: np.zeros((0, L.NNODE)), repr=False)
     _rows_by_id: dict[int, int] | None = field(default=None, repr=False)
     _texture_arrays: tuple[np.ndarray, np.ndarray] | None = field(default=None, repr=False)
 
@@ -61,8 +62,18 @@ class Packed:
         (row-major; ``layout``) and the counts, as the kernels take a world."""
         return (
             flat(self.pf), flat(self.pi), flat(self.items), len(self.items),
-            flat(self.boxes), flat(self.csg), flat(self.balls), self.balls.shape[1],
+            self.box_table(), flat(self.csg), flat(self.balls), self.balls.shape[1],
         )  # fmt: skip
+
+    def box_table(self) -> np.ndarray:
+        """The boxes flattened, then the compact nodes (where: an I_NODES item's ITEM_B),
+        as ``pack`` made them: one table, handed over without a copy."""
+        if not len(self.nodes):
+            return flat(self.boxes)
+        table = self.boxes.base
+        if table is None or table is not self.nodes.base or table.ndim != 1:
+            raise ValueError("numba: the compact nodes are not in the boxes' table (a bug)")
+        return table  # packed as one table (``pack``): no copy
 
     def light_table(self) -> tuple[np.ndarray, int]:
         """(lights, n_lights): the lights flattened (``layout``), their sequences' values

@@ -5,7 +5,9 @@ The scene (``SCENE``: a camera 2.5 times the model's radius in front of it, no l
 render is one primary ray per pixel and a black picture) is rendered by ``VARIANT`` and the
 same camera's rays are intersected with the same triangles by Embree
 (``harness.instruments.embree``), in one fresh process, in turns, ``rounds`` times each: CPU
-seconds (the machine may be shared; the medians and the ratio of each pair are kept). A
+seconds (the machine may be shared; the medians and the ratio of each pair are kept); the
+kernel's steps (``STEPS``: the variant with one of its options turned back) in the same
+turns, so that the row shows what each buys. A
 render's time includes what a primary-ray render adds to the intersections (the camera's
 rays, the hit's normal, writing the canvas); Embree's is the intersections alone. Without
 ``embreex`` the entry says why (``status: unavailable``) and the report prints that line.
@@ -33,6 +35,11 @@ if TYPE_CHECKING:
 PART = "mesh-anchor"
 MESH = "knot-23k.obj"
 VARIANT = "numba[threads=1]"
+# the mesh kernel's steps, each an option of the variant, measured in the same turns: what
+# the variant is without the step, and what the step is
+STEPS = (
+    ("numba[bvh=sah-items,threads=1]", "without compact nodes: the hierarchy walked as items"),
+)
 SIZE = Size(640, 480)
 SCENE = """\
 # the ladder's mesh row (harness/sections/ladder/mesh.py): the dragon's stand-in, no light
@@ -59,7 +66,8 @@ def entry(bench: Bench, section: str) -> dict[str, Any]:
         bench.log(f"{section}: Embree not run: {result['error']}")
         return result
     bench.log(f"{section}: {VARIANT} and Embree on {MESH}, {SIZE}, in turns")
-    job = {"variant": VARIANT, "mesh": str(mesh_path(MESH)), "size": [SIZE.width, SIZE.height],
+    job = {"variant": VARIANT, "steps": [name for name, _ in STEPS],
+           "mesh": str(mesh_path(MESH)), "size": [SIZE.width, SIZE.height],
            "rounds": max(3, bench.settings.repeat)}  # fmt: skip
     outcome = run_in_child(__name__, bench.jobs_folder(f"{section}-{PART}"), job, 1)
     if isinstance(outcome, int):
@@ -71,37 +79,67 @@ def entry(bench: Bench, section: str) -> dict[str, Any]:
     return result
 
 
-def measure_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
-    """One process: the variant's render and Embree's rays, in turns (see the module)."""
-    variant = load_variant(job["variant"])
+def _setup(name: str, job: dict[str, Any]) -> Any:
+    """(tracer, camera, world, the mesh's model) for variant ``name``, compiled and warm."""
+    variant = load_variant(name)
     tracer = variant.tracer
     if tracer is None:
-        return {"error": f"{variant.name} has no tracer to render with"}
+        raise LookupError(f"{variant.name} has no tracer to render with")
     mesh = Path(job["mesh"])
     text = SCENE.format(width=job["size"][0], height=job["size"][1], mesh=mesh.name)
     scene = load_scene_text(text, variant.api, path=mesh.parent / "scene.yml",
                             variant=variant.name)  # fmt: skip
     (model,) = [spec.mesh for spec in scene.objects if spec.mesh is not None]
     c, w = scene.camera, variant.world_for(scene)
-    settings = RenderSettings(depth=1, samples=1, seed=0)
-    tracer.render(c, w, settings)  # compiles, builds the hierarchy
+    tracer.render(c, w, SETTINGS)  # compiles, builds the hierarchy
+    return tracer, c, w, model
+
+
+SETTINGS = RenderSettings(depth=1, samples=1, seed=0)
+
+
+def _render_cpu(setup: Any) -> float:
+    tracer, c, w, _ = setup
+    canvas = tracer.new_canvas(c)
+    started = time.process_time()
+    tracer.render_into(canvas, c, w, SETTINGS)
+    return time.process_time() - started
+
+
+def _ratios(ours: list[float], theirs: list[float]) -> list[float]:
+    return sorted(a / b for a, b in zip(ours, theirs, strict=True))
+
+
+def measure_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
+    """One process: the variant's render, its steps' (``job["steps"]``) and Embree's rays,
+    in turns (see the module)."""
+    names = [job["variant"], *job.get("steps", [])]
+    try:
+        setups = [_setup(name, job) for name in names]
+    except LookupError as error:
+        return {"error": str(error)}
     found = embree.find()
-    ours: list[float] = []
+    times: list[list[float]] = [[] for _ in names]
     theirs: list[float] = []
     rays = None
     for _ in range(int(job["rounds"])):
-        canvas = tracer.new_canvas(c)
-        started = time.process_time()
-        tracer.render_into(canvas, c, w, settings)
-        ours.append(time.process_time() - started)
+        for setup, own in zip(setups, times, strict=True):
+            own.append(_render_cpu(setup))
+        _, c, _, model = setups[0]
         rays = embree.primary_rays(c, model.positions, model.triangles, 1, found)
         theirs.append(rays.cpu[0])
     assert rays is not None  # rounds >= 1
+    ours = times[0]
+    steps = [
+        {"variant": name, "ours": own, "median": statistics.median(own),
+         "ratios": _ratios(own, theirs)}
+        for name, own in zip(names[1:], times[1:], strict=True)
+    ]  # fmt: skip
     return {
-        "version": rays.version, "triangles": model.count, "rays": rays.rays, "hits": rays.hits,
-        "ours": ours, "embree": theirs, "ours_median": statistics.median(ours),
-        "embree_median": statistics.median(theirs),
-        "ratios": sorted(a / b for a, b in zip(ours, theirs, strict=True)),
+        "version": rays.version, "triangles": setups[0][3].count, "rays": rays.rays,
+        "hits": rays.hits, "ours": ours, "embree": theirs,
+        "ours_median": statistics.median(ours), "embree_median": statistics.median(theirs),
+        "ratios": _ratios(ours, theirs), "steps": steps,
     }  # fmt: skip
 
 

@@ -388,7 +388,22 @@ def mesh_text(found: Mapping[str, Any]) -> str:
         f"{found['version']} intersects the same {found['rays']:,} rays "
         f"({found['hits']:,} hit) in {figures.seconds_text(theirs)}: **{ours / theirs:.2f}x** "
         f"its time (pairs measured in turns in one process: {ratios[0]:.2f}-{ratios[-1]:.2f}x)."
+        + _mesh_steps(found.get("steps", []), theirs)
     )
+
+
+def _mesh_steps(steps: list[Mapping[str, Any]], theirs: float) -> str:
+    """The mesh kernel's steps (``mesh.STEPS``) in a sentence: each variant's time and its
+    factor over Embree's, measured in the same turns."""
+    if not steps:
+        return ""
+    told = dict(mesh.STEPS)
+    parts = [
+        f"`{step['variant']}` ({told.get(step['variant'], 'a step')}) "
+        f"{figures.seconds_text(step['median'])}, {step['median'] / theirs:.2f}x"
+        for step in steps
+    ]
+    return " In the same turns: " + "; ".join(parts) + "."
 
 
 def _anchor_notes(run: Run) -> list[Block]:
