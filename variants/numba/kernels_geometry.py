@@ -42,16 +42,26 @@ from variants.numba.layout import (
 # ---- kernel template ----
 
 # Helpers: compiled once, then inlined by LLVM into every caller (numba's own inlining,
-# inline="always", copies the IR into each caller before typing: several times slower to
-# compile). Without the numba runtime (_nrt=False) they do no reference counting of the
-# arrays they are passed, and they allocate nothing. ``pf``, ``pi`` ... are flat (see
-# ``layout``): numpy arrays in the book-API kernels, raw pointers in the render.
+# inline="always", copies the IR into each caller before typing: for a helper with many
+# callers, several times slower to compile). Without the numba runtime (_nrt=False) they
+# do no reference counting of the arrays they are passed, and they allocate nothing.
+# ``pf``, ``pi`` ... are flat (see ``layout``): numpy arrays in the book-API kernels, raw
+# pointers in the render.
 INLINE: dict[str, Any] = {
     "forceinline": INLINE_HELPERS,
     "_nrt": False,
     "fastmath": FASTMATH,
     "error_model": "numpy",
 }
+# The big steps with one caller in the render (its rows; a path's rows, bounces and lights):
+# numba copies their IR into the caller before typing, so none is compiled, optimized and
+# turned into machine code a second time as a library of its own with every helper below
+# it linked in. Copying the Whitted steps below ``render_rows`` as well (``drain``,
+# ``shade_and_push``, ``light_intensity``) cut more, but changed the machine code of the
+# render's inner loop and slowed a render a few per cent; ``render_rows`` alone leaves it
+# instruction for instruction as it was. The book API's module (``INLINE_HELPERS`` off)
+# calls them: copying cost more than it saved there.
+ONCE: dict[str, Any] = {**INLINE, "inline": "always"} if INLINE_HELPERS else INLINE
 INF = F(np.inf)
 ZERO = F(0.0)
 ONE = F(1.0)

@@ -34,6 +34,7 @@ from variants.numba.kernel_flags import (
 )
 from variants.numba.kernels_geometry import (
     INLINE,
+    ONCE,
     ONE,
     ZERO,
 )
@@ -149,7 +150,7 @@ def sky_color(sky, dx, dy, dz):
     )
 
 
-@njit(**INLINE)
+@njit(**ONCE)
 def direct_light(
     w, s, over_x, over_y, over_z, nx, ny, nz, wr, wg, wb, eps, path_key, bounce, area
 ):  # fmt: skip
@@ -207,7 +208,7 @@ def direct_light(
     return dr, dg, db
 
 
-@njit(**INLINE)
+@njit(**ONCE)
 def crossed_lights(w, s, ox, oy, oz, dx, dy, dz, wr, wg, wb, eps):
     """``raytracer.path.crossed_lights`` (light sampling off): the light of the area lights
     that the ray from (ox, oy, oz) along (dx, dy, dz), leaving a diffuse hit, crosses where
@@ -262,7 +263,7 @@ def crossed_lights(w, s, ox, oy, oz, dx, dy, dz, wr, wg, wb, eps):
     return cr, cg, cb
 
 
-@njit(**INLINE)
+@njit(**ONCE)
 def trace_path(w, s, eps, sky, depth, roulette, light_sampling, ox, oy, oz, dx, dy, dz, key):
     """``raytracer.path.path_color_at`` for a camera ray, as a loop over its bounces: the
     light it carries back (r, g, b). ``key``: the sample's (``sample_key``);
@@ -345,7 +346,7 @@ def trace_path(w, s, eps, sky, depth, roulette, light_sampling, ox, oy, oz, dx, 
         bounce += 1
 
 
-@njit(**INLINE)
+@njit(**ONCE)
 def path_rows(
     out, x0, y0, x1, y1, k, step, cam, w, depth, samples, seed_key, eps, s, sky, roulette,
     light_sampling,

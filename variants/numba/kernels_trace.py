@@ -35,6 +35,7 @@ from variants.numba.kernel_flags import (
 )
 from variants.numba.kernels_geometry import (
     INLINE,
+    ONCE,
     ONE,
     ZERO,
 )
@@ -336,7 +337,7 @@ def sample_ray(cam, seed_key, samples, x, y, i):
     return camera_ray(cam, F(np.float64(x) + sx - 0.5), F(np.float64(y) + sy - 0.5))
 
 
-@njit(**INLINE)
+@njit(**ONCE)
 def render_rows(out, x0, y0, x1, y1, k, step, cam, w, depth, samples, seed_key, eps, stack, s):
     """Chapter 7: render rows y0 + k, y0 + k + step ... (below y1) of the region x0 <= x <
     x1, y0 <= y < y1 into ``out`` ((y1 - y0) x (x1 - x0) x 3, flat; pixels and sample
