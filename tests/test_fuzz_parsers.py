@@ -835,3 +835,19 @@ def test_found_a_key_with_a_line_break_stays_on_one_line(tmp_path: Path) -> None
 
 def read_result_strictly(path: Path) -> None:
     check_run(load_run(path)["rtc"], str(path))
+
+
+@pytest.mark.parametrize("section", [[], {}, 3, None])
+def test_a_result_row_whose_section_is_not_a_name_loads_or_fails_clearly(
+    section: Any, workdir: Path
+) -> None:
+    """The schema migration reads every row's section: one that is a list (unhashable) once
+    raised a TypeError (found by the damaged-file test above)."""
+    document = json.loads(RESULT_FILE.read_text(encoding="utf-8"))
+    document["rtc"]["rows"][0]["section"] = section
+    target = workdir / "bench-section.json"
+    target.write_text(json.dumps(document), encoding="utf-8")
+    with pytest.raises(ResultFileError) as caught:  # the report cannot use such a row
+        check_run(load_run(target)["rtc"], str(target))
+    one_line(caught.value, str(target))
+    assert "rows[0].section" in str(caught.value)

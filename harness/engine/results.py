@@ -69,8 +69,9 @@ def _sections_named_as_the_command_line(data: dict[str, Any]) -> dict[str, Any]:
     for key in ("rows", "series"):
         items = rtc.get(key)
         for item in items if isinstance(items, list) else []:
-            if isinstance(item, dict) and item.get("section") in RENAMED_SECTIONS:
-                item["section"], item["part"] = RENAMED_SECTIONS[item["section"]]
+            section = item.get("section") if isinstance(item, dict) else None
+            if isinstance(section, str) and section in RENAMED_SECTIONS:  # damaged: left as is
+                item["section"], item["part"] = RENAMED_SECTIONS[section]
     return data
 
 
