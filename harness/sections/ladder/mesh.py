@@ -4,7 +4,8 @@
 The scene (``SCENE``: a camera 2.5 times the model's radius in front of it, no light, so a
 render is one primary ray per pixel and a black picture) is rendered by ``VARIANT`` and the
 same camera's rays are intersected with the same triangles by Embree
-(``harness.instruments.embree``), in one fresh process, in turns, ``rounds`` times each: CPU
+(``harness.instruments.embree``), in one fresh process, in turns (each round in another
+order), ``rounds`` times each: CPU
 seconds (the machine may be shared; the medians and the ratio of each pair are kept); the
 kernel's steps (``STEPS``: the variant with one of its options turned back) in the same
 turns, so that the row shows what each buys. A
@@ -122,12 +123,19 @@ def measure_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
     times: list[list[float]] = [[] for _ in names]
     theirs: list[float] = []
     rays = None
-    for _ in range(int(job["rounds"])):
-        for setup, own in zip(setups, times, strict=True):
-            own.append(_render_cpu(setup))
-        _, c, _, model = setups[0]
-        rays = embree.primary_rays(c, model.positions, model.triangles, 1, found)
-        theirs.append(rays.cpu[0])
+    _, c, _, model = setups[0]
+    for turn in range(int(job["rounds"])):
+        # each round in another order, Embree first or last: the first render after another
+        # kind of work runs on cold caches, and no one is always first
+        order = [(turn + k) % len(names) for k in range(len(names))]
+        if turn % 2:
+            rays = embree.primary_rays(c, model.positions, model.triangles, 1, found)
+            theirs.append(rays.cpu[0])
+        for k in order:
+            times[k].append(_render_cpu(setups[k]))
+        if not turn % 2:
+            rays = embree.primary_rays(c, model.positions, model.triangles, 1, found)
+            theirs.append(rays.cpu[0])
     assert rays is not None  # rounds >= 1
     ours = times[0]
     steps = [
