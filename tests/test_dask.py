@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import dataclasses
 import faulthandler
-import math
 import os
 import signal
 import socket
@@ -19,26 +18,18 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from book_world import default_scene
 from holding import HANG_SECONDS
 
 from raytracer.camera import RenderSettings
 from rtc.cli import main
 from variants import dask_cluster
 from variants.dask_cluster import ClusterError, DaskTracer
-from variants.registry import Variant, VariantError, load_variant
+from variants.registry import VariantError, load_variant
 
 distributed = pytest.importorskip("distributed")  # a declared dependency: always there in CI
 
 REFERENCE_SCENE = Path(__file__).resolve().parent.parent / "scenes" / "reference.yml"
-
-
-def _scene(variant: Variant, width: int, height: int) -> tuple[Any, Any]:
-    api = variant.api
-    view = api["view_transform"](
-        api["point"](0, 1.5, -5), api["point"](0, 0, 0), api["vector"](0, 1, 0)
-    )
-    c = dataclasses.replace(api["camera"](width, height, math.pi / 3), transform=view)
-    return c, api["default_world"]()
 
 
 def _same_pixels(a: Any, b: Any) -> bool:
@@ -103,7 +94,7 @@ def test_a_local_cluster_render_is_the_inner_variants_picture_and_counts_every_r
 ) -> None:
     variant = load_variant(f"dask[workers=2,tile=5]:{inner}")
     own = load_variant(inner)
-    c, w = _scene(own, 13, 11)
+    c, w = default_scene(own, 13, 11)
     rows: list[int] = []
     image = variant.api["render"](c, w, None, rows.append)
     assert sum(rows) == 11 and all(n > 0 for n in rows)
@@ -126,7 +117,7 @@ def test_a_session_keeps_one_cluster_and_each_worker_loads_the_inner_variant_onc
     variant = load_variant("dask[workers=2,tile=4]:cached")
     tracer = variant.tracer
     assert isinstance(tracer, DaskTracer)
-    c, w = _scene(variant, 12, 8)
+    c, w = default_scene(variant, 12, 8)
     with tracer.session() as client:
         first = client.run(os.getpid)
         loaded_before = client.run(lambda: id(dask_cluster._TRACERS["cached"]))
@@ -139,7 +130,7 @@ def test_a_session_keeps_one_cluster_and_each_worker_loads_the_inner_variant_onc
 def test_a_running_scheduler_renders_the_same_picture(scheduler: str) -> None:
     variant = load_variant(f"dask[scheduler={scheduler},tile=6]:naive")
     own = load_variant("naive")
-    c, w = _scene(own, 12, 9)
+    c, w = default_scene(own, 12, 9)
     assert _same_pixels(variant.api["render"](c, w), own.api["render"](c, w))
 
 
@@ -151,7 +142,7 @@ def test_killing_a_worker_mid_render_still_gives_the_same_picture() -> None:
     own = load_variant("naive")
     tracer = variant.tracer
     assert isinstance(tracer, DaskTracer)
-    c, w = _scene(own, 16, 12)
+    c, w = default_scene(own, 16, 12)
     killed: list[int] = []
     with tracer.session() as client:
         pids = list(client.run(os.getpid).values())
@@ -196,7 +187,7 @@ def test_an_unreachable_scheduler_is_one_line_within_seconds(
     socket, no Client made (``no_client``), no timeout waited for (the message is the
     refusal's, not a timeout's)."""
     variant = load_variant(f"dask[scheduler=tcp://127.0.0.1:{closed_port},timeout=3]:naive")
-    c, w = _scene(variant, 4, 3)
+    c, w = default_scene(variant, 4, 3)
     with pytest.raises(
         ClusterError, match=r"cannot reach the scheduler at tcp://127\.0\.0\.1"
     ) as info:
@@ -223,7 +214,7 @@ def test_something_else_listening_is_not_taken_for_a_scheduler(no_client: None) 
 
     threading.Thread(target=answer_nonsense, daemon=True).start()
     variant = load_variant(f"dask[scheduler=tcp://127.0.0.1:{port},timeout=2]:naive")
-    c, w = _scene(variant, 4, 3)
+    c, w = default_scene(variant, 4, 3)
     try:
         with pytest.raises(ClusterError, match="cannot reach the scheduler") as info:
             variant.api["render"](c, w)
@@ -244,7 +235,7 @@ def test_a_tile_that_raises_fails_the_render_naming_the_tile(
     # the in-process cluster's worker shares this module's table of loaded tracers
     monkeypatch.setitem(dask_cluster._TRACERS, "cached", _Broken())  # type: ignore[arg-type]
     variant = load_variant(f"dask[scheduler={scheduler},tile=4]:cached")
-    c, w = _scene(variant, 8, 4)
+    c, w = default_scene(variant, 8, 4)
     with pytest.raises(
         ClusterError,
         match=r"tile x \d+\.\.\d+, y 0\.\.3 failed on a worker: "
@@ -290,7 +281,7 @@ def test_a_tile_that_keeps_killing_its_workers_is_one_line() -> None:
     variant = load_variant("dask[workers=1,tile=4]:cached")
     tracer = variant.tracer
     assert isinstance(tracer, DaskTracer)
-    c, w = _scene(variant, 4, 4)
+    c, w = default_scene(variant, 4, 4)
     # the scheduler runs in this process: after one death the tile is given up
     with dask.config.set({"distributed.scheduler.allowed-failures": 0}), tracer.session() as client:
         client.run(_install_a_crashing_tracer)
@@ -305,7 +296,7 @@ def test_a_deeply_nested_world_renders_in_the_workers_as_here(name: str) -> None
     # the workers take the parent's limit, so they trace (and pass on) what it loaded
     own = load_variant("cached")
     api = own.api
-    c, _ = _scene(own, 4, 3)
+    c, _ = default_scene(own, 4, 3)
     shape = api["sphere"]()
     for _ in range(400):
         group = api["group"]()
@@ -328,7 +319,7 @@ def test_a_deeply_nested_world_renders_in_the_workers_as_here(name: str) -> None
 
 def test_a_world_that_does_not_pickle_is_one_line() -> None:
     variant = load_variant("dask[workers=1]:cached")
-    c, w = _scene(variant, 4, 3)
+    c, w = default_scene(variant, 4, 3)
     w = dataclasses.replace(w, objects=[*w.objects, lambda: None])
     with pytest.raises(ClusterError, match="must pickle to go to the workers") as info:
         variant.api["render"](c, w)
@@ -345,7 +336,7 @@ def test_a_worker_that_cannot_load_the_inner_variant_is_one_line(
     monkeypatch.setattr(dask_cluster, "load_variant", missing)
     monkeypatch.delitem(dask_cluster._TRACERS, "cached", raising=False)
     tracer = DaskTracer(load_variant("cached").tracer, "cached", 1, scheduler=scheduler)
-    c, w = _scene(load_variant("cached"), 4, 3)
+    c, w = default_scene(load_variant("cached"), 4, 3)
     with pytest.raises(ClusterError, match="a worker cannot load 'cached': ImportError") as info:
         tracer.render(c, w)
     assert "\n" not in str(info.value)

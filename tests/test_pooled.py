@@ -5,7 +5,6 @@ or fails makes the render fail quickly and clearly, returning (and writing) noth
 from __future__ import annotations
 
 import dataclasses
-import math
 import multiprocessing
 import os
 import signal
@@ -13,6 +12,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from book_world import default_scene
 
 from raytracer.camera import Camera, RenderSettings
 from raytracer.tracer import TRACER, Tracer
@@ -24,15 +24,6 @@ from variants.pooled import variant as pooled_variant
 from variants.registry import Variant, VariantError, load_variant
 
 REFERENCE_SCENE = Path(__file__).resolve().parent.parent / "scenes" / "reference.yml"
-
-
-def _scene(variant: Variant, width: int, height: int) -> tuple[Any, Any]:
-    api = variant.api
-    view = api["view_transform"](
-        api["point"](0, 1.5, -5), api["point"](0, 0, 0), api["vector"](0, 1, 0)
-    )
-    c = dataclasses.replace(api["camera"](width, height, math.pi / 3), transform=view)
-    return c, api["default_world"]()
 
 
 @pytest.mark.parametrize(
@@ -51,7 +42,7 @@ def test_the_jobs_cover_every_pixel_once(granularity: str, tile: int, count: int
 )
 def test_progress_counts_every_row_once_and_no_worker_is_left(name: str) -> None:
     variant = load_variant(name)
-    c, w = _scene(variant, 13, 11)
+    c, w = default_scene(variant, 13, 11)
     rows: list[int] = []
     image = variant.api["render"](c, w, None, rows.append)
     assert sum(rows) == 11 and all(n > 0 for n in rows)
@@ -64,7 +55,7 @@ def test_killing_a_worker_mid_render_fails_within_seconds_and_returns_nothing() 
     when the worker has been silent for the pool's ``timeout`` (10 s), the only other way
     the render could end with a job lost; which of the two ended it, the message says."""
     variant = load_variant("pooled[workers=2]:cached")
-    c, w = _scene(variant, 40, 30)
+    c, w = default_scene(variant, 40, 30)
     killed: list[int] = []
 
     def kill_a_worker(rows: int) -> None:
@@ -87,7 +78,7 @@ def test_killing_a_worker_mid_render_fails_within_seconds_and_returns_nothing() 
 
 def test_an_exception_in_a_worker_names_the_job_and_carries_its_traceback() -> None:
     variant = load_variant("pooled[workers=2]:cached")
-    c, w = _scene(variant, 8, 8)
+    c, w = default_scene(variant, 8, 8)
     w.objects[0].transform = variant.api["scaling"](1, 0, 1)  # fails on first use, in a worker
     with pytest.raises(RenderWorkerError) as error:
         variant.api["render"](c, w)
@@ -99,7 +90,7 @@ def test_an_exception_in_a_worker_names_the_job_and_carries_its_traceback() -> N
 
 def test_a_worker_that_cannot_load_its_inner_variant_says_so() -> None:
     tracer = PooledTracer(TRACER, "no-such-variant", workers=1)
-    c, w = _scene(load_variant("naive"), 4, 4)
+    c, w = default_scene(load_variant("naive"), 4, 4)
     with pytest.raises(RenderWorkerError, match=r"worker 0 \(pid \d+\) could not start") as error:
         tracer.render(c, w)
     assert "unknown variant 'no-such-variant'" in str(error.value)
@@ -107,7 +98,7 @@ def test_a_worker_that_cannot_load_its_inner_variant_says_so() -> None:
 
 def test_a_world_that_does_not_pickle_is_a_clear_error() -> None:
     variant = load_variant("pooled[workers=1]")
-    c, w = _scene(variant, 4, 4)
+    c, w = default_scene(variant, 4, 4)
     w.objects[0].material = dataclasses.replace(w.objects[0].material, pattern=lambda p: p)
     with pytest.raises(
         RenderWorkerError,
@@ -166,7 +157,7 @@ def test_pooling_works_after_numba_threads_ran_in_the_same_process() -> None:
 
     assert total(np.ones(1000)) == 1000.0
     variant = load_variant("pooled[workers=2]:cached")
-    c, w = _scene(variant, 6, 6)
+    c, w = default_scene(variant, 6, 6)
     image = variant.api["render"](c, w, RenderSettings(depth=2))
     assert (image.width, image.height) == (6, 6)
 
@@ -177,11 +168,11 @@ def test_a_pooled_render_is_its_inner_variants_picture(inner: str) -> None:
     naive's, bit for bit, for these two)."""
     pooled = load_variant(f"pooled[workers=2,granularity=tile,tile=3]:{inner}")
     plain = load_variant(inner)
-    c, w = _scene(plain, 9, 7)
+    c, w = default_scene(plain, 9, 7)
     settings = RenderSettings(depth=3, samples=2, seed=5)
     expected = plain.api["render"](c, w, settings)
     assert pooled.api["render"](c, w, settings).pixels == expected.pixels
-    naive_c, naive_w = _scene(load_variant("naive"), 9, 7)
+    naive_c, naive_w = default_scene(load_variant("naive"), 9, 7)
     assert load_variant("naive").api["render"](naive_c, naive_w, settings).pixels == expected.pixels
 
 
@@ -200,7 +191,7 @@ class CountingTracer(Tracer):
 
 
 def test_a_worker_prepares_its_frame_once_and_calls_render_region_per_job() -> None:
-    c, w = _scene(load_variant("naive"), 5, 4)
+    c, w = default_scene(load_variant("naive"), 5, 4)
     settings = RenderSettings()
     jobs = make_jobs(5, 4, "tile", 2)
     parent_end, worker_end = multiprocessing.Pipe()

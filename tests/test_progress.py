@@ -6,15 +6,13 @@ tests'."""
 
 from __future__ import annotations
 
-import dataclasses
 import io
-import math
 import re
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 import pytest
+from book_world import default_scene
 
 from groundwork.progress import Progress, Ticker, compile_ticker, duration
 from raytracer.camera import RenderSettings
@@ -223,15 +221,6 @@ def test_rtc_render_help_lists_exactly_the_registered_variants(
 # ------------------------------------------------------------------ every family's rows
 
 
-def _scene(variant: Any, width: int, height: int) -> tuple[Any, Any]:
-    api = variant.api
-    view = api["view_transform"](
-        api["point"](0, 1.5, -5), api["point"](0, 0, 0), api["vector"](0, 1, 0)
-    )
-    c = dataclasses.replace(api["camera"](width, height, math.pi / 3), transform=view)
-    return c, api["default_world"]()
-
-
 FAMILIES = [
     "naive", "cached", "prealloc", "robust",
     "pooled[workers=2]:cached", "pooled[granularity=pixel,workers=2]:cached",
@@ -246,7 +235,7 @@ def test_every_family_reports_every_row_once(name: str) -> None:
     pieces that add up (a row never twice), whether it renders rows, pixels, tiles, chunks
     of rows or passes."""
     variant = load_variant(name)
-    c, w = _scene(variant, 13, 11)
+    c, w = default_scene(variant, 13, 11)
     rows: list[int] = []
     variant.api["render"](c, w, RenderSettings(), rows.append)
     assert sum(rows) == 11 and all(n > 0 for n in rows), rows
@@ -255,7 +244,7 @@ def test_every_family_reports_every_row_once(name: str) -> None:
 def test_wavefront_reports_each_pass() -> None:
     """wavefront[max_mb=1]: passes of 512 rays, so 13x110 pixels take three."""
     variant = load_variant("wavefront[max_mb=1]")
-    c, w = _scene(variant, 13, 110)
+    c, w = default_scene(variant, 13, 110)
     rows: list[int] = []
     variant.api["render"](c, w, RenderSettings(), rows.append)
     assert sum(rows) == 110 and len(rows) > 1
@@ -283,7 +272,7 @@ def test_numba_in_chunks_is_the_same_picture_as_in_one_call(
     from variants.numba import render as numba_render
 
     variant = load_variant("numba")
-    c, w = _scene(variant, 24, 40)
+    c, w = default_scene(variant, 24, 40)
     whole = variant.api["render"](c, w, RenderSettings())
     monkeypatch.setattr(numba_render, "CHUNK_SECONDS", 0.0)
     rows: list[int] = []

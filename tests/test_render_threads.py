@@ -9,27 +9,18 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
-import math
 import threading
 import types
 from typing import Any
 
 import numpy as np
 import pytest
+from book_world import default_scene
 
 from raytracer.camera import RenderSettings
 from variants.numba import render as numba_render
 from variants.numba.render import Rows, run_region
 from variants.registry import load_variant
-
-
-def _scene(variant: Any, width: int, height: int) -> tuple[Any, Any]:
-    api = variant.api
-    view = api["view_transform"](
-        api["point"](0, 1.5, -5), api["point"](0, 0, 0), api["vector"](0, 1, 0)
-    )
-    c = dataclasses.replace(api["camera"](width, height, math.pi / 3), transform=view)
-    return c, api["default_world"]()
 
 
 def _deal(rows: Rows, most: int | None = None) -> list[tuple[int, int]]:
@@ -63,7 +54,7 @@ def test_a_held_numba_thread_leaves_the_other_rows_to_the_free_one(
     out: the calling thread renders all of them (a static split would have left thread 1
     half the rows), and the picture is one thread's, bit for bit."""
     variant = load_variant("numba[threads=2]")
-    c, w = _scene(variant, 12, 40)
+    c, w = default_scene(variant, 12, 40)
     settings = RenderSettings()
     alone = load_variant("numba[threads=1]").api["render"](c, w, settings).array
     frame = variant.tracer.prepared(c, w, settings)
