@@ -153,7 +153,7 @@ def _page_offset(array: np.ndarray) -> int:
     return (-array.ctypes.data % PAGE) // array.itemsize
 
 
-@dataclass
+@dataclass(eq=False)  # arrays and a lock: compared by identity
 class Frame:
     """What every region of one frame needs (``NumbaTracer.prepare``): the packed camera
     and world, the loaded render entry, the threads' scratch and the entry's arguments
