@@ -53,9 +53,9 @@ NEVER_ON_THE_RENDER_PATH = (
 # start (about half a millisecond of a render's command each, a quarter of its imports' CPU
 # when this was written); tables and records that nothing mutates or replaces are
 # NamedTuples (scene.kinds, scene.pattern_kinds, scene.limits, scene.reader's Entry, the
-# registry's entries and specs). A new one on the render path needs a reason, and this
-# figure raised with it.
-RENDER_DATACLASSES = {"naive": 46, "numba": 61}
+# registry's entries and specs, the numba variant's options and feature sets). A new one
+# on the render path needs a reason, and this figure raised with it.
+RENDER_DATACLASSES = {"naive": 46, "numba": 59}
 # What only building a compiled library needs (running the C compiler): a render that loads
 # one already built imports none of it
 ONLY_TO_BUILD_A_LIBRARY = ("subprocess", "shlex")
