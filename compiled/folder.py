@@ -8,13 +8,14 @@ import contextlib
 import os
 import stat
 import sys
-import tempfile
 import threading
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 from compiled import KernelFolderError, compile_log
 from compiled.notices import say
+from groundwork.files import check_can_write
 
 _lock = threading.Lock()
 
@@ -57,19 +58,14 @@ def _choose_folder() -> Path:
                 "other user can write in (it is made if missing)"
             )
         return Path(chosen)
-    cache_home = _xdg("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    candidates = [Path(cache_home) / "rtc-workbook" / "numba-kernels"]
-    runtime = _xdg("XDG_RUNTIME_DIR")
-    if runtime:
-        candidates.append(Path(runtime) / "rtc-numba-kernels")
-    candidates.append(Path(tempfile.gettempdir()) / f"rtc-numba-kernels-{os.geteuid()}")
     reasons = []
-    for folder in candidates:
+    for folder in _candidates():
         why = _private(folder, tighten=True)
         if not why:
             return folder
         reasons.append(f"{folder}: {why}")
     import shutil  # deferred, as in remove
+    import tempfile
 
     fresh = Path(tempfile.mkdtemp(prefix="rtc-numba-kernels-"))  # 0700, a new random name
     atexit.register(shutil.rmtree, fresh, ignore_errors=True)
@@ -79,6 +75,19 @@ def _choose_folder() -> Path:
         "process alone, so its code is compiled again next time"
     )
     return fresh
+
+
+def _candidates() -> Iterator[Path]:
+    """The folders tried in turn for the kernels: the user's cache, the runtime folder, the
+    system's temporary folder (tempfile, with random and shutil, imported only then)."""
+    cache_home = _xdg("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    yield Path(cache_home) / "rtc-workbook" / "numba-kernels"
+    runtime = _xdg("XDG_RUNTIME_DIR")
+    if runtime:
+        yield Path(runtime) / "rtc-numba-kernels"
+    import tempfile
+
+    yield Path(tempfile.gettempdir()) / f"rtc-numba-kernels-{os.geteuid()}"
 
 
 def _private(folder: Path, *, tighten: bool) -> str:
@@ -111,8 +120,7 @@ def _private(folder: Path, *, tighten: bool) -> str:
         except OSError as error:
             return f"cannot make it private ({error.strerror or error})"
     try:
-        with tempfile.TemporaryFile(dir=folder, prefix=".rtc-write-check-"):
-            pass
+        check_can_write(folder, ".rtc-write-check-")
     except OSError as error:
         return f"cannot write in it ({error.strerror or error})"
     return ""

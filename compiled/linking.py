@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import os
-import tempfile
 from pathlib import Path
 from typing import Any
 
@@ -35,6 +34,7 @@ def link(entry: Any, stub: str, path: Path, what: str) -> None:
     ``ENTRY_SYMBOL``) into the shared library ``path``; ``what`` names it in errors."""
     # deferred: 5-13 ms of every render's imports, and only a build runs the C compiler
     import subprocess
+    import tempfile
 
     command_start = compiler()
     try:

@@ -11,12 +11,11 @@ import os
 import platform
 import re
 import sys
-import tempfile
 from pathlib import Path
 
 from compiled.entry import UNREACHABLE
 from compiled.folder import kernel_folder, remove
-from groundwork.files import read_bytes, read_text
+from groundwork.files import new_file, read_bytes, read_text
 
 
 def _stat_key(package: str) -> str:
@@ -154,7 +153,7 @@ def publish(built_file: Path, path: Path) -> Path:
     library = path.parent / f"{path.stem}-{digest[:16]}.so"
     _replace(built_file, library)
     entry = {"key": _keys.get(str(path), ""), "library": library.name, "sha256": digest}
-    fd, temporary = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=".tmp", dir=path.parent)
+    fd, temporary = new_file(path.parent, f".{path.stem}.", ".tmp")
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as out:
             json.dump(entry, out)

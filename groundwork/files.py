@@ -156,11 +156,45 @@ def resolved(path: Path) -> Path:
         raise OSError(errno.ELOOP, "it is a loop of symbolic links", str(path)) from None
 
 
+_NEW_FILE = (
+    os.O_RDWR | os.O_CREAT | os.O_EXCL | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_CLOEXEC", 0)
+)
+_NAME_ATTEMPTS = 100  # random names tried before giving up (each taken: someone else's)
+
+
+def new_file(folder: str | os.PathLike[str], prefix: str, suffix: str = "") -> tuple[int, str]:
+    """A file made by this call alone in ``folder``, under a random name (``prefix``, 12 hex
+    digits, ``suffix``), mode 0600, open for writing: its descriptor and absolute path.
+    ``tempfile.mkstemp``'s contract, without importing tempfile (and its random and shutil)
+    on every render's path."""
+    for _ in range(_NAME_ATTEMPTS):
+        name = os.path.abspath(os.path.join(folder, f"{prefix}{os.urandom(6).hex()}{suffix}"))
+        try:
+            return os.open(name, _NEW_FILE, 0o600), name
+        except FileExistsError:
+            continue
+    raise FileExistsError(errno.EEXIST, "no unused name for a temporary file", str(folder))
+
+
+def check_can_write(folder: str | os.PathLike[str], prefix: str) -> None:
+    """An ``OSError`` unless files can be made in ``folder`` (read-only, full, not ours):
+    a file is made there and removed (without a name, where the system allows it)."""
+    unnamed = getattr(os, "O_TMPFILE", 0)
+    if unnamed:
+        try:
+            os.close(os.open(folder, unnamed | os.O_WRONLY | getattr(os, "O_CLOEXEC", 0), 0o600))
+            return
+        except OSError as error:  # a file system without unnamed files: a named one below
+            if error.errno not in (errno.EISDIR, errno.EOPNOTSUPP, errno.EINVAL):
+                raise
+    fd, name = new_file(folder, prefix)
+    os.close(fd)
+    os.unlink(name)
+
+
 def _temporary_beside(path: Path, data: bytes, mode: int, sync: bool) -> str:
     """A temporary file in ``path``'s folder holding ``data`` with permissions ``mode``."""
-    import tempfile  # deferred: rtc --help writes nothing (tempfile brings random and shutil)
-
-    fd, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    fd, temporary = new_file(path.parent, f".{path.name}.", ".tmp")
     try:
         with os.fdopen(fd, "wb") as out:
             out.write(data)

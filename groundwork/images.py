@@ -88,6 +88,10 @@ def canvas_problem(canvas: Any, width: int, height: int) -> str | None:
         return f"returned a {size[0]}x{size[1]} canvas for a {width}x{height} camera"
     array = getattr(canvas, "array", None)
     if isinstance(array, np.ndarray) and array.ndim == 3:
+        with np.errstate(all="ignore"):  # a sum past the largest float: looked at below
+            total = float(array.sum())
+        if math.isfinite(total):  # a NaN or an infinity would spread to the sum
+            return None
         bad = np.argwhere(~np.isfinite(array).all(axis=-1))
         first = None if not len(bad) else (int(bad[0][1]), int(bad[0][0]))
         count = len(bad)

@@ -20,7 +20,7 @@ from pathlib import Path
 from compiled import KernelFolderError
 from groundwork import knobs
 from groundwork.escapes import printable
-from groundwork.files import writable_target
+from groundwork.files import check_can_write, writable_target
 from groundwork.memory import NotEnoughMemory, check, render_bytes
 
 # Each command's module and its one line of help (``rtc --help``, and the command's own).
@@ -120,12 +120,8 @@ def check_writable(path: Path, what: str) -> None:
         folder = folder.parent
     if not folder.is_dir():
         raise UserError(f"{what}: {str(folder)!r} is not a folder")
-    # deferred: tempfile (with random and shutil) is for the commands that write
-    import tempfile
-
     try:
-        with tempfile.TemporaryFile(dir=folder, prefix=".rtc-write-check-"):
-            pass
+        check_can_write(folder, ".rtc-write-check-")
     except OSError as error:
         raise UserError(
             f"{what}: cannot write in {str(folder)!r}: {error.strerror or error}"
@@ -235,15 +231,18 @@ def _chosen(argv: list[str] | None) -> str | None:
 
 
 def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
-    """The parser for ``argv``: the chosen command's module imported and its arguments
-    added; without a command (``rtc --help``, a typo) every command by its help line alone,
-    no module imported."""
+    """The parser for ``argv``: the chosen command alone, its module imported and its
+    arguments added (the others' parsers would only be shown by ``rtc --help``); without a
+    command (``rtc --help``, a typo) every command by its help line alone, no module
+    imported."""
     parser = argparse.ArgumentParser(
         prog="rtc", description="The Ray Tracer Challenge workbook and benchmark harness."
     )
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     chosen = _chosen(argv)
     for name, help_line in COMMANDS.items():
+        if chosen is not None and name != chosen:
+            continue
         command = sub.add_parser(name.removeprefix("rtc.cmd_"), help=help_line,
                                  description=help_line)  # fmt: skip
         if name == chosen:

@@ -12,9 +12,8 @@ inside it that does not set its own; an OBJ model's triangles share one material
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator, Mapping
-from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, NoReturn
+from typing import TYPE_CHECKING, Any, NamedTuple, NoReturn
 
 from groundwork.progress import LoadProgress
 from raytracer.obj_file import collector_paused
@@ -26,12 +25,15 @@ if TYPE_CHECKING:  # an OBJ's reader (and numpy) only for a scene that reads one
     from scene.obj_mesh import Mesh
 
 
-@dataclass(frozen=True)
-class Inherited:
+class Inherited(NamedTuple):
     """What a group, OBJ model or CSG passes down to the shapes inside it."""
 
     material: dict[str, Any] | None = None
     shadow: bool = True
+
+
+OUTSIDE = Inherited()
+"""What a shape outside any group, OBJ model or CSG inherits: nothing."""
 
 
 def make_material(api: Mapping[str, Any], properties: Mapping[str, Any]) -> Any:
@@ -53,7 +55,7 @@ class Builder:
     def fail(self, line: int, message: str) -> NoReturn:
         raise SceneError(self.path, line, message)
 
-    def shape(self, spec: ShapeSpec, inherited: Inherited = Inherited()) -> Any:
+    def shape(self, spec: ShapeSpec, inherited: Inherited = OUTSIDE) -> Any:
         """A new shape (with new children) from ``spec``."""
         api = self.api
         if self.progress is not None:

@@ -6,7 +6,7 @@ import dataclasses
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any, Literal, NamedTuple
 
 from yaml.nodes import Node
 
@@ -18,8 +18,7 @@ from scene.reader import Reader
 Kind = Literal["material", "transform", "shape"]
 
 
-@dataclass(frozen=True)
-class Definition:
+class Definition(NamedTuple):
     """A ``- define: NAME`` item.
 
     kind: what the value is; value: material properties (a dict of the book's names), a
@@ -32,7 +31,7 @@ class Definition:
     line: int
 
 
-@dataclass
+@dataclass(eq=False)  # a load's state: compared by identity
 class Context:
     """The state of one load.
 

@@ -17,8 +17,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 from raytracer.api import BOOK_API
 from raytracer.shapes.cone import Cone
@@ -40,8 +39,7 @@ SHAPE_METHODS = ("local_intersect", "local_normal_at")
 tracer that compiles the kind's own intersection and normal."""
 
 
-@dataclass(frozen=True)
-class Parameter:
+class Parameter(NamedTuple):
     """One parameter of a kind.
 
     key: the scene format's key (``min``); attribute: the reference shape's (``minimum``);
@@ -66,8 +64,7 @@ class Parameter:
         return isinstance(self.default, bool)
 
 
-@dataclass(frozen=True)
-class Kind:
+class Kind(NamedTuple):
     """One kind of leaf shape.
 
     name: the book's factory (``cylinder()``) and the scene format's ``add:``; reference:

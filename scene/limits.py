@@ -20,8 +20,8 @@ from __future__ import annotations
 
 import os
 import sys
-from dataclasses import dataclass
 from pathlib import Path
+from typing import NamedTuple
 
 from scene.errors import SceneError
 
@@ -38,8 +38,7 @@ _FRAMES_PER_LEVEL = 12
 _FRAMES_SPARE = 400
 
 
-@dataclass(frozen=True, slots=True)
-class Limits:
+class Limits(NamedTuple):
     """max_depth: groups and CSGs inside each other; max_shapes: shapes in the world."""
 
     max_depth: int = DEFAULT_MAX_DEPTH

@@ -132,7 +132,7 @@ def _empty_world(scene: Scene) -> Any:
     return world
 
 
-@dataclass
+@dataclass(eq=False)  # a load's state: compared by identity
 class _Loading:
     """What the top level has seen so far."""
 

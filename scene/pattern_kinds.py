@@ -13,7 +13,7 @@ tracer's own code for coloring a kind stays in that tracer, in one place per kin
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from typing import NamedTuple
 
 from raytracer.api import BOOK_API
 from raytracer.patterns import (
@@ -34,8 +34,7 @@ NO_PATTERN = 0
 """The number a tracer stores for a material without a pattern."""
 
 
-@dataclass(frozen=True)
-class PatternKind:
+class PatternKind(NamedTuple):
     """One kind of pattern.
 
     name: the book's factory (``stripe_pattern()``); reference: the reference's class; key:

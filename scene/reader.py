@@ -9,9 +9,8 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Iterable
-from dataclasses import dataclass
 from pathlib import Path
-from typing import NoReturn
+from typing import NamedTuple, NoReturn
 
 import yaml
 from yaml.constructor import ConstructorError, SafeConstructor
@@ -129,8 +128,7 @@ def _foreign_tag(node: Node) -> str:
     return f" tagged {shown} (the scene format reads no YAML tags)"
 
 
-@dataclass(frozen=True)
-class Entry:
+class Entry(NamedTuple):
     """One ``key: value`` of a mapping, with the key's node (for its line)."""
 
     key: str

@@ -26,7 +26,6 @@ from yaml.nodes import MappingNode, Node
 
 from groundwork.files import describe, read_bytes, resolved
 from scene.context import Context
-from scene.fir_branch import BARK, LENGTH, NEEDLE, NEEDLES, RADIUS, needle_mesh
 from scene.kinds import ADDABLE, BY_NAME
 from scene.materials import read_material
 from scene.obj_mesh import Mesh, read_mesh
@@ -230,6 +229,9 @@ def _fir_branch(ctx: Context, spec: ShapeSpec, node: Node) -> tuple[ShapeSpec, .
     """A fir branch's stem and needles (``scene.fir_branch``), drawn with its ``seed``
     (default: the line it is added at, so each branch of a file differs and the same file
     draws the same branches); a material given to the branch is its needles'."""
+    # deferred: the needles' drawing (with Python's random) only where a scene adds a branch
+    from scene.fir_branch import BARK, LENGTH, NEEDLE, NEEDLES, RADIUS, needle_mesh
+
     color = ctx.need("color", node, spec.label)
 
     def material(properties: dict[str, Any]) -> dict[str, Any]:

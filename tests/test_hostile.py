@@ -603,7 +603,7 @@ def test_a_shared_folder_another_user_made_first_is_never_used(
     monkeypatch.setenv("XDG_CACHE_HOME", str(blocked))
     temporary = tmp_path / "tmp"
     temporary.mkdir()
-    monkeypatch.setattr(compiled_folder.tempfile, "tempdir", str(temporary))
+    monkeypatch.setattr("tempfile.tempdir", str(temporary))  # compiled.folder imports it then
     me = os.geteuid()
     # the folder is not "ours"
     monkeypatch.setattr(compiled_folder.os, "geteuid", lambda: me + 4242)

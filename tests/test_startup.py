@@ -28,7 +28,12 @@ RUN_AND_LIST = (
     "    status = main(sys.argv[1:])\n"
     "except SystemExit as done:\n"
     "    status = done.code\n"
-    "print('\\n' + json.dumps({'status': status, 'modules': sorted(sys.modules)}))\n"
+    "records = sorted(\n"
+    "    f'{name}.{value.__name__}' for name, module in list(sys.modules.items())\n"
+    "    for value in list(vars(module).values()) if isinstance(value, type)\n"
+    "    and value.__module__ == name and '__dataclass_fields__' in vars(value))\n"
+    "print('\\n' + json.dumps({'status': status, 'modules': sorted(sys.modules),\n"
+    "                          'dataclasses': records}))\n"
 )
 
 # What no render imports: the bench and everything of it (its report and templates, plots,
@@ -40,7 +45,17 @@ NEVER_ON_THE_RENDER_PATH = (
     "jinja2", "markupsafe", "matplotlib", "importlib.metadata", "numpy.ma", "harness", "PIL",
     "logging", "rtc.demos", "rtc.scaffold", "pyperf", "distributed", "dask", "tqdm",
     *(("psutil",) if Path("/proc/meminfo").exists() else ()),
+    # temporary files are made by groundwork.files (tempfile brings random, shutil's
+    # archivers); the fir branch's drawing (random) only for a scene that adds one
+    "tempfile", "random", "scene.fir_branch",
 )  # fmt: skip
+# The dataclasses a render defines, at most: each compiles its methods from source at every
+# start (about half a millisecond of a render's command each, a quarter of its imports' CPU
+# when this was written); tables and records that nothing mutates or replaces are
+# NamedTuples (scene.kinds, scene.pattern_kinds, scene.limits, scene.reader's Entry, the
+# registry's entries and specs, the numba variant's options and feature sets). A new one
+# on the render path needs a reason, and this figure raised with it.
+RENDER_DATACLASSES = {"naive": 46, "numba": 59}
 # What only building a compiled library needs (running the C compiler): a render that loads
 # one already built imports none of it
 ONLY_TO_BUILD_A_LIBRARY = ("subprocess", "shlex")
@@ -72,13 +87,19 @@ SCENE = """\
 def run_listing(*argv: str, cwd: Path = ROOT) -> tuple[int, set[str], str]:
     """``rtc ARGV`` in a fresh interpreter: its exit status, the modules it had imported
     when it ended, and its stderr."""
+    status, modules, _, err = run_listing_records(*argv, cwd=cwd)
+    return status, modules, err
+
+
+def run_listing_records(*argv: str, cwd: Path = ROOT) -> tuple[int, set[str], list[str], str]:
+    """``run_listing``'s answers and the dataclasses the command's modules define."""
     done = subprocess.run(
         [sys.executable, "-c", RUN_AND_LIST, *argv], cwd=cwd, capture_output=True, text=True,
         env={**os.environ, "PYTHONPATH": str(ROOT)},
     )  # fmt: skip
     assert done.returncode == 0, done.stderr
     report = json.loads(done.stdout.rstrip().rpartition("\n")[2])
-    return report["status"], set(report["modules"]), done.stderr
+    return report["status"], set(report["modules"]), report["dataclasses"], done.stderr
 
 
 def imported(modules: set[str], package: str) -> list[str]:
@@ -112,13 +133,19 @@ def test_rtc_render_imports_only_what_the_scene_needs(tmp_path: Path, variant: s
     scene.write_text(SCENE, encoding="utf-8")
     out = tmp_path / "small.png"
     argv = ("render", str(scene), "--variant", variant, "--progress", "none")
-    status, modules, err = run_listing(*argv, "-o", str(out))
+    status, modules, records, err = run_listing_records(*argv, "-o", str(out))
     assert status == 0, err
     assert out.stat().st_size > 0
     if "compiling" in err:  # this kernel's first render built its library: render again
-        status, modules, err = run_listing(*argv, "-o", str(tmp_path / "again.png"))
+        status, modules, records, err = run_listing_records(
+            *argv, "-o", str(tmp_path / "again.png")
+        )
         assert status == 0, err
         assert "compiling" not in err
+    assert len(records) <= RENDER_DATACLASSES[variant], (
+        f"rtc render --variant {variant} defines {len(records)} dataclasses, more than "
+        f"{RENDER_DATACLASSES[variant]} (see RENDER_DATACLASSES): {records}"
+    )
     # (numba imported: no C compiler here, the kernel came from numba's cache, which may)
     built = [name for name in ONLY_TO_BUILD_A_LIBRARY if name in modules and "numba" not in modules]
     assert not built, f"imported by rtc render --variant {variant} loading its kernel: {built}"
@@ -204,3 +231,36 @@ def test_a_scene_read_by_libyaml_composes_as_pyyaml_reads_it(path: Path) -> None
             loader.dispose()
     assert read[0] == read[1]
     assert read[0][1] > 0
+
+
+def test_rtc_render_builds_the_parser_of_render_alone() -> None:
+    """A chosen command's parser is the only one made (the others' would be shown only by
+    ``rtc --help``, which makes them all from their help lines)."""
+    from rtc.cli import build_parser
+
+    commands = [a for a in build_parser(["render"])._actions if a.dest == "command"]
+    assert list(commands[0].choices) == ["render"]
+    everything = [a for a in build_parser([])._actions if a.dest == "command"]
+    assert list(everything[0].choices) == [m.removeprefix("rtc.cmd_") for m in COMMANDS]
+
+
+def test_a_new_file_is_made_by_its_call_alone(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """``groundwork.files.new_file`` (the render path's temporary files, without tempfile):
+    a private file under a fresh name; a name already there is never opened again."""
+    from groundwork import files
+
+    fd, name = files.new_file(tmp_path, ".out.png.", ".tmp")
+    os.close(fd)
+    path = Path(name)
+    assert path.parent == tmp_path and path.name.startswith(".out.png.")
+    assert path.name.endswith(".tmp") and (path.stat().st_mode & 0o777) == 0o600
+    monkeypatch.setattr(files.os, "urandom", lambda size: bytes(size))  # every name the same
+    fd, taken = files.new_file(tmp_path, "x-")
+    os.close(fd)
+    with pytest.raises(FileExistsError):
+        files.new_file(tmp_path, "x-")
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted([path.name, Path(taken).name])
+    files.check_can_write(tmp_path, ".check-")
+    assert len(list(tmp_path.iterdir())) == 2  # the check leaves nothing behind

@@ -33,7 +33,7 @@ import re
 import sys
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NamedTuple
 
 from raytracer.api import naive_api
 from raytracer.tracer import BOOK_STEPS, PATH_STEPS, RENDER_LOOP, Tracer
@@ -171,8 +171,7 @@ def tracer_variant(
     )
 
 
-@dataclass(frozen=True)
-class VariantEntry:
+class VariantEntry(NamedTuple):
     """One registry entry: a variant with its default options, or why it is unavailable."""
 
     name: str
@@ -187,8 +186,7 @@ class VariantEntry:
 # ------------------------------------------------------------------------------ the grammar
 
 
-@dataclass(frozen=True)
-class VariantSpec:
+class VariantSpec(NamedTuple):
     """A parsed variant name: ``NAME[options]:INNER``.
 
     options: (key, value) pairs in the order written (a flag's value is ``"true"``).
@@ -389,8 +387,7 @@ def parse_choice(name: str, key: str, value: str, choices: Iterable[str]) -> str
 # ---------------------------------------------------------------------------- the registry
 
 
-@dataclass(frozen=True)
-class OwnEntry:
+class OwnEntry(NamedTuple):
     """One of the project's own variants (``OWN``), loaded as its entry point would be."""
 
     name: str

@@ -92,10 +92,10 @@ class ArrayCanvas(Canvas):
     def to_rgb8(self) -> bytes:
         """Row-major RGB bytes, converted as ``raytracer.canvas.to_byte`` does: clamped to
         [0, 1], scaled by 255, rounded half up; NaN is 0. (In place on one float64 copy:
-        clamping first gives the same bytes, and truncating a non-negative is flooring.)"""
-        values = np.array(self.array, dtype=np.float64)
-        np.nan_to_num(values, copy=False, nan=0.0)
-        np.clip(values, 0.0, 1.0, out=values)
+        clamping first gives the same bytes, and truncating a non-negative is flooring;
+        ``fmax`` takes 0 over a NaN, so the copy and the clamp are two passes.)"""
+        values = np.fmax(self.array, 0.0, dtype=np.float64)
+        np.fmin(values, 1.0, out=values)
         values *= 255.0
         values += 0.5
         return values.astype(np.uint8).tobytes()

@@ -383,7 +383,7 @@ def from_world(world: World) -> list[Node]:
 # ------------------------------------------------------------- from a scene description
 
 
-@dataclass
+@dataclass(eq=False)  # a flattening's state: compared by identity
 class _Described:
     """The state of flattening one description: its API, and the materials made so far
     (one value per material the file gives, and one default)."""

@@ -13,7 +13,7 @@ opaque-spheres scene runs a kernel with no refraction, Schlick, cylinder or patt
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -42,8 +42,7 @@ SHADING_FLAGS = {
 }
 
 
-@dataclass(frozen=True)
-class FeatureSet:
+class FeatureSet(NamedTuple):
     """The switches a kernel is compiled with (names from ``kernel_flags``)."""
 
     flags: frozenset[str]

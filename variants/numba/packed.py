@@ -14,7 +14,7 @@ from variants.numba.bvh import Hierarchy
 from variants.numba.textures import TextureTable
 
 
-@dataclass
+@dataclass(eq=False)  # arrays: compared by identity, as an array cannot say "equal"
 class Packed:
     """A packed world or shape: the arrays (see ``layout``) and what they came from.
 
@@ -107,7 +107,7 @@ def flat(table: np.ndarray) -> np.ndarray:
     return values if values.size else np.zeros(1, dtype=table.dtype)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # an array: compared by identity
 class PackedCamera:
     """Chapter 7: the camera as the kernels read it (``layout`` CAM_*)."""
 

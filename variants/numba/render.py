@@ -22,7 +22,7 @@ import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -61,8 +61,7 @@ def max_threads() -> int:
         return os.cpu_count() or 1
 
 
-@dataclass(frozen=True)
-class Options:
+class Options(NamedTuple):
     """The variant's options (all off by default).
 
     float32: compute and store in float32; fastmath: LLVM fast-math; threads: render
@@ -153,7 +152,7 @@ def _page_offset(array: np.ndarray) -> int:
     return (-array.ctypes.data % PAGE) // array.itemsize
 
 
-@dataclass
+@dataclass(eq=False)  # arrays and a lock: compared by identity
 class Frame:
     """What every region of one frame needs (``NumbaTracer.prepare``): the packed camera
     and world, the loaded render entry, the threads' scratch and the entry's arguments

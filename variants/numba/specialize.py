@@ -31,7 +31,6 @@ import hashlib
 import os
 import shutil
 import sys
-import tempfile
 import threading
 from dataclasses import dataclass
 from pathlib import Path
@@ -44,7 +43,7 @@ from compiled.library import load_once
 from compiled.linking import BuildError, compiler, link
 from compiled.notices import announce, on_compile
 from compiled.records import library_path as compiled_library_path
-from groundwork.files import read_bytes
+from groundwork.files import new_file, read_bytes
 from scene.kinds import KINDS
 from scene.pattern_kinds import PATTERN_KINDS
 from variants.numba.features import ALL_FLAGS, FeatureSet
@@ -129,7 +128,7 @@ def _write_if_changed(path: Path, text: str) -> None:
             return
     except OSError:  # missing, too long, a folder ...
         pass
-    fd, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    fd, temporary = new_file(path.parent, f".{path.name}.", ".tmp")
     try:
         with os.fdopen(fd, "wb") as out:
             out.write(data)
