@@ -280,13 +280,15 @@ def box_range(boxes, b, ox, oy, oz, ix, iy, iz, tlo, thi):
 
 
 @njit(**INLINE)
-def box_hit(boxes, b, ox, oy, oz, ix, iy, iz, thi, parallel):
-    """``box_range`` from t = 0 to ``thi``; for a ray ``parallel`` to no axis (every 1 / d
-    finite, so no slab can give 0 * inf) without ``slab``'s test for it, and with one
-    branch at the end: the same answer."""
+def box_span(boxes, m, ox, oy, oz, ix, iy, iz, thi, parallel):
+    """Chapter 14 (bounding boxes): the stretch [tlo, thi] of t in [0, ``thi``] where the ray
+    (origin, 1 / direction) is inside the box at ``boxes[m]`` (empty: tlo > thi). A ray
+    ``parallel`` to no axis (every 1 / d finite, so no slab can give 0 * inf) skips
+    ``slab``'s test for it and takes no branch."""
     if parallel:
-        return box_range(boxes, b, ox, oy, oz, ix, iy, iz, ZERO, thi)
-    m = b * NBOX
+        tlo, thi = slab(ox, ix, boxes[m], boxes[m + 3], ZERO, thi)
+        tlo, thi = slab(oy, iy, boxes[m + 1], boxes[m + 4], tlo, thi)
+        return slab(oz, iz, boxes[m + 2], boxes[m + 5], tlo, thi)
     x1 = (boxes[m] - ox) * ix
     x2 = (boxes[m + 3] - ox) * ix
     y1 = (boxes[m + 1] - oy) * iy
@@ -294,7 +296,13 @@ def box_hit(boxes, b, ox, oy, oz, ix, iy, iz, thi, parallel):
     z1 = (boxes[m + 2] - oz) * iz
     z2 = (boxes[m + 5] - oz) * iz
     tlo = max(max(ZERO, min(x1, x2)), max(min(y1, y2), min(z1, z2)))
-    thi = min(min(thi, max(x1, x2)), min(max(y1, y2), max(z1, z2)))
+    return tlo, min(min(thi, max(x1, x2)), min(max(y1, y2), max(z1, z2)))
+
+
+@njit(**INLINE)
+def box_hit(boxes, b, ox, oy, oz, ix, iy, iz, thi, parallel):
+    """``box_range`` from t = 0 to ``thi`` for box item b (its ITEM_D): the same answer."""
+    tlo, thi = box_span(boxes, b * NBOX, ox, oy, oz, ix, iy, iz, thi, parallel)
     return tlo <= thi
 
 
@@ -302,19 +310,7 @@ def box_hit(boxes, b, ox, oy, oz, ix, iy, iz, thi, parallel):
 def box_enter(boxes, m, ox, oy, oz, ix, iy, iz, thi, parallel):
     """``box_hit`` for the box at ``boxes[m]`` (a compact node's): where the ray enters
     it (t >= 0), or INF when it misses it or enters it only beyond ``thi``."""
-    if parallel:
-        tlo, thi = slab(ox, ix, boxes[m], boxes[m + 3], ZERO, thi)
-        tlo, thi = slab(oy, iy, boxes[m + 1], boxes[m + 4], tlo, thi)
-        tlo, thi = slab(oz, iz, boxes[m + 2], boxes[m + 5], tlo, thi)
-        return tlo if tlo <= thi else INF
-    x1 = (boxes[m] - ox) * ix
-    x2 = (boxes[m + 3] - ox) * ix
-    y1 = (boxes[m + 1] - oy) * iy
-    y2 = (boxes[m + 4] - oy) * iy
-    z1 = (boxes[m + 2] - oz) * iz
-    z2 = (boxes[m + 5] - oz) * iz
-    tlo = max(max(ZERO, min(x1, x2)), max(min(y1, y2), min(z1, z2)))
-    thi = min(min(thi, max(x1, x2)), min(max(y1, y2), max(z1, z2)))
+    tlo, thi = box_span(boxes, m, ox, oy, oz, ix, iy, iz, thi, parallel)
     return tlo if tlo <= thi else INF
 
 
