@@ -650,18 +650,20 @@ def test_the_array_canvas_is_a_canvas_over_its_array() -> None:
 def test_rtc_render_explain_prints_the_feature_set(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
+    """The soft shadows scene: its kernel (specialized) is the one
+    ``test_numba_soft_textures`` compiles for its soft shadows, not one of this test's own."""
     from rtc.cli import main
 
     out = tmp_path / "out.png"
-    scene = str(SCENES / "reference.yml")
+    scene = str(SCENES / "soft-shadows.yml")
     assert (
         main(["render", scene, "--variant", "numba", "--size", "8x6", "--explain", "-o", str(out)])
         == 0
     )
     printed = capsys.readouterr().out
-    assert "shapes: sphere, plane, cylinder" in printed
-    assert "shading: shadows, reflection, refraction, schlick" in printed
-    assert "left out: cube, cone" in printed
+    assert "shapes: sphere, plane, cube, cylinder\n" in printed
+    assert "shading: shadows, area lights (a shadow ray per cell), jittered area lights" in printed
+    assert "left out: cone, torus, triangle" in printed
     assert out.is_file()
 
 
