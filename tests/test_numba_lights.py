@@ -14,6 +14,8 @@ from typing import Any
 
 import numpy as np
 import pytest
+from differential_strategies import build_world, one_feature_set_worlds
+from hypothesis import given, settings
 
 from raytracer.camera import RenderSettings
 from raytracer.materials import material
@@ -102,6 +104,16 @@ def test_numba_draws_what_naive_draws_with_any_number_of_lights(lights: int) -> 
         assert not expected.any(), "no light: black"
     else:
         assert len({tuple(np.round(q, 3)) for q in expected.reshape(-1, 3)}) > 20
+
+
+@settings(max_examples=3)
+@given(spec=one_feature_set_worlds())
+def test_the_lit_scene_has_the_feature_set_of_the_differential_worlds(spec: Any) -> None:
+    """So the every-light test's specialized kernel is the one ``test_differential``'s
+    specialized render compiles, not a compile of its own (a cold gate's 35 CPU s)."""
+    api = load_variant("naive").api
+    world, _ = build_world(api, spec)
+    assert analyse(pack_world(lit_scene(api, 1)[1])) == analyse(pack_world(world))
 
 
 @pytest.mark.usefixtures("specialized_kernels")
