@@ -206,12 +206,14 @@ class FakeBench:
 
 
 def test_the_mesh_job_renders_and_intersects_the_same_rays_in_turns() -> None:
+    """At 8x6 (a third of 12x9's CPU seconds: naive's picture of 368 triangles is most of
+    them) 20 of the 48 rays meet the knot: the picture still holds the knot and the sky."""
     found_embree()
     job = {"variant": "cached", "steps": ["naive"], "mesh": str(mesh_path("knot-368.obj")),
-           "size": [12, 9], "rounds": 2}  # fmt: skip
+           "size": [8, 6], "rounds": 2}  # fmt: skip
     result = mesh.measure_job(job, Path("unused"))
-    assert result["triangles"] == 368 and result["rays"] == 108
-    assert 0 < result["hits"] < 108  # the knot and the sky around it
+    assert result["triangles"] == 368 and result["rays"] == 48
+    assert 0 < result["hits"] < 48  # the knot and the sky around it
     assert len(result["ours"]) == len(result["embree"]) == len(result["ratios"]) == 2
     assert result["ratios"] == sorted(result["ratios"]) and result["ours_median"] > 0
     (step,) = result["steps"]  # the step rendered in the same turns

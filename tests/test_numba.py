@@ -36,6 +36,7 @@ import numpy as np
 import pytest
 from once_per_run import OncePerRun
 
+from harness.instruments.raycount import count_rays
 from raytracer.camera import RenderSettings
 from raytracer.canvas import canvas_to_ppm, canvas_to_rgb8
 from raytracer.materials import material
@@ -466,20 +467,41 @@ def test_no_numba_allocation_per_pixel() -> None:
 # ------------------------------------------------------------------------ rays, options
 
 
+def mirrored_default_world(api: Any, mirror: int) -> tuple[Any, Any]:
+    """The default world (16x16) with one of its spheres a mirror: the inner one (``mirror``
+    1: inside the outer, no ray meets it) or the outer one (0)."""
+    camera, world = default_world(api)
+    shape = world.objects[mirror]
+    shape.material = replace(shape.material, reflective=0.5)
+    return camera, world
+
+
 @pytest.mark.usefixtures("specialized_kernels")
 def test_count_rays_counts_camera_shadow_and_secondary_rays() -> None:
-    """Counted by kernels of each scene's own features (a sphere and shadows; chapters 9-16),
-    as a user's count is: the generic counting kernel is a build of its own (every feature,
-    about 100 CPU s cold), and the counting code is the same in each."""
-    variant = load_variant("numba")
-    camera, world = default_world(variant.api)
-    counts = variant.tracer.count_rays(camera, world, RenderSettings(samples=2))
-    assert counts["camera"] == 16 * 16 * 2
-    assert counts["secondary"] == 0  # nothing reflects or refracts in the default world
-    assert 0 < counts["shadow"] <= counts["camera"]
-    camera, world = everything(variant.api)
-    counts = variant.tracer.count_rays(camera, world, RenderSettings())
-    assert counts["secondary"] > 0
+    """Counted by a kernel of the scene's own features, as a user's count is (the generic
+    counting kernel is a build of its own: every feature, about 100 CPU s cold), with the
+    camera and secondary counts naive's. One kernel (sphere, shadows, reflection) for both
+    worlds: with the hidden inner sphere the mirror, no ray reflects though the reflection
+    code is in; with the outer one, every camera ray that meets it reflects once."""
+    numba, naive = load_variant("numba"), load_variant("naive")
+    settings = RenderSettings(samples=2)
+    counted = {}
+    for mirror in (1, 0):
+        counts = numba.tracer.count_rays(*mirrored_default_world(numba.api, mirror), settings)
+        found = count_rays(naive, *mirrored_default_world(naive.api, mirror), settings)
+        assert _counted(counts) == _counted(found), f"mirror {mirror}: {counts} != {found}"
+        counted[mirror] = counts
+    assert counted[1]["camera"] == counted[0]["camera"] == 16 * 16 * 2
+    assert counted[1]["secondary"] == 0  # nothing a ray meets reflects or refracts
+    assert 0 < counted[1]["shadow"] <= counted[1]["camera"]
+    assert counted[0]["secondary"] > 0
+
+
+def _counted(counts: dict[str, Any] | None) -> tuple[int, int]:
+    """The camera and secondary rays of a count (numba casts no shadow ray from a point that
+    faces away from the light, naive does: their shadow counts differ)."""
+    assert counts is not None
+    return counts["camera"], counts["secondary"]
 
 
 def test_option_names_are_canonical_and_checked() -> None:
@@ -628,18 +650,20 @@ def test_the_array_canvas_is_a_canvas_over_its_array() -> None:
 def test_rtc_render_explain_prints_the_feature_set(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
+    """The soft shadows scene: its kernel (specialized) is the one
+    ``test_numba_soft_textures`` compiles for its soft shadows, not one of this test's own."""
     from rtc.cli import main
 
     out = tmp_path / "out.png"
-    scene = str(SCENES / "reference.yml")
+    scene = str(SCENES / "soft-shadows.yml")
     assert (
         main(["render", scene, "--variant", "numba", "--size", "8x6", "--explain", "-o", str(out)])
         == 0
     )
     printed = capsys.readouterr().out
-    assert "shapes: sphere, plane, cylinder" in printed
-    assert "shading: shadows, reflection, refraction, schlick" in printed
-    assert "left out: cube, cone" in printed
+    assert "shapes: sphere, plane, cube, cylinder\n" in printed
+    assert "shading: shadows, area lights (a shadow ray per cell), jittered area lights" in printed
+    assert "left out: cone, torus, triangle" in printed
     assert out.is_file()
 
 

@@ -14,6 +14,8 @@ from typing import Any
 
 import numpy as np
 import pytest
+from differential_strategies import build_world, one_feature_set_worlds
+from hypothesis import given, settings
 
 from raytracer.camera import RenderSettings
 from raytracer.materials import material
@@ -32,8 +34,11 @@ LIGHTS = (
 
 
 def lit_scene(api: Any, lights: int) -> tuple[Any, Any]:
-    """A checkered reflective floor, a glass sphere, a striped cube in a group, a CSG shape
-    and a smooth triangle, lit by the first ``lights`` of ``LIGHTS``; 16x12."""
+    """A checkered reflective floor, a glass sphere, a group of a striped cube, a capped
+    cylinder (gradient) and a ringed cone, a CSG shape, a flat and a smooth triangle, lit by
+    the first ``lights`` of ``LIGHTS``; 16x12. Every shape, pattern and shading stage of
+    ``test_differential``'s specialized worlds (``one_feature_set_worlds``): one feature set,
+    so the specialized kernel this module renders is the one that test compiles."""
     c, p, v = api["color"], api["point"], api["vector"]
     floor = api["plane"]()
     checks = api["checkers_pattern"](c(1, 1, 1), c(0.1, 0.1, 0.1))
@@ -47,6 +52,18 @@ def lit_scene(api: Any, lights: int) -> tuple[Any, Any]:
     api["set_transform"](cube, api["translation"](0, 0.5, 0) * api["scaling"](0.5, 0.5, 0.5))
     cube.material = material(pattern=api["stripe_pattern"](c(1, 0.2, 0.2), c(1, 1, 1)))
     api["add_child"](g, cube)
+    cyl = api["cylinder"]()
+    cyl.minimum, cyl.maximum, cyl.closed = 0.0, 1.2, True
+    api["set_transform"](cyl, api["translation"](-0.8, 0, 0) * api["scaling"](0.3, 1, 0.3))
+    cyl.material = material(pattern=api["gradient_pattern"](c(0.2, 0.9, 0.2), c(0.1, 0.1, 0.8)))
+    cone = api["cone"]()
+    cone.minimum, cone.maximum, cone.closed = -1.0, 0.0, True
+    api["set_transform"](cone, api["translation"](0.9, 1, 0) * api["scaling"](0.3, 1, 0.3))
+    rings = api["ring_pattern"](c(0.9, 0.5, 0.2), c(0.2, 0.3, 0.8))
+    api["set_pattern_transform"](rings, api["scaling"](0.1, 0.1, 0.1))
+    cone.material = material(pattern=rings)
+    for shape in (cube, cyl, cone):
+        api["add_child"](g, shape)
     left, right = api["cube"](), api["sphere"]()
     api["set_transform"](right, api["scaling"](1.3, 1.3, 1.3))
     carved = api["csg"]("difference", left, right)
@@ -55,8 +72,9 @@ def lit_scene(api: Any, lights: int) -> tuple[Any, Any]:
         p(0.5, 1.6, -0.8), p(-0.3, 1.2, -0.4), p(0.4, 0.9, -0.2),
         v(0, 1, -1), v(-1, 0, -1), v(1, 0, -1),
     )  # fmt: skip
+    flat = api["triangle"](p(-3.4, 0, 1), p(-2.9, 1.3, 1.5), p(-2.2, 0, 1.8))
     w = api["world"]()
-    w.objects.extend([floor, glass, g, carved, smooth])
+    w.objects.extend([floor, glass, g, carved, flat, smooth])
     for at, rgb in LIGHTS[:lights]:
         w.lights.append(api["point_light"](p(*at), c(*rgb)))
     view = api["view_transform"](p(0, 1.6, -5), p(0, 0.7, 0), v(0, 1, 0))
@@ -86,6 +104,16 @@ def test_numba_draws_what_naive_draws_with_any_number_of_lights(lights: int) -> 
         assert not expected.any(), "no light: black"
     else:
         assert len({tuple(np.round(q, 3)) for q in expected.reshape(-1, 3)}) > 20
+
+
+@settings(max_examples=3)
+@given(spec=one_feature_set_worlds())
+def test_the_lit_scene_has_the_feature_set_of_the_differential_worlds(spec: Any) -> None:
+    """So the every-light test's specialized kernel is the one ``test_differential``'s
+    specialized render compiles, not a compile of its own (a cold gate's 35 CPU s)."""
+    api = load_variant("naive").api
+    world, _ = build_world(api, spec)
+    assert analyse(pack_world(lit_scene(api, 1)[1])) == analyse(pack_world(world))
 
 
 @pytest.mark.usefixtures("specialized_kernels")
