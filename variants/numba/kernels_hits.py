@@ -439,7 +439,10 @@ def shadowed(w, s, ox, oy, oz, vx, vy, vz, eps, slot):
         reached = 0
         for j in range(n_balls):  # counts only: no stores, so no overlap checks
             reach = ball_reach(balls, n_balls, j, ox, oy, oz, dx, dy, dz, a)
-            reached += 1 if reach >= ZERO and balls[B_SHADOW * n_balls + j] != ZERO else 0
+            # (B_SHADOW is 1 or 0: >= 0 when the ball is reached and casts a shadow, and
+            # as a min of floats, vector instructions without masks to combine)
+            shadowing = min(reach, balls[B_SHADOW * n_balls + j] - F(0.5))
+            reached += 1 if shadowing >= ZERO else 0
         for j in range(n_balls if reached > 0 else 0):
             if balls[B_SHADOW * n_balls + j] != ZERO:
                 hb, cc = ball_soa_terms(balls, n_balls, j, ox, oy, oz, dx, dy, dz)
