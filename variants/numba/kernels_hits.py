@@ -208,14 +208,15 @@ def ball_soa_terms(balls, n_balls, j, ox, oy, oz, dx, dy, dz):
 
 @njit(**INLINE)
 def ball_reach(balls, n_balls, j, ox, oy, oz, dx, dy, dz, a):
-    """Chapter 5: can the ray meet ball j at some t >= 0? Returns the discriminant
-    (hb² - a cc, see ``ball_terms``) when it can, else -1: the line misses the ball, or its
-    origin is outside and the ball behind. Written without branches (selects), so that a
-    loop over the balls becomes vector instructions; most balls stop here."""
+    """Chapter 5: can the ray meet ball j at some t >= 0? A value >= 0 when it may: the
+    discriminant hb² - a cc (see ``ball_terms``) is not negative, and the origin is inside
+    the ball (cc <= 0) or the ball is not behind it (hb <= 0); else a negative value: the
+    line misses the ball, or its origin is outside and the ball behind. Only a filter: the
+    exact test (``ball_first``) turns down the rest (hb = 0 from outside). Written as a min
+    and a max of floats, so that a loop over the balls becomes vector min and max
+    instructions (no masks to combine); most balls stop here."""
     hb, cc = ball_soa_terms(balls, n_balls, j, ox, oy, oz, dx, dy, dz)
-    discriminant = hb * hb - a * cc
-    ahead = discriminant >= ZERO and (cc <= ZERO or hb < ZERO)
-    return discriminant if ahead else -ONE
+    return min(hb * hb - a * cc, max(-cc, -hb))
 
 
 @njit(**INLINE)
@@ -438,7 +439,10 @@ def shadowed(w, s, ox, oy, oz, vx, vy, vz, eps, slot):
         reached = 0
         for j in range(n_balls):  # counts only: no stores, so no overlap checks
             reach = ball_reach(balls, n_balls, j, ox, oy, oz, dx, dy, dz, a)
-            reached += 1 if reach >= ZERO and balls[B_SHADOW * n_balls + j] != ZERO else 0
+            # (B_SHADOW is 1 or 0: >= 0 when the ball is reached and casts a shadow, and
+            # as a min of floats, vector instructions without masks to combine)
+            shadowing = min(reach, balls[B_SHADOW * n_balls + j] - F(0.5))
+            reached += 1 if shadowing >= ZERO else 0
         for j in range(n_balls if reached > 0 else 0):
             if balls[B_SHADOW * n_balls + j] != ZERO:
                 hb, cc = ball_soa_terms(balls, n_balls, j, ox, oy, oz, dx, dy, dz)
