@@ -29,9 +29,33 @@ def compiler() -> list[str]:
     return found
 
 
+class ForLinking:
+    """``function`` compiled by numba as a C function over ``signature`` (as numba's ``cfunc``
+    compiles it, with ``options``), for ``link`` alone: numba types, lowers and optimizes it,
+    but never makes its machine code for its own JIT (``cfunc`` does, and ``link`` then made
+    it a second time, position independent: 8-10 s of a big kernel's build)."""
+
+    def __init__(self, function: Any, signature: Any, **options: Any) -> None:
+        # deferred: only a build imports numba's compiler here
+        from numba.core import sigutils
+        from numba.core.ccallback import CFunc
+        from numba.core.compiler_lock import global_compiler_lock
+
+        compiled: Any = CFunc(function, sigutils.normalize_signature(signature), {}, options)
+        if not hasattr(compiled, "_compile_uncached"):  # another numba: its JIT's code too
+            compiled.compile()
+            self._library, self.native_name = compiled._library, compiled.native_name
+            return
+        with global_compiler_lock:
+            result = compiled._compile_uncached()  # not ``compile``: that finalizes for the JIT
+        self._library = result.library
+        self.native_name = result.fndesc.llvm_cfunc_wrapper_name
+
+
 def link(entry: Any, stub: str, path: Path, what: str) -> None:
-    """Link a compiled ``cfunc`` ``entry`` with the C ``stub`` (which calls it as
-    ``ENTRY_SYMBOL``) into the shared library ``path``; ``what`` names it in errors."""
+    """Link a compiled ``cfunc`` ``entry`` (or a ``ForLinking``) with the C ``stub`` (which
+    calls it as ``ENTRY_SYMBOL``) into the shared library ``path``; ``what`` names it in
+    errors."""
     # deferred: 5-13 ms of every render's imports, and only a build runs the C compiler
     import subprocess
     import tempfile
@@ -76,7 +100,7 @@ def _object_code(entry: Any) -> tuple[bytes, list[str]]:
     # deferred: saves ~80 ms (llvmlite) of every process that builds no library
     import llvmlite.binding as llvm
 
-    module = entry._library._final_module
+    module = _final_module(entry._library)
     target = llvm.Target.from_triple(llvm.get_process_triple())
     machine = target.create_target_machine(
         cpu=llvm.get_host_cpu_name(),
@@ -91,3 +115,20 @@ def _object_code(entry: Any) -> tuple[bytes, list[str]]:
         if f.is_declaration and f.name.startswith(("numba_", "NRT_"))
     )
     return machine.emit_object(module), helpers
+
+
+def _final_module(library: Any) -> Any:
+    """numba's final LLVM module of ``library``: its callees linked in and the whole
+    optimized, as numba's ``finalize`` makes it, without handing it to numba's JIT (a
+    ``ForLinking`` entry's library is not finalized; a ``cfunc``'s is)."""
+    if library._finalized:
+        return library._final_module
+    from numba.core.compiler_lock import global_compiler_lock
+
+    with global_compiler_lock:
+        for linked in dict.fromkeys(library._linking_libraries):  # once each, in order
+            library._final_module.link_in(linked._get_module_for_linking(), preserve=True)
+        library._optimize_final_module()
+        library._final_module.verify()
+        library._finalized = True  # nothing may be added to it now
+    return library._final_module

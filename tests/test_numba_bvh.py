@@ -649,6 +649,7 @@ def test_compact_nodes_keep_their_invariants() -> None:
     wide = pack_world(w, compact=True)
     _check_nodes(wide)
     assert len(wide.nodes) == wide.hierarchy.nodes  # every node of the tree, leaves too
+    assert "HAS_NODES" in analyse(wide).flags  # the kernel gets the nodes' walks
     table = wide.box_table()  # what the kernels take: the boxes, then the nodes
     assert np.shares_memory(table, wide.nodes) and np.shares_memory(table, wide.boxes)
     narrow = pack_world(w, np.float32, compact=True)
@@ -662,9 +663,11 @@ def test_compact_nodes_keep_their_invariants() -> None:
     items_only = pack_world(w, structure="sah-items", compact=True)
     assert L.I_NODES not in set(items_only.items[:, L.ITEM_TYPE].tolist())
     assert len(items_only.nodes) == 0
+    assert "HAS_NODES" not in analyse(items_only).flags  # ... and its kernel none
     assert len(pack_world(w).nodes) == 0  # the book's API: a row per triangle
     mixed_world = pack_world(mixed(api)[1], compact=True)  # not triangles alone: no nodes
     assert len(mixed_world.nodes) == 0
+    assert "HAS_NODES" not in analyse(mixed_world).flags
 
 
 def test_compact_nodes_draw_the_same_picture_as_the_items_walk() -> None:

@@ -41,6 +41,12 @@ SHADING_FLAGS = {
     "HAS_JITTER": "jittered area lights",
 }
 
+STRUCTURE_FLAGS = {
+    "HAS_BOXES": "bounding boxes",
+    "HAS_NODES": "compact nodes (a hierarchy over triangles alone)",
+    "HAS_CSG": "csg",
+}
+
 
 class FeatureSet(NamedTuple):
     """The switches a kernel is compiled with (names from ``kernel_flags``)."""
@@ -72,7 +78,7 @@ class FeatureSet(NamedTuple):
         shading = [word for flag, word in SHADING_FLAGS.items() if flag in self.flags]
         structure = [
             word
-            for flag, word in (("HAS_BOXES", "bounding boxes"), ("HAS_CSG", "csg"))
+            for flag, word in STRUCTURE_FLAGS.items()
             if flag in self.flags
         ]
         return [
@@ -104,6 +110,8 @@ def analyse(packed: Packed) -> FeatureSet:
     types = set(packed.items[:, L.ITEM_TYPE].tolist()) if len(packed.items) else set()
     if L.I_BOX in types:
         flags.add("HAS_BOXES")
+    if L.I_NODES in types:
+        flags.add("HAS_NODES")
     if L.I_CSG in types:
         flags.add("HAS_CSG")
     if len(packed.pi) and packed.pi[:, L.CASTS_SHADOW].any():

@@ -27,6 +27,7 @@ HAS_SMOOTH_TRIANGLE = True
 HAS_TEST_SHAPE = True  # the chapter 9 test shape (the book API only, never a render)
 HAS_CSG = True
 HAS_BOXES = True  # bounding boxes (the hierarchy's nodes, or groups')
+HAS_NODES = True  # a hierarchy over compact triangles alone, as compact nodes (``bvh``)
 
 HAS_PATTERNS = True  # some material has a pattern; then one switch per pattern kind
 HAS_STRIPE_PATTERN = True

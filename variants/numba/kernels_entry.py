@@ -60,7 +60,8 @@ def make_render_entry(cache):
     depth, int64 samples, uint64 seed_key, float64 eps, F* stack, F* sf, int64* si, F* tb,
     F* sky, int64 integrator, int64 roulette)``. Without the numba runtime: it cannot
     allocate. ``cache``: numba's disk cache (used only when the render cannot be linked as
-    a shared library)."""
+    a shared library); without it, compiled for ``compiled.linking.link`` alone (numba's
+    JIT never makes its machine code: ``link`` makes it once)."""
     real = types.float32 if F is np.float32 else types.float64
     fp = types.CPointer(real)
     ip = types.CPointer(types.int64)
@@ -71,4 +72,8 @@ def make_render_entry(cache):
         fp, fp, i64, i64, types.uint64, types.float64, fp, fp, ip, fp, fp, i64, i64,
     )  # fmt: skip
     flags: dict[str, Any] = {"_nrt": False, "fastmath": FASTMATH, "error_model": "numpy"}
-    return cfunc(signature, cache=cache, **flags)(render_entry)
+    if not cache:
+        from compiled.linking import ForLinking
+
+        return ForLinking(render_entry, signature, **flags)
+    return cfunc(signature, cache=True, **flags)(render_entry)

@@ -34,6 +34,7 @@ from variants.numba.kernel_flags import (
     FASTMATH,
     HAS_BOXES,
     HAS_CSG,
+    HAS_NODES,
     HAS_SPHERE,
     F,
 )
@@ -103,7 +104,7 @@ from variants.numba.layout import (
 
 # the compact nodes' walks: called, not inlined into each of ``nearest_hit``'s and
 # ``shadowed``'s callers (once per ray, a call costs nothing; inlined, a mesh scene's kernel
-# took half as long again to compile)
+# took half as long again to compile); only in a kernel whose scene has them (``HAS_NODES``)
 CALLED = {**INLINE, "forceinline": False}
 
 
@@ -277,7 +278,7 @@ def nearest_hit(w, s, ox, oy, oz, dx, dy, dz, eps):
                     i += 1
             else:
                 i = items[i * NITEM + ITEM_A]
-        elif HAS_BOXES and kind == I_NODES:
+        elif HAS_NODES and kind == I_NODES:
             best_t, best_p, best_l, best_u, best_v = nodes_nearest(
                 w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, eps,
                 best_t, best_p, best_l, best_u, best_v,
@@ -470,7 +471,7 @@ def shadowed(w, s, ox, oy, oz, vx, vy, vz, eps, slot):
                 i += 1
             else:
                 i = items[i * NITEM + ITEM_A]
-        elif HAS_BOXES and kind == I_NODES:
+        elif HAS_NODES and kind == I_NODES:
             if nodes_occluded(w, s, i, last, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, a, eps, distance, slot):
                 return True
             i = items[i * NITEM + ITEM_A]
