@@ -29,6 +29,12 @@ def compiler() -> list[str]:
     return found
 
 
+# numba's code library steps ``_final_module`` takes in numba's order (0.60 and later)
+_LINKING_STEPS = (
+    "_linking_libraries", "_get_module_for_linking", "_optimize_final_module", "_finalized",
+)
+
+
 class ForLinking:
     """``function`` compiled by numba as a C function over ``signature`` (as numba's ``cfunc``
     compiles it, with ``options``), for ``link`` alone: numba types, lowers and optimizes it,
@@ -48,6 +54,8 @@ class ForLinking:
             return
         with global_compiler_lock:
             result = compiled._compile_uncached()  # not ``compile``: that finalizes for the JIT
+            if not all(hasattr(result.library, name) for name in _LINKING_STEPS):
+                result.library.finalize()  # another numba: ``_final_module`` as ``cfunc``'s
         self._library = result.library
         self.native_name = result.fndesc.llvm_cfunc_wrapper_name
 
