@@ -18,7 +18,6 @@ import raytracer as book
 from groundwork.sizes import Size
 from harness.document.model import Table, to_markdown
 from harness.instruments import embree
-from harness.scenery.make_meshes import mesh_path
 from harness.sections.ladder import mesh
 from harness.sections.ladder import report as ladder_report
 from harness.sections.scene_size import anchor
@@ -209,7 +208,7 @@ def test_the_mesh_job_renders_and_intersects_the_same_rays_in_turns() -> None:
     """At 8x6 (a third of 12x9's CPU seconds: naive's picture of 368 triangles is most of
     them) 20 of the 48 rays meet the knot: the picture still holds the knot and the sky."""
     found_embree()
-    job = {"variant": "cached", "steps": ["naive"], "mesh": str(mesh_path("knot-368.obj")),
+    job = {"variant": "cached", "steps": ["naive"], "mesh": "knot-368.obj",
            "size": [8, 6], "rounds": 2}  # fmt: skip
     result = mesh.measure_job(job, Path("unused"))
     assert result["triangles"] == 368 and result["rays"] == 48
@@ -219,6 +218,13 @@ def test_the_mesh_job_renders_and_intersects_the_same_rays_in_turns() -> None:
     (step,) = result["steps"]  # the step rendered in the same turns
     assert step["variant"] == "naive" and len(step["ours"]) == len(step["ratios"]) == 2
     assert step["median"] > 0 and step["ratios"] == sorted(step["ratios"])
+
+
+def test_the_mesh_jobs_warm_up_only_readies_the_variants_and_measures_nothing() -> None:
+    # the bench's background compile runs it (``mesh.warm``): setups, no turns, no Embree
+    job = {"variant": "cached", "steps": [], "mesh": "knot-368.obj", "size": [4, 3],
+           "warm": True}  # fmt: skip
+    assert mesh.measure_job(job, Path("unused")) == {"warmed": ["cached"]}
 
 
 def test_without_embreex_the_mesh_row_says_why_and_runs_nothing(

@@ -327,6 +327,28 @@ def test_only_one_core_python_rows_are_timed_beside_the_background_compile():
     assert logged == []
 
 
+def test_a_row_that_waits_for_the_background_compile_lets_every_core_compile(tmp_path):
+    from harness.engine.warmer import Warmer
+
+    # the first job holds its core until the second one runs: it is released only if the
+    # waiting row starts a second compiling process beside it (certain, not timed: without
+    # it, the first job gives up after two minutes and says so)
+    record, go = tmp_path / "record.txt", tmp_path / "go"
+    logged: list[str] = []
+    warmer = Warmer(tmp_path / "warm", lambda name, rays: {}, logged.append, cores=2)
+    warmer.add_job("first", "tests.warm_probe",
+                   {"name": "first", "wait": str(go), "longest": 120, "record": str(record)})
+    warmer.add_job("second", "tests.warm_probe",
+                   {"name": "second", "make": str(go), "record": str(record)})  # fmt: skip
+    warmer.start()
+    warmer.before("naive")  # a one-core Python row is timed beside the compile: no wait
+    assert not go.exists()  # one compiling process so far: the second job waits its turn
+    warmer.before("numba")
+    assert record.read_text().splitlines() == ["second made", "first released"]
+    assert logged[0].startswith("compiling numba's kernels for first, second in the background")
+    assert logged[-1].startswith("the background compile of first, second took")
+
+
 def test_waiting_for_quiet_stops_when_the_cores_are_idle_or_after_the_longest(monkeypatch):
     from harness.engine import sharing
 

@@ -22,7 +22,7 @@ import re
 import shutil
 import signal
 import time
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from datetime import UTC, datetime
 from pathlib import Path
@@ -203,6 +203,14 @@ class Bench:
         """Compile the kernels of ``names`` (those that compile; with the ray-counting ones
         when their rows count rays, ``rays``) in the background once the sections' ``before``
         are done, while one-core Python rows are timed (``harness.engine.warmer``)."""
+        self._warmer().add(names, rays)
+
+    def warm_job(self, label: str, module: str, job: Mapping[str, Any]) -> None:
+        """Run a section's own compile (``python -m MODULE job.json``) in the background too,
+        after the variants' (``Warmer.add_job``); a section calls it from its ``before``."""
+        self._warmer().add_job(label, module, job)
+
+    def _warmer(self) -> Warmer:
         if self.warmer is None:
 
             def job(name: str, counted: bool) -> dict[str, Any]:
@@ -210,7 +218,7 @@ class Bench:
 
             folder = self.writer.staging / "jobs" / "warm"
             self.warmer = Warmer(folder, job, self.log, self.settings.threads)
-        self.warmer.add(names, rays)
+        return self.warmer
 
     def image_name(self, section: str, name: str, suffix: str = "") -> str:
         return f"{section}-{slug(name)}{suffix}.png"

@@ -8,8 +8,11 @@ kernels a real row loads, the ray-counting one included), one after the other, i
 measuring process (``harness.engine.child``) on a thread of the bench, while the rows that
 use one core and compile nothing (naive, cached, prealloc) are timed on the other core. A
 row that compiles or asks for more than one core waits for it first (``before``), so no
-timed row shares the machine with a compile it did not start. The kernels land on disk
-(``RTC_NUMBA_KERNELS``) where the row's own process finds them.
+timed row shares the machine with a compile it did not start; while it waits, the cores it
+leaves idle compile too (one measuring process each, taking the next kernels in the list).
+A section may add a job of its own (``add_job``: the ladder's mesh row compiles its mesh
+kernels so). The kernels land on disk (``RTC_NUMBA_KERNELS``) where the row's own process
+finds them.
 
 On a one-core machine the compile would take the timed row's core: nothing runs in the
 background there, and each row compiles in its own warm-up as before.
@@ -24,7 +27,7 @@ import threading
 import time
 from collections.abc import Callable, Mapping
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 from harness.engine import figures
 from harness.engine.jobs import child_environment, start_child, stop_group
@@ -74,11 +77,25 @@ class Warmer:
         self.cores = cores or available_cores()
         self.names: list[str] = []
         self.rays: set[str] = set()  # the names whose rows count rays
-        self._thread: threading.Thread | None = None
-        self._process: subprocess.Popen[Any] | None = None
+        self.jobs: list[Task] = []  # the sections' own jobs (``add_job``)
+        self._pending: list[Task] = []  # what no measuring process has taken yet
+        self._threads: list[threading.Thread] = []
+        self._processes: list[subprocess.Popen[Any]] = []
+        self._lock = threading.Lock()
         self._stopped = False
-        self.seconds = 0.0
-        self.current = ""  # the variant being compiled
+        self._started = self._ended = 0.0
+        self.current: list[str] = []  # what is being compiled
+        self._taken = 0  # jobs taken so far (each its own numbered folder)
+
+    @property
+    def seconds(self) -> float:
+        """From the start to the end of the compile (so far, while it runs)."""
+        return (self._ended or time.monotonic()) - self._started if self._started else 0.0
+
+    @property
+    def labels(self) -> list[str]:
+        """What the compile does, in order: the variants' tiny rows, then the sections' jobs."""
+        return [*self.names, *(task.label for task in self.jobs)]
 
     def add(self, names: list[str], rays: bool) -> None:
         """Compile ``names`` too (those that compile, not yet listed), before ``start``; with
@@ -87,54 +104,103 @@ class Warmer:
         if rays:
             self.rays |= set(names)
 
+    def add_job(self, label: str, module: str, job: Mapping[str, Any]) -> None:
+        """Run ``python -m MODULE job.json`` too, after the variants' tiny rows: a section's
+        own compile (``label`` names it in the progress lines)."""
+        self.jobs.append(Task(label, module, dict(job)))
+
     def start(self) -> None:
         """Start compiling in the background (nothing on one core, or nothing to compile)."""
-        if self._thread is not None or not self.names or self.cores < 2:
+        if self._threads or not self.labels or self.cores < 2:
             return
         self.log(
-            f"compiling numba's kernels for {', '.join(self.names)} in the background while "
+            f"compiling numba's kernels for {', '.join(self.labels)} in the background while "
             "the one-core Python rows are timed"
         )
-        self._thread = threading.Thread(target=self._run, name="rtc-bench-warmer", daemon=True)
-        self._thread.start()
+        # the jobs are made here, on the bench's thread (``job`` numbers the bench's folders)
+        self._pending = [
+            *(Task(name, CHILD, dict(self.job(name, name in self.rays))) for name in self.names),
+            *self.jobs,
+        ]
+        self._started = time.monotonic()
+        self._add_thread()
+
+    def _add_thread(self) -> None:
+        thread = threading.Thread(
+            target=self._run, name=f"rtc-bench-warmer-{len(self._threads)}", daemon=True
+        )
+        self._threads.append(thread)
+        thread.start()
+
+    def _take(self) -> tuple[int, Task] | None:
+        """The next job and its folder's number, or None when there is none or the run stops."""
+        with self._lock:
+            if self._stopped or not self._pending:
+                return None
+            task = self._pending.pop(0)
+            self.current.append(task.label)
+            self._taken += 1
+            return self._taken - 1, task
 
     def _run(self) -> None:
-        start = time.monotonic()
-        for index, name in enumerate(self.names):
-            if self._stopped:
-                return
+        while (taken := self._take()) is not None:
+            index, task = taken
             folder = self.folder / f"{index:02d}"
             folder.mkdir(parents=True, exist_ok=True)
-            job = self.job(name, name in self.rays)
-            (folder / "job.json").write_text(json.dumps(job), encoding="utf-8")
-            command = [sys.executable, "-m", "harness.engine.child", str(folder / "job.json")]
-            self.current = name
+            (folder / "job.json").write_text(json.dumps(task.job), encoding="utf-8")
+            command = [sys.executable, "-m", task.module, str(folder / "job.json")]
             with open(folder / "log.txt", "w", encoding="utf-8") as log:
-                self._process = start_child(
-                    command, child_environment(job.get("threads")), stderr=log
-                )
-                self._process.wait()
-        self.seconds = time.monotonic() - start
+                with self._lock:
+                    if self._stopped:
+                        return
+                    process = start_child(
+                        command, child_environment(task.job.get("threads")), stderr=log
+                    )
+                    self._processes.append(process)
+                process.wait()
+            with self._lock:
+                self.current.remove(task.label)
+                self._ended = time.monotonic()
+
+    def _alive(self) -> bool:
+        return any(thread.is_alive() for thread in self._threads)
 
     def before(self, name: str) -> None:
-        """Before ``name``'s row: wait for the compile unless the row is one-core Python."""
-        if self._thread is None or one_core_python(name, self.cores):
+        """Before ``name``'s row: wait for the compile unless the row is one-core Python. While
+        it waits, the idle cores compile too: one measuring process per core."""
+        if not self._threads or one_core_python(name, self.cores):
             return
-        if self._thread.is_alive():
+        if self._alive():
             self.log(f"{name}: waiting for the background compile to finish")
+            while len(self._threads) < self.cores and self._pending:
+                self._add_thread()  # the timed rows wait: every core compiles
             start = time.monotonic()
-            while self._thread.is_alive():
-                self._thread.join(timeout=TELL_EVERY)
-                if self._thread.is_alive():
-                    self.log(f"still compiling {self.current}'s kernels, "
+            while self._alive():
+                for thread in [t for t in self._threads if t.is_alive()][:1]:
+                    thread.join(timeout=TELL_EVERY)
+                if self._alive():
+                    self.log(f"still compiling {', '.join(self.current)}'s kernels, "
                              f"{time.monotonic() - start:.0f} s so far")  # fmt: skip
-        self.log(f"the background compile of {', '.join(self.names)} took {self.seconds:.0f} s")
-        self._thread = None
+        self.log(f"the background compile of {', '.join(self.labels)} took {self.seconds:.0f} s")
+        self._threads = []
 
     def stop(self) -> None:
         """Stop the compile (the run ends or was interrupted)."""
-        self._stopped = True
-        if self._process is not None and self._process.poll() is None:
-            stop_group(self._process)
-        if self._thread is not None:
-            self._thread.join(timeout=10)
+        with self._lock:
+            self._stopped = True
+            running = [p for p in self._processes if p.poll() is None]
+        for process in running:
+            stop_group(process)
+        for thread in self._threads:
+            thread.join(timeout=10)
+
+
+CHILD = "harness.engine.child"  # the measuring process of the variants' tiny rows
+
+
+class Task(NamedTuple):
+    """One background job: ``python -m MODULE job.json``; ``label`` names it on the screen."""
+
+    label: str
+    module: str
+    job: dict[str, Any]

@@ -10,7 +10,6 @@ images inlined.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -32,6 +31,7 @@ from harness.document.runinfo import HEAT_SCALE_PNG, REPORT_DIR, context_line, g
 from harness.engine import figures
 from harness.engine.results import ResultFileError, check_run, list_runs, load_run
 from harness.report import choice, compare, plots
+from harness.report.console import console_table
 from harness.sections.ladder import report as ladder_report
 from harness.sections.table.report import heat_visible
 from harness.stability import runfile as stability_runs
@@ -359,13 +359,3 @@ def build_report(
     write_atomically(readme, to_markdown(blocks, results))
     write_atomically(page, to_html(blocks, results, "Benchmark results"))
     return readme, page, problems
-
-
-def console_table(run: Run) -> str:
-    """What ``rtc bench`` prints after a run: each section's lines, in the table's order."""
-    lines: list[str] = []
-    for section in sections.SECTIONS:
-        lines += sections.reporting(section.name).console_lines(run)
-    if math.isfinite(run["seconds"]):
-        lines.append(f"(the run took {run['seconds']:.0f} s)")
-    return "\n".join(lines)

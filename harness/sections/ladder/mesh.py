@@ -12,6 +12,7 @@ turns, so that the row shows what each buys. A
 render's time includes what a primary-ray render adds to the intersections (the camera's
 rays, the hit's normal, writing the canvas); Embree's is the intersections alone. Without
 ``embreex`` the entry says why (``status: unavailable``) and the report prints that line.
+The row's kernels are compiled before, in the bench's background compile (``warm``).
 """
 
 from __future__ import annotations
@@ -66,10 +67,10 @@ def entry(bench: Bench, section: str) -> dict[str, Any]:
         result.update(status="unavailable", error=embree.missing())
         bench.log(f"{section}: Embree not run: {result['error']}")
         return result
+    if bench.warmer is not None:
+        bench.warmer.before(VARIANT)  # its kernels, compiled in the background (``warm``)
     bench.log(f"{section}: {VARIANT} and Embree on {MESH}, {SIZE}, in turns")
-    job = {"variant": VARIANT, "steps": [name for name, _ in STEPS],
-           "mesh": str(mesh_path(MESH)), "size": [SIZE.width, SIZE.height],
-           "rounds": max(3, bench.settings.repeat)}  # fmt: skip
+    job = {**_job(), "rounds": max(3, bench.settings.repeat)}
     outcome = run_in_child(__name__, bench.jobs_folder(f"{section}-{PART}"), job, 1)
     if isinstance(outcome, int):
         result.update(status="failed", error=f"the measuring process exited with {outcome}")
@@ -80,13 +81,25 @@ def entry(bench: Bench, section: str) -> dict[str, Any]:
     return result
 
 
+def warm(bench: Bench) -> None:
+    """Compile the row's kernels (the variant's and its steps') in the bench's background
+    compile, when the row will run (Embree is there): the row then only measures."""
+    if embree.find() is not None:
+        bench.warm_job(f"{VARIANT} on {MESH}", __name__, {**_job(), "warm": True, "threads": 1})
+
+
+def _job() -> dict[str, Any]:
+    return {"variant": VARIANT, "steps": [name for name, _ in STEPS], "mesh": MESH,
+            "size": [SIZE.width, SIZE.height]}  # fmt: skip
+
+
 def _setup(name: str, job: dict[str, Any]) -> Any:
     """(tracer, camera, world, the mesh's model) for variant ``name``, compiled and warm."""
     variant = load_variant(name)
     tracer = variant.tracer
     if tracer is None:
         raise LookupError(f"{variant.name} has no tracer to render with")
-    mesh = Path(job["mesh"])
+    mesh = mesh_path(job["mesh"])  # written first if missing
     text = SCENE.format(width=job["size"][0], height=job["size"][1], mesh=mesh.name)
     scene = load_scene_text(text, variant.api, path=mesh.parent / "scene.yml",
                             variant=variant.name)  # fmt: skip
@@ -113,12 +126,14 @@ def _ratios(ours: list[float], theirs: list[float]) -> list[float]:
 
 def measure_job(job: dict[str, Any], folder: Path) -> dict[str, Any]:
     """One process: the variant's render, its steps' (``job["steps"]``) and Embree's rays,
-    in turns (see the module)."""
+    in turns (see the module); with ``job["warm"]``, only their kernels compiled."""
     names = [job["variant"], *job.get("steps", [])]
     try:
         setups = [_setup(name, job) for name in names]
     except LookupError as error:
         return {"error": str(error)}
+    if job.get("warm"):
+        return {"warmed": names}
     found = embree.find()
     times: list[list[float]] = [[] for _ in names]
     theirs: list[float] = []
