@@ -53,6 +53,13 @@ COMMANDS = {
 }  # fmt: skip
 
 
+BLAS_THREADS = "OPENBLAS_NUM_THREADS"
+"""How many threads numpy's OpenBLAS starts when numpy is imported: one, in the command's
+process and those it starts, unless the user set it. No command multiplies matrices large
+enough to share out, and each extra thread spins on a core for about a tenth of a second
+after numpy's import, beside the command's own work."""
+
+
 class UserError(Exception):
     """A mistake in what the user asked for; printed as one line, without a traceback."""
 
@@ -293,6 +300,7 @@ def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     if command_line:  # its modules live until the exit: not walked by the collector (below)
         gc.disable()
+        os.environ.setdefault(BLAS_THREADS, "1")  # before numpy is imported (see BLAS_THREADS)
     try:  # Ctrl-C while the command's modules are imported: one line too
         args = build_parser(argv).parse_args(argv)
         if not hasattr(args, "run"):  # the command came after an option (rtc -- render ...)

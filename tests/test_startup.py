@@ -245,6 +245,37 @@ def test_rtc_render_as_the_process_ends_without_the_teardown(tmp_path: Path, cal
     assert failed.stdout.splitlines()[-2:] == ["main returned 2", "exit functions ran"]
 
 
+def test_the_command_starts_numpys_blas_on_one_thread(tmp_path: Path) -> None:
+    """``rtc`` as the process sets ``OPENBLAS_NUM_THREADS=1`` before numpy is imported
+    (``cli.BLAS_THREADS``): at its exit it runs no thread it did not start itself (where
+    ``/proc`` lists them); a value the user set is kept."""
+    scene = tmp_path / "small.yml"
+    scene.write_text(SCENE, encoding="utf-8")
+    probe = (
+        "import atexit, os, sys\n"
+        "from rtc.cli import main\n"
+        "tasks = '/proc/self/task'\n"
+        "atexit.register(lambda: print(os.environ.get('OPENBLAS_NUM_THREADS'),\n"
+        "    len(os.listdir(tasks)) if os.path.isdir(tasks) else 1))\n"
+        "sys.argv = ['rtc', *sys.argv[1:]]\n"
+        "sys.exit(main())\n"
+    )
+    argv = ["render", str(scene), "-o", str(tmp_path / "x.png"), "--progress", "none"]
+    answers = []
+    for given in (None, "2"):
+        env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_NUM_THREADS"}
+        if given is not None:
+            env["OPENBLAS_NUM_THREADS"] = given
+        done = subprocess.run(
+            [sys.executable, "-c", probe, *argv], cwd=ROOT, capture_output=True, text=True,
+            env={**env, "PYTHONPATH": str(ROOT)},
+        )  # fmt: skip
+        assert done.returncode == 0, done.stderr
+        answers.append(done.stdout.splitlines()[-1])
+    assert answers[0] == "1 1"
+    assert answers[1].split()[0] == "2"
+
+
 def _tree(node: Any) -> Any:
     """A YAML node as plain values: kind, tag, where it starts and ends, style, children."""
     base = (type(node).__name__, node.tag, node.start_mark.line, node.start_mark.column,
