@@ -4,7 +4,6 @@ beside each library (its file, SHA-256 and build key), checked before it is load
 from __future__ import annotations
 
 import functools
-import hashlib
 import importlib.util
 import json
 import os
@@ -16,6 +15,20 @@ from pathlib import Path
 from compiled.entry import UNREACHABLE
 from compiled.folder import kernel_folder, remove
 from groundwork.files import new_file, read_bytes, read_text
+
+try:  # the interpreter's own SHA-256 (hashlib would load OpenSSL's library, a few ms of every
+    # render, for digests of a few hundred kilobytes at most)
+    from _sha256 import sha256 as _sha256  # Python 3.11
+except ImportError:  # pragma: no cover - Python 3.12 on, or a build without it
+    try:
+        from _sha2 import sha256 as _sha256  # Python 3.12 on
+    except ImportError:
+        from hashlib import sha256 as _sha256
+
+
+def sha256_hex(data: bytes) -> str:
+    """The SHA-256 of ``data`` in hexadecimal (as ``hashlib.sha256(data).hexdigest()``)."""
+    return _sha256(data).hexdigest()
 
 
 def _stat_key(package: str) -> str:
@@ -31,7 +44,7 @@ def _stat_key(package: str) -> str:
         if line.startswith(f"{package}/") and "/__pycache__/" not in line
     )
     if files:
-        digest = hashlib.sha256("\n".join(files).encode("utf-8")).hexdigest()
+        digest = sha256_hex("\n".join(files).encode("utf-8"))
         return f"{package}: {digest}"
     if spec is None or spec.origin is None:
         return f"{package}: missing"
@@ -88,7 +101,7 @@ def library_path(prefix: str, *key_parts: str) -> Path:
     point) is known: ``<kernel folder>/<prefix><digest>.so``, a name (the library itself is
     kept under its own digest, named by the record ``<prefix><digest>.json``: ``built``)."""
     key = "\n".join([*key_parts, UNREACHABLE, platform_key()])
-    digest = hashlib.sha256(key.encode("utf-8")).hexdigest()
+    digest = sha256_hex(key.encode("utf-8"))
     path = kernel_folder() / f"{prefix}{digest[:16]}.so"
     _keys[str(path)] = digest
     return path
@@ -136,7 +149,7 @@ def verify(path: Path) -> tuple[Path | None, str]:
         return None, f"its library {name} is missing"
     except OSError as error:
         return None, f"its library {name} cannot be read ({error.strerror or error})"
-    found = hashlib.sha256(data).hexdigest()
+    found = sha256_hex(data)
     if found != digest:
         return None, (
             f"its library {name} is not the one built (SHA-256 {found[:12]}..., "
@@ -149,7 +162,7 @@ def publish(built_file: Path, path: Path) -> Path:
     """Move the freshly built library ``built_file`` into the kernel folder under its digest
     and record it as the library known as ``path`` (see the module); returns its new path."""
     data = built_file.read_bytes()
-    digest = hashlib.sha256(data).hexdigest()
+    digest = sha256_hex(data)
     library = path.parent / f"{path.stem}-{digest[:16]}.so"
     _replace(built_file, library)
     entry = {"key": _keys.get(str(path), ""), "library": library.name, "sha256": digest}

@@ -33,6 +33,7 @@ from variants.registry import (
 )
 
 NAME = "render"
+QUICK_EXIT = True  # its files are written and closed when it returns (``cli._exit_at_once``)
 
 LONG_SECONDS = 30.0  # a render estimated to take longer gets the line naming a faster variant
 FAST_VARIANT = "numba"  # one of the project's own (OWN): named without a look-up

@@ -27,7 +27,6 @@ from __future__ import annotations
 
 import ctypes
 import functools
-import hashlib
 import os
 import shutil
 import sys
@@ -43,6 +42,7 @@ from compiled.library import load_once
 from compiled.linking import BuildError, compiler, link
 from compiled.notices import announce, on_compile
 from compiled.records import library_path as compiled_library_path
+from compiled.records import sha256_hex
 from groundwork.files import new_file, read_bytes
 from scene.kinds import KINDS
 from scene.pattern_kinds import PATTERN_KINDS
@@ -116,7 +116,7 @@ def module_source(config: KernelConfig) -> str:
 def module_name(config: KernelConfig) -> str:
     """The kernel module's name: ``rtc_numba_`` and a digest of its text."""
     text = module_source(config)
-    return PREFIX + hashlib.sha256(text.encode("utf-8")).hexdigest()[:16]
+    return PREFIX + sha256_hex(text.encode("utf-8"))[:16]
 
 
 def _write_if_changed(path: Path, text: str) -> None:
