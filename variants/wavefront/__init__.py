@@ -8,9 +8,14 @@ Options (the name spells the ones that differ from the defaults, sorted):
   sets how many rays a batch holds, so a 4000x3000 image at 16 samples renders in bounded
   memory;
 - ``float32``: rays and the packed world in 32-bit floats;
-- ``threads=N``: passes traced on N threads at once (NumPy lets go of the GIL inside its
-  loops); they share only the read-only packed world. There is no shared-generator option
-  (the C++ report's lesson): the path numbers are a hash with no state to share
+- ``threads=N``: passes traced on N threads at once; they share only the read-only packed
+  world. NumPy lets go of the GIL inside its loops, but the Python between them holds it,
+  and a thread that comes back from a loop while the other holds the GIL sleeps until it
+  is woken: each pass's many small calls become as many hand-offs, so two threads gain
+  little over one (two renders in two processes side by side do not slow each other:
+  memory is not what holds the threads back). Bigger passes (``max_mb``) mean fewer
+  hand-offs per ray. There is no shared-generator
+  option (the C++ report's lesson): the path numbers are a hash with no state to share
   (docs/architecture.md, "No shared generator").
 
 The package: ``scene`` (a world as tables), ``pack`` (a world packed into them, meshes with

@@ -20,6 +20,8 @@ from typing import Any
 
 import numpy as np
 
+from variants.wavefront.geometry import per_ray
+
 LEAF = 4  # the most units in a leaf
 
 
@@ -71,7 +73,7 @@ class Hierarchy:
             enter = None
             leave = None
             for k in range(3):
-                o = origin[k] if np.ndim(origin[k]) == 0 else origin[k][rays]
+                o = origin[k][rays] if per_ray(origin[k]) else origin[k]
                 inv = inverse[k][rays]
                 t1 = (self.lo[k][nodes] - o) * inv
                 t2 = (self.hi[k][nodes] - o) * inv

@@ -24,11 +24,19 @@ INF = np.inf
 Arrays = tuple[Any, Any, Any]
 
 
+def per_ray(value: Any) -> bool:
+    """Is ``value`` an array of one value per ray (or per pair), not a scalar, None or a
+    0-d array? (``np.ndim`` answers the same, but at a few microseconds a call it was a
+    tenth of a pass's Python time: the loop between NumPy's calls holds the GIL that a
+    second thread waits for.)"""
+    return isinstance(value, np.ndarray) and value.ndim > 0
+
+
 def _row(a: Any, b: Any, c: Any, d: Any, x: Any, y: Any, z: Any) -> Any:
     """``a * x + b * y + c * z + d`` added left to right; with scalar coefficients the
     terms whose coefficient is 0 are left out and a coefficient 1 is not multiplied (the
     same sum: adding a zero changes no sum but the sign of a zero one)."""
-    if np.ndim(a) or np.ndim(b) or np.ndim(c) or np.ndim(d):
+    if per_ray(a) or per_ray(b) or per_ray(c) or per_ray(d):
         if d is None:
             return a * x + b * y + c * z
         return a * x + b * y + c * z + d

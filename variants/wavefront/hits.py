@@ -135,7 +135,7 @@ def prim_slots(
 
 def sub(ray: Ray, rows: Any) -> Ray:
     """The rays ``rows`` of a batch (shared origins stay scalars)."""
-    return tuple(a if np.ndim(a) == 0 else a[rows] for a in ray)
+    return tuple(a[rows] if G.per_ray(a) else a for a in ray)
 
 
 def size(ray: Ray) -> int:
@@ -429,7 +429,7 @@ def nearest(idx: Index, ray: Ray, eps: float, cap: int) -> Nearest:
         closer = t < best.t[rows]
         won = rows[closer]
         best.t[won] = t[closer]
-        best.prim[won] = prim if np.ndim(prim) == 0 else prim[closer]
+        best.prim[won] = prim[closer] if G.per_ray(prim) else prim
         best.slot[won] = slot[closer]
         if u is not None:
             best.u[won] = u[closer]

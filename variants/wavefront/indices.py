@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 
+from variants.wavefront.geometry import per_ray
 from variants.wavefront.hits import INF, Index, Nearest, Ray, direct_lists, records, sub
 
 
@@ -86,7 +87,7 @@ def _by_units(idx: Index, ray: Ray, hit: Nearest, eps: float, found: Containers)
         t, prim, _, _ = lists.table()
         slot = np.broadcast_to(np.arange(t.shape[1]), t.shape)
         before = (t < INF) & _before(hit, r[:, None], t, prim, slot)
-        prims = [int(lists.prim)] if np.ndim(lists.prim) == 0 else np.unique(prim).tolist()
+        prims = np.unique(prim).tolist() if per_ray(lists.prim) else [int(lists.prim)]
         for p in prims:
             mine = before if len(prims) == 1 else before & (prim == p)
             odd = mine.sum(axis=1) % 2 == 1
@@ -150,14 +151,17 @@ def refractive_indices(
 
 
 RECORDS_PER_RAY = 16
-"""n1 and n2 need every intersection along a ray: they are found for ``cap`` /
-``RECORDS_PER_RAY`` rays at a time, so that their lists stay within the pass's budget."""
+"""n1 and n2 need every intersection along a ray: in a world with a hierarchy they are
+found for ``cap`` / ``RECORDS_PER_RAY`` rays at a time, so that their lists stay within the
+pass's budget. Without one, ``_by_units`` holds one unit's few slots per ray at a time, less
+than a ray of the pass takes: all the hits go at once (each part costs every unit's whole
+round of NumPy calls, Python time that holds the GIL)."""
 
 
 def indices_in_parts(idx: Index, ray: Ray, hit: Nearest, eps: float, cap: int) -> tuple[Any, Any]:
     """``refractive_indices`` a part of the rays at a time (``RECORDS_PER_RAY``)."""
     n = len(hit.t)
-    step = max(1, cap // RECORDS_PER_RAY)
+    step = max(1, cap // RECORDS_PER_RAY) if idx.hierarchy is not None else max(1, cap)
     if n <= step:
         return refractive_indices(idx, ray, hit, eps, cap)
     parts = [
