@@ -41,6 +41,9 @@ BYTES_PER_RAY = {8: 2048, 4: 1280}
 the temporaries of its queries and shading, the batches waiting on the stack): measured
 with ``tracemalloc`` on the reference scene, rounded up. A path-traced pass takes about a
 third of it (its batch only shrinks from bounce to bounce, and nothing waits on a stack)."""
+CSG_BYTES_PER_RAY = {8: 2560, 4: 2048}
+"""The same in a scene with CSG trees (chapter 16), whose rays keep every intersection of a
+tree's primitives until the tree's rules pick: measured on ``scenes/csg.yml``, rounded up."""
 MIN_CAP = 64  # rays per batch at the least, whatever max_mb says
 
 
@@ -57,9 +60,10 @@ class Options:
     def dtype(self) -> Any:
         return np.dtype(np.float32 if self.float32 else np.float64)
 
-    def cap(self) -> int:
-        """Rays per batch: the pass budget shared by the threads."""
-        per_ray = BYTES_PER_RAY[self.dtype.itemsize]
+    def cap(self, csg: bool = False) -> int:
+        """Rays per batch: the pass budget shared by the threads (``csg``: the scene has
+        CSG trees)."""
+        per_ray = (CSG_BYTES_PER_RAY if csg else BYTES_PER_RAY)[self.dtype.itemsize]
         return max(MIN_CAP, self.max_mb * MIB // (self.threads * per_ray))
 
 
@@ -90,7 +94,7 @@ class WavefrontTracer(ArrayCanvasTracer):
             settings,
             self.options.dtype,
             float(settings.epsilon),
-            self.options.cap(),
+            self.options.cap(csg=bool(scene.trees)),
         )
 
     def _book_frame(self, w: World, shading: bool = True) -> Frame:
