@@ -46,6 +46,7 @@ import budget
 import numpy as np
 import pytest
 from once_per_run import OncePerRun
+from reference_pixels import naive_at
 
 from raytracer.camera import RenderSettings
 from scene import load_scene
@@ -270,17 +271,12 @@ def _pixels(variant: Variant, scene: Scene) -> list[tuple[float, float, float]]:
 
 
 def _reference_pixels(scene: Scene) -> list[tuple[float, float, float]]:
-    """``naive``'s picture of ``scene``; of a scene with chosen pixels, those alone, each
-    drawn by the pixel loop its ``render`` runs (``render_region``, a one-pixel region):
-    a pixel's colour depends on its own rays alone, so it is the whole picture's pixel."""
+    """``naive``'s picture of ``scene``; of a scene with chosen pixels, those alone
+    (tests/reference_pixels.py: the whole picture's pixels, bit for bit)."""
     if not scene.pixels:
         return _pixels(load_variant("naive"), scene)
-    naive = load_variant("naive")
-    camera, world = scene.build(naive.api)
-    values: list[float] = []
-    for x, y in scene.pixels:
-        values += naive.tracer.render_region(camera, world, scene.settings, (x, y, x + 1, y + 1))
-    return [(values[k], values[k + 1], values[k + 2]) for k in range(0, len(values), 3)]
+    found = naive_at(scene.build, scene.settings, scene.pixels).tolist()
+    return [(r, g, b) for r, g, b in found]
 
 
 def _naive_pixels(scene: Scene, once: OncePerRun) -> list[tuple[float, float, float]]:
