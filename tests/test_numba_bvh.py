@@ -153,7 +153,7 @@ _NAIVE: dict[str, np.ndarray] = {}
 
 @pytest.mark.parametrize("build", [mixed, many_balls], ids=["mixed", "many-balls"])
 def test_every_structure_draws_the_same_picture_as_naive(build: Any) -> None:
-    """The three structures' whole pictures bit for bit; naive's (about 0.1 CPU s a pixel
+    """The three structures' whole pictures bit for bit; naive's (about 0.07 CPU s a pixel
     here) at a quarter of the pixels, every other one of every other row
     (tests/reference_pixels.py), against numba's there."""
     pictures = {name: _render(name, build) for name in STRUCTURES}

@@ -115,8 +115,8 @@ PICTURES = {
 
 
 # naive draws these pictures at some of their pixels (tests/reference_pixels.py), numba's
-# whole picture is compared there: the 8x8 cells' shadow rays cost naive about 0.17 CPU s
-# a pixel (half the pixels, a checkerboard), the 48x36 textures' 1,728 pixels 8 s (a
+# whole picture is compared there: the 8x8 cells' shadow rays cost naive about 0.2 CPU s
+# a pixel (half the pixels, a checkerboard), the 48x36 textures' 1,728 pixels about 15 s (a
 # quarter, every other one of every other row); the others whole (a sequence's light moves
 # on from pixel to pixel: a pixel drawn alone is not the picture's)
 NAIVE_AT = {"soft-as-written": checkerboard, "textures": lattice}
