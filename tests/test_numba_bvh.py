@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 import pytest
+from reference_pixels import lattice, naive_at, picture_at
 
 from raytracer.camera import RenderSettings
 from raytracer.materials import material
@@ -152,19 +153,24 @@ _NAIVE: dict[str, np.ndarray] = {}
 
 @pytest.mark.parametrize("build", [mixed, many_balls], ids=["mixed", "many-balls"])
 def test_every_structure_draws_the_same_picture_as_naive(build: Any) -> None:
+    """The three structures' whole pictures bit for bit; naive's (about 0.07 CPU s a pixel
+    here) at a quarter of the pixels, every other one of every other row
+    (tests/reference_pixels.py), against numba's there."""
     pictures = {name: _render(name, build) for name in STRUCTURES}
+    height, width = pictures["numba"].shape[:2]
+    pixels = lattice(width, height)
     if build.__name__ not in _NAIVE:
-        _NAIVE[build.__name__] = _render("naive", build)
+        _NAIVE[build.__name__] = naive_at(build, RenderSettings(), pixels)
     expected = np.clip(_NAIVE[build.__name__], 0, 1)
-    distinct = {tuple(np.round(p, 3)) for p in expected.reshape(-1, 3)}
+    distinct = {tuple(np.round(p, 3)) for p in expected}
     assert len(distinct) > 20, "the scene should not be blank"
     for name in STRUCTURES[1:]:
         assert np.array_equal(pictures[name], pictures["numba"]), f"{name} differs from sah"
-    difference = np.abs(np.clip(pictures["numba"], 0, 1) - expected)
+    difference = np.abs(np.clip(picture_at(pictures["numba"], pixels), 0, 1) - expected)
     worst = float(difference.max())
     print(f"{build.__name__}: max difference from naive {worst:.3g}")
     assert worst <= FLOAT64_WORST
-    assert int((difference.max(axis=2) > ONE_STEP).sum()) == 0
+    assert int((difference.max(axis=1) > ONE_STEP).sum()) == 0
 
 
 def test_the_scenes_use_what_they_should() -> None:
