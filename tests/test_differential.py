@@ -530,6 +530,7 @@ def kinds(spec: ShapeSpec) -> set[str]:
     return {spec.kind}.union(*(kinds(child) for child in spec.children))
 
 
+@pytest.mark.usefixtures("compiled_intersections")
 @settings(deadline=DEADLINE, phases=PHASES, suppress_health_check=SLOW)
 @given(spec=shapes(), ray=rays())
 # caught prealloc building a group's record inside a CSG shape before the group's children
@@ -762,6 +763,7 @@ def deepest(api: Any, spec: ShapeSpec) -> Any:
     return leaves[0]
 
 
+@pytest.mark.usefixtures("compiled_intersections")
 @settings(deadline=DEADLINE, phases=PHASES, suppress_health_check=SLOW)
 @given(
     ops=affine_ops(),
@@ -1048,6 +1050,7 @@ def world_has_degenerate_triangles(spec: WorldSpec) -> bool:
 BLACK_MATTE = MaterialSpec((0.0, 0.0, 0.0), 0.0, 1.0, 0.0, 5.0)
 
 
+@pytest.mark.usefixtures("compiled_color_at")
 @settings(deadline=DEADLINE, phases=PHASES, suppress_health_check=SLOW)
 @given(spec=worlds(), ray=rays(spread=8).map(unit))
 # caught numba's nearest-hit kernel breaking a tie between two equal spheres (the eye on
@@ -1278,6 +1281,7 @@ def check_render(v: Variant, world: WorldSpec, cam: CameraSpec, expected: list[A
         )
 
 
+@pytest.mark.usefixtures("compiled_render")
 @settings(
     max_examples=RENDER_EXAMPLES,
     deadline=RENDER_DEADLINE,
@@ -1473,26 +1477,71 @@ def test_numba_specialized_render_agrees(world: WorldSpec, cam: CameraSpec) -> N
         check_render(variant(name), world, cam, expected)
 
 
-@pytest.fixture(scope="module", autouse=True)
-def compiled_kernels() -> None:
-    """numba compiles (or loads from its disk cache) a kernel module on first use, which can
-    take 20 s: done here, once, outside the properties' per-example deadline."""
-    naive = NAIVE.api
-    c = naive["camera"](2, 2, 1.0)
+def _numba_apis() -> Iterator[Any]:
+    """The book API of each numba variant the properties check."""
     for name in DIRECT:
-        if _base(name) != "numba":
-            continue
-        for v in (variant(name), variant(_render_name(name))):
-            api = v.api
-            w = api["default_world"]()
-            r = api["ray"](api["point"](0, 0, -5), api["vector"](0, 0, 1))
-            api["color_at"](w, r)
-            api["render"](c, w)
-            leaves: list[Any] = []
-            build_shape(api, nested((), (), ()), leaves)
-            api["intersect"](leaves[0], r)
-            api["normal_at"](leaves[0], api["point"](0, 0, -1))
-            api["world_to_object"](leaves[0], api["point"](0, 0, -1))
-            api["normal_to_world"](leaves[0], api["vector"](0, 0, -1))
-            for spec in (ShapeSpec("csg", params=("union",), children=(ShapeSpec("cube"),) * 2),):
-                api["intersect"](build_shape(api, spec), r)
+        if _base(name) == "numba":
+            yield variant(name).api
+
+
+def _warm_up_intersections() -> None:
+    for api in _numba_apis():
+        r = api["ray"](api["point"](0, 0, -5), api["vector"](0, 0, 1))
+        leaves: list[Any] = []
+        build_shape(api, nested((), (), ()), leaves)
+        api["intersect"](leaves[0], r)
+        api["normal_at"](leaves[0], api["point"](0, 0, -1))
+        api["world_to_object"](leaves[0], api["point"](0, 0, -1))
+        api["normal_to_world"](leaves[0], api["vector"](0, 0, -1))
+        csg = ShapeSpec("csg", params=("union",), children=(ShapeSpec("cube"),) * 2)
+        api["intersect"](build_shape(api, csg), r)
+
+
+def _warm_up_color_at() -> None:
+    for api in _numba_apis():
+        r = api["ray"](api["point"](0, 0, -5), api["vector"](0, 0, 1))
+        api["color_at"](api["default_world"](), r)
+
+
+def _warm_up_render() -> None:
+    c = NAIVE.api["camera"](2, 2, 1.0)
+    for name in DIRECT:
+        if _base(name) == "numba":
+            api = variant(_render_name(name)).api
+            api["render"](c, api["default_world"]())
+
+
+WARM_UPS = {
+    "intersections": _warm_up_intersections,
+    "color_at": _warm_up_color_at,
+    "render": _warm_up_render,
+}
+
+
+@functools.cache
+def warmed_up(what: str) -> None:
+    """``WARM_UPS[what]``, once per process."""
+    WARM_UPS[what]()
+
+
+@pytest.fixture
+def compiled_intersections() -> None:
+    """numba compiles (or loads from its disk cache) each entry point of the book API's
+    kernel module on its first call, which can take 20 s: done here, outside the properties'
+    per-example deadline, and only for the tests that call them (``intersect``,
+    ``normal_at``, the transforms), so ``-k`` on one property compiles what it uses."""
+    warmed_up("intersections")
+
+
+@pytest.fixture
+def compiled_color_at() -> None:
+    """``color_at``'s entry point (``api_shade``: the book API's dearest, 70 to 85 CPU s
+    cold), compiled before ``test_color_at_agrees``'s examples."""
+    warmed_up("color_at")
+
+
+@pytest.fixture
+def compiled_render() -> None:
+    """The generic render kernel of each precision (about 100 CPU s each, cold), compiled
+    before ``test_render_agrees``'s examples."""
+    warmed_up("render")

@@ -15,6 +15,11 @@ COUNT_RAYS = False  # count the rays traced (for Variant.count_rays; never in a 
 # the helpers inlined into every caller (a render); False for the book API's module, which
 # then compiles in about two thirds of the time (its calls are not timed)
 INLINE_HELPERS = True
+# the helpers keep numba's Python and C wrappers (Python can call them: the tests call a
+# few from the template files); False for the book API's module, whose helpers only its
+# entry points call: it then compiles in about two thirds of the CPU time. The render's
+# keep them: without, its machine code changes (and ran a few per cent slower)
+HELPER_WRAPPERS = True
 
 HAS_SPHERE = True
 HAS_PLANE = True

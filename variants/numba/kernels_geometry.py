@@ -22,6 +22,7 @@ from numba import njit
 from variants.numba.kernel_flags import (
     FASTMATH,
     HAS_SPHERE,
+    HELPER_WRAPPERS,
     INLINE_HELPERS,
     F,
 )
@@ -52,6 +53,8 @@ INLINE: dict[str, Any] = {
     "_nrt": False,
     "fastmath": FASTMATH,
     "error_model": "numpy",
+    "no_cpython_wrapper": not HELPER_WRAPPERS,
+    "no_cfunc_wrapper": not HELPER_WRAPPERS,
 }
 # The big steps with one caller in the render (its rows; a path's rows, bounces and lights):
 # numba copies their IR into the caller before typing, so none is compiled, optimized and

@@ -105,6 +105,7 @@ def module_source(config: KernelConfig) -> str:
         f"FASTMATH = {FAST_FLAGS if config.fastmath else False}",
         f"COUNT_RAYS = {config.count_rays}",
         f"INLINE_HELPERS = {config.inline}",
+        f"HELPER_WRAPPERS = {config.inline}",  # the book API's helpers: none (see kernel_flags)
         *[f"{flag} = {flag in config.features.flags}" for flag in ALL_FLAGS],
         "# the kind table: " + ", ".join(f"{k.name}={k.number}" for k in KINDS),
         "# the pattern table: " + ", ".join(f"{k.name}={k.number}" for k in PATTERN_KINDS),
