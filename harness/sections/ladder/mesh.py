@@ -82,10 +82,13 @@ def entry(bench: Bench, section: str) -> dict[str, Any]:
 
 
 def warm(bench: Bench) -> None:
-    """Compile the row's kernels (the variant's and its steps') in the bench's background
-    compile, when the row will run (Embree is there): the row then only measures."""
+    """Compile the row's kernels (the variant's and its steps', a job each, so that two
+    cores compile two) in the bench's background compile, when the row will run (Embree is
+    there): the row then only measures."""
     if embree.find() is not None:
-        bench.warm_job(f"{VARIANT} on {MESH}", __name__, {**_job(), "warm": True, "threads": 1})
+        for name in [VARIANT, *(step for step, _ in STEPS)]:
+            job = {**_job(), "variant": name, "steps": [], "warm": True, "threads": 1}
+            bench.warm_job(f"{name} on {MESH}", __name__, job)
 
 
 def _job() -> dict[str, Any]:
