@@ -47,6 +47,8 @@ from variants.numba.kernels_geometry import (
     box_enter,
     box_hit,
     nth,
+    to_object_point,
+    to_object_vector,
 )
 from variants.numba.kernels_prims import (
     first_hit_in,
@@ -54,6 +56,7 @@ from variants.numba.kernels_prims import (
 )
 from variants.numba.kernels_shapes import (
     compact_first_hit,
+    compact_intersect,
 )
 from variants.numba.layout import (
     B_PRIM,
@@ -333,6 +336,8 @@ def nodes_nearest(w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, ep
     base = items[i * NITEM + ITEM_B]
     bottom = top
     node = 0
+    run = -1  # the run whose object space (lo*, ld*) the ray is in
+    lox = loy = loz = ldx = ldy = ldz = ZERO
     enter = box_enter(boxes, base, ox, oy, oz, ix, iy, iz, best_t, parallel)
     while True:
         if enter != INF:
@@ -360,8 +365,13 @@ def nodes_nearest(w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, ep
             for k in range(first, first + code):
                 p = items[k * NITEM + ITEM_A]
                 q = items[k * NITEM + ITEM_B]
-                found, t, u, v = compact_first_hit(pf, p, geo[0], q, ox, oy, oz, dx, dy, dz, eps, best_t)
-                if found or (t == best_t and (p < best_p or (p == best_p and q < best_l))):
+                if p != run:  # the ray in the run's object space, once per run
+                    run = p
+                    lox, loy, loz = to_object_point(pf, p, ox, oy, oz)
+                    ldx, ldy, ldz = to_object_vector(pf, p, dx, dy, dz)
+                n, hit, u, v = compact_intersect(geo[0], q, lox, loy, loz, ldx, ldy, ldz, eps)
+                t = hit if n > 0 and hit >= ZERO else INF
+                if t < best_t or (t == best_t and (p < best_p or (p == best_p and q < best_l))):
                     best_t, best_p, best_l, best_u, best_v = t, p, q, u, v
         if top == bottom:
             break
