@@ -323,6 +323,20 @@ def nearest_hit(w, s, ox, oy, oz, dx, dy, dz, eps):
     return best_t, best_p, best_l, best_u, best_v
 
 
+@njit(**INLINE)
+def node_enter(boxes, m, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, thi, parallel):
+    """``box_enter`` for the compact node at ``boxes[m]``, its sides taken in the order the
+    ray meets them (``near_*``: 0, or 3 for a ray going down the axis): the same answer
+    with no min or max to order each slab's two t."""
+    if parallel:
+        return box_enter(boxes, m, ox, oy, oz, ix, iy, iz, thi, parallel)
+    tlo = max(max(ZERO, (boxes[m + near_x] - ox) * ix),
+              max((boxes[m + 1 + near_y] - oy) * iy, (boxes[m + 2 + near_z] - oz) * iz))
+    thi = min(min(thi, (boxes[m + 3 - near_x] - ox) * ix),
+              min((boxes[m + 4 - near_y] - oy) * iy, (boxes[m + 5 - near_z] - oz) * iz))
+    return tlo if tlo <= thi else INF
+
+
 @njit(**CALLED)
 def nodes_nearest(w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, eps,
                   best_t, best_p, best_l, best_u, best_v):  # fmt: skip
@@ -336,6 +350,9 @@ def nodes_nearest(w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, ep
     base = items[i * NITEM + ITEM_B]
     bottom = top
     node = 0
+    near_x = 3 if dx < ZERO else 0  # the side of a box the ray meets first, per axis
+    near_y = 3 if dy < ZERO else 0
+    near_z = 3 if dz < ZERO else 0
     run = -1  # the run whose object space (lo*, ld*) the ray is in
     lox = loy = loz = ldx = ldy = ldz = ZERO
     enter = box_enter(boxes, base, ox, oy, oz, ix, iy, iz, best_t, parallel)
@@ -346,8 +363,8 @@ def nodes_nearest(w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, ep
             code = int(boxes[m + NODE_C])
             if code < 0:
                 m = base + first * NNODE
-                near = box_enter(boxes, m, ox, oy, oz, ix, iy, iz, best_t, parallel)
-                far = box_enter(boxes, m + NNODE, ox, oy, oz, ix, iy, iz, best_t, parallel)
+                near = node_enter(boxes, m, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, best_t, parallel)
+                far = node_enter(boxes, m + NNODE, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, best_t, parallel)
                 node = first
                 if code < -1 and (dx if code == -2 else (dy if code == -3 else dz)) < ZERO:
                     near, far = far, near
@@ -508,6 +525,9 @@ def nodes_occluded(w, s, i, last, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, 
     base = items[i * NITEM + ITEM_B]
     top = 0
     node = 0
+    near_x = 3 if dx < ZERO else 0  # the side of a box the ray meets first, per axis
+    near_y = 3 if dy < ZERO else 0
+    near_z = 3 if dz < ZERO else 0
     inside = box_enter(boxes, base, ox, oy, oz, ix, iy, iz, distance, parallel) != INF
     while True:
         if inside:
@@ -516,8 +536,8 @@ def nodes_occluded(w, s, i, last, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, 
             code = int(boxes[m + NODE_C])
             if code < 0:
                 m = base + first * NNODE
-                near = box_enter(boxes, m, ox, oy, oz, ix, iy, iz, distance, parallel) != INF
-                far = box_enter(boxes, m + NNODE, ox, oy, oz, ix, iy, iz, distance, parallel) != INF
+                near = node_enter(boxes, m, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, distance, parallel) != INF
+                far = node_enter(boxes, m + NNODE, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, distance, parallel) != INF
                 if near and far:
                     si[top * NSI + BV_FROM] = first + 1
                     top += 1
