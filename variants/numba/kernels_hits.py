@@ -343,8 +343,10 @@ def nodes_nearest(w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, ep
     """``nearest_hit`` through I_NODES item i's compact nodes (``layout``): a node's two
     children's boxes tested together, the nearer along the node's split axis taken first,
     the other kept on the range stack (above ``top``) with where the ray enters it, and
-    dropped when it comes back beyond the nearest hit so far. Returns the hit (t,
-    primitive, index, u, v) after the node's triangles; ties as ``nearest_hit``'s."""
+    dropped when it comes back beyond the nearest hit so far. A box's sides are taken in
+    the order the ray meets them (``node_enter``), and the ray is taken into a run's
+    object space once, not per triangle. Returns the hit (t, primitive, index, u, v) after
+    the node's triangles; ties as ``nearest_hit``'s."""
     pf, _, items, _, boxes, _, _, _, _, _, _, geo = w
     sf, si, _ = s
     base = items[i * NITEM + ITEM_B]
