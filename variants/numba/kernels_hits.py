@@ -47,6 +47,8 @@ from variants.numba.kernels_geometry import (
     box_enter,
     box_hit,
     nth,
+    to_object_point,
+    to_object_vector,
 )
 from variants.numba.kernels_prims import (
     first_hit_in,
@@ -54,6 +56,7 @@ from variants.numba.kernels_prims import (
 )
 from variants.numba.kernels_shapes import (
     compact_first_hit,
+    compact_intersect,
 )
 from variants.numba.layout import (
     B_PRIM,
@@ -320,19 +323,40 @@ def nearest_hit(w, s, ox, oy, oz, dx, dy, dz, eps):
     return best_t, best_p, best_l, best_u, best_v
 
 
+@njit(**INLINE)
+def node_enter(boxes, m, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, thi, parallel):
+    """``box_enter`` for the compact node at ``boxes[m]``, its sides taken in the order the
+    ray meets them (``near_*``: 0, or 3 for a ray going down the axis): the same answer
+    with no min or max to order each slab's two t."""
+    if parallel:
+        return box_enter(boxes, m, ox, oy, oz, ix, iy, iz, thi, parallel)
+    tlo = max(max(ZERO, (boxes[m + near_x] - ox) * ix),
+              max((boxes[m + 1 + near_y] - oy) * iy, (boxes[m + 2 + near_z] - oz) * iz))
+    thi = min(min(thi, (boxes[m + 3 - near_x] - ox) * ix),
+              min((boxes[m + 4 - near_y] - oy) * iy, (boxes[m + 5 - near_z] - oz) * iz))
+    return tlo if tlo <= thi else INF
+
+
 @njit(**CALLED)
 def nodes_nearest(w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, eps,
                   best_t, best_p, best_l, best_u, best_v):  # fmt: skip
     """``nearest_hit`` through I_NODES item i's compact nodes (``layout``): a node's two
     children's boxes tested together, the nearer along the node's split axis taken first,
     the other kept on the range stack (above ``top``) with where the ray enters it, and
-    dropped when it comes back beyond the nearest hit so far. Returns the hit (t,
-    primitive, index, u, v) after the node's triangles; ties as ``nearest_hit``'s."""
+    dropped when it comes back beyond the nearest hit so far. A box's sides are taken in
+    the order the ray meets them (``node_enter``), and the ray is taken into a run's
+    object space once, not per triangle. Returns the hit (t, primitive, index, u, v) after
+    the node's triangles; ties as ``nearest_hit``'s."""
     pf, _, items, _, boxes, _, _, _, _, _, _, geo = w
     sf, si, _ = s
     base = items[i * NITEM + ITEM_B]
     bottom = top
     node = 0
+    near_x = 3 if dx < ZERO else 0  # the side of a box the ray meets first, per axis
+    near_y = 3 if dy < ZERO else 0
+    near_z = 3 if dz < ZERO else 0
+    run = -1  # the run whose object space (lo*, ld*) the ray is in
+    lox = loy = loz = ldx = ldy = ldz = ZERO
     enter = box_enter(boxes, base, ox, oy, oz, ix, iy, iz, best_t, parallel)
     while True:
         if enter != INF:
@@ -341,8 +365,8 @@ def nodes_nearest(w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, ep
             code = int(boxes[m + NODE_C])
             if code < 0:
                 m = base + first * NNODE
-                near = box_enter(boxes, m, ox, oy, oz, ix, iy, iz, best_t, parallel)
-                far = box_enter(boxes, m + NNODE, ox, oy, oz, ix, iy, iz, best_t, parallel)
+                near = node_enter(boxes, m, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, best_t, parallel)
+                far = node_enter(boxes, m + NNODE, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, best_t, parallel)
                 node = first
                 if code < -1 and (dx if code == -2 else (dy if code == -3 else dz)) < ZERO:
                     near, far = far, near
@@ -360,8 +384,13 @@ def nodes_nearest(w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, ep
             for k in range(first, first + code):
                 p = items[k * NITEM + ITEM_A]
                 q = items[k * NITEM + ITEM_B]
-                found, t, u, v = compact_first_hit(pf, p, geo[0], q, ox, oy, oz, dx, dy, dz, eps, best_t)
-                if found or (t == best_t and (p < best_p or (p == best_p and q < best_l))):
+                if p != run:  # the ray in the run's object space, once per run
+                    run = p
+                    lox, loy, loz = to_object_point(pf, p, ox, oy, oz)
+                    ldx, ldy, ldz = to_object_vector(pf, p, dx, dy, dz)
+                n, hit, u, v = compact_intersect(geo[0], q, lox, loy, loz, ldx, ldy, ldz, eps)
+                t = hit if n > 0 and hit >= ZERO else INF
+                if t < best_t or (t == best_t and (p < best_p or (p == best_p and q < best_l))):
                     best_t, best_p, best_l, best_u, best_v = t, p, q, u, v
         if top == bottom:
             break
@@ -498,6 +527,9 @@ def nodes_occluded(w, s, i, last, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, 
     base = items[i * NITEM + ITEM_B]
     top = 0
     node = 0
+    near_x = 3 if dx < ZERO else 0  # the side of a box the ray meets first, per axis
+    near_y = 3 if dy < ZERO else 0
+    near_z = 3 if dz < ZERO else 0
     inside = box_enter(boxes, base, ox, oy, oz, ix, iy, iz, distance, parallel) != INF
     while True:
         if inside:
@@ -506,8 +538,8 @@ def nodes_occluded(w, s, i, last, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, 
             code = int(boxes[m + NODE_C])
             if code < 0:
                 m = base + first * NNODE
-                near = box_enter(boxes, m, ox, oy, oz, ix, iy, iz, distance, parallel) != INF
-                far = box_enter(boxes, m + NNODE, ox, oy, oz, ix, iy, iz, distance, parallel) != INF
+                near = node_enter(boxes, m, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, distance, parallel) != INF
+                far = node_enter(boxes, m + NNODE, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, distance, parallel) != INF
                 if near and far:
                     si[top * NSI + BV_FROM] = first + 1
                     top += 1
