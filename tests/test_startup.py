@@ -50,14 +50,18 @@ NEVER_ON_THE_RENDER_PATH = (
     "tempfile", "random", "scene.fir_branch",
     # the kernel cache's digests are the interpreter's own SHA-256 (hashlib loads OpenSSL's)
     "hashlib", "_hashlib",
+    # shutil brings its archivers (bz2, lzma): argparse's formatter would import it for the
+    # terminal's width (rtc.cli gives it one), the kernels' module writer to remove a folder
+    "shutil", "bz2", "lzma",
 )  # fmt: skip
 # The dataclasses a render defines, at most: each compiles its methods from source at every
 # start (about half a millisecond of a render's command each, a quarter of its imports' CPU
 # when this was written); tables and records that nothing mutates or replaces are
 # NamedTuples (scene.kinds, scene.pattern_kinds, scene.limits, scene.reader's Entry, the
-# registry's entries and specs, the numba variant's options and feature sets). A new one
+# registry's entries and specs, the numba variant's options and feature sets, a compiled
+# library's loaded function). A new one
 # on the render path needs a reason, and this figure raised with it.
-RENDER_DATACLASSES = {"naive": 46, "numba": 59}
+RENDER_DATACLASSES = {"naive": 46, "numba": 58}
 # What only building a compiled library needs (running the C compiler): a render that loads
 # one already built imports none of it
 ONLY_TO_BUILD_A_LIBRARY = ("subprocess", "shlex")
