@@ -48,6 +48,8 @@ NEVER_ON_THE_RENDER_PATH = (
     # temporary files are made by groundwork.files (tempfile brings random, shutil's
     # archivers); the fir branch's drawing (random) only for a scene that adds one
     "tempfile", "random", "scene.fir_branch",
+    # an OBJ model's reader and the image textures' decoder: only for a scene that names one
+    "scene.obj_mesh", "scene.images",
     # the kernel cache's digests are the interpreter's own SHA-256 (hashlib loads OpenSSL's)
     "hashlib", "_hashlib",
     # shutil brings its archivers (bz2, lzma): argparse's formatter would import it for the
@@ -61,7 +63,7 @@ NEVER_ON_THE_RENDER_PATH = (
 # registry's entries and specs, the numba variant's options and feature sets, a compiled
 # library's loaded function). A new one
 # on the render path needs a reason, and this figure raised with it.
-RENDER_DATACLASSES = {"naive": 46, "numba": 58}
+RENDER_DATACLASSES = {"naive": 45, "numba": 57}
 # What only building a compiled library needs (running the C compiler): a render that loads
 # one already built imports none of it
 ONLY_TO_BUILD_A_LIBRARY = ("subprocess", "shlex")

@@ -24,7 +24,7 @@ import itertools
 import operator
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -36,9 +36,11 @@ from raytracer.shapes.shape import Shape
 from raytracer.world import World
 from scene.build import make_material
 from scene.kinds import BY_NAME, SHAPE_METHODS, Kind, reference_kind, unchanged
-from scene.obj_mesh import Mesh
 from scene.shapes import GROUPS, ShapeSpec
 from variants.arrays.rows import rows3x4
+
+if TYPE_CHECKING:  # an OBJ model's arrays: imported by the loader for a scene that reads one
+    from scene.obj_mesh import Mesh
 
 BOX_PAD = 1e-9  # a world box grows by this much (relative, plus absolute): no hit is lost
 
