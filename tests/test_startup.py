@@ -344,3 +344,26 @@ def test_a_new_file_is_made_by_its_call_alone(
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted([path.name, Path(taken).name])
     files.check_can_write(tmp_path, ".check-")
     assert len(list(tmp_path.iterdir())) == 2  # the check leaves nothing behind
+
+
+@pytest.mark.parametrize("own_inverse", [False, True])
+def test_a_load_inverts_each_shapes_transform_once(own_inverse: bool) -> None:
+    """The loader's check of a shape's transform keeps the inverse it computed
+    (``Scene.inverses``) and the packer's flattening takes that very matrix instead of
+    inverting again; only when the API's ``inverse`` is the reference's, the one the
+    packer uses (a variant's own ``inverse`` is never taken for it)."""
+    from raytracer.api import naive_api
+    from raytracer.matrices import inverse
+    from scene import load_scene
+    from variants.arrays import flatten
+
+    api = dict(naive_api())
+    if own_inverse:
+        api["inverse"] = lambda m: inverse(m)  # the same numbers, another function
+    scene = load_scene(ROOT / "scenes" / "reference.yml", api)
+    kept = {id(inverted) for _, inverted in scene.inverses.values()}
+    leaves = [node for node in flatten.from_description(scene) if isinstance(node, flatten.Leaf)]
+    transformed = [leaf for leaf in leaves if not flatten.is_identity(leaf.inv)]
+    reused = [leaf for leaf in transformed if id(leaf.inv) in kept]
+    assert len(scene.inverses) >= len(transformed) > 3
+    assert len(reused) == (0 if own_inverse else len(transformed))
