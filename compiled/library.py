@@ -44,7 +44,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 from compiled import KernelFolderError, compile_log
 from compiled.build_lock import one_builder
@@ -140,8 +140,7 @@ def _load_or_build(
 # ------------------------------------------------------ one function, one library
 
 
-@dataclass(frozen=True)
-class Compiled:
+class Compiled(NamedTuple):  # a record nothing changes: no dataclass made at every start
     """A compiled function as a Python function over numpy arrays and numbers; ``origin``
     says where it came from (a shared library, or numba), ``keep`` holds what must stay
     alive while it is used."""

@@ -239,21 +239,50 @@ def _chosen(argv: list[str] | None) -> str | None:
     return chosen if chosen in COMMANDS else None
 
 
+def _terminal_columns() -> int:
+    """The terminal's width as ``shutil.get_terminal_size`` finds it (``$COLUMNS``, else the
+    terminal of standard output, else 80), without importing shutil and its archivers
+    (bz2, lzma), which argparse's formatter would import for every argument added."""
+    try:
+        columns = int(os.environ.get("COLUMNS", "0"))
+    except ValueError:
+        columns = 0
+    if columns > 0:
+        return columns
+    stdout = sys.__stdout__
+    try:
+        return (os.get_terminal_size(stdout.fileno()).columns if stdout else 0) or 80
+    except (AttributeError, ValueError, OSError):  # not a terminal, or no file behind it
+        return 80
+
+
+class HelpFormatter(argparse.HelpFormatter):
+    """argparse's own help layout, at the terminal's width (``_terminal_columns``)."""
+
+    def __init__(
+        self, prog: str, indent_increment: int = 2, max_help_position: int = 24,
+        width: int | None = None,
+    ) -> None:  # fmt: skip
+        width = _terminal_columns() - 2 if width is None else width
+        super().__init__(prog, indent_increment, max_help_position, width)
+
+
 def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
     """The parser for ``argv``: the chosen command alone, its module imported and its
     arguments added (the others' parsers would only be shown by ``rtc --help``); without a
     command (``rtc --help``, a typo) every command by its help line alone, no module
     imported."""
     parser = argparse.ArgumentParser(
-        prog="rtc", description="The Ray Tracer Challenge workbook and benchmark harness."
-    )
+        prog="rtc", description="The Ray Tracer Challenge workbook and benchmark harness.",
+        formatter_class=HelpFormatter,
+    )  # fmt: skip
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     chosen = _chosen(argv)
     for name, help_line in COMMANDS.items():
         if chosen is not None and name != chosen:
             continue
         command = sub.add_parser(name.removeprefix("rtc.cmd_"), help=help_line,
-                                 description=help_line)  # fmt: skip
+                                 description=help_line, formatter_class=HelpFormatter)  # fmt: skip
         if name == chosen:
             module = importlib.import_module(name)
             module.add_arguments(command)

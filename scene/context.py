@@ -44,7 +44,9 @@ class Context:
     built (OBJ triangles included); meshes: each OBJ model, once read (``scene.obj_mesh``);
     progress: the load's progress bar (None: no bar); provide_mesh: writes a missing OBJ
     file that the project generates (``harness.scenery.make_meshes.provide``), saying whether it
-    exists now (None: never).
+    exists now (None: never); inverses: the inverse of each transform the checks found
+    invertible (``scene.transforms``), by the matrix's id, the matrix kept beside it, so
+    that a packer inverts each transform once per load.
     """
 
     reader: Reader
@@ -59,6 +61,7 @@ class Context:
     meshes: dict[Path, Any] = field(default_factory=dict)
     progress: LoadProgress | None = None
     provide_mesh: Callable[[Path], bool] | None = None
+    inverses: dict[int, tuple[Any, Any]] = field(default_factory=dict)
 
     def count_shapes(self, count: int, node: Node | int | None, what: str) -> None:
         """``count`` more shapes for the world (``what`` names them); past the limit, a

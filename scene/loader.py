@@ -61,7 +61,8 @@ class Scene:
     allowed but probably not meant (``rtc render`` prints them); notes: what the loader did
     beyond the file (triangles left out), and what building a world did (groups divided);
     sky: the variant's sky (``- add: sky``) or None; render: the settings ``- add: render``
-    gives, by ``RenderSettings`` field name.
+    gives, by ``RenderSettings`` field name; inverses: the transforms' inverses the load
+    computed with the API's ``inverse``, by the matrix's id (``Context.inverses``).
     """
 
     path: Path
@@ -77,6 +78,7 @@ class Scene:
     notes: list[str] = field(default_factory=list)
     sky: Any = None
     render: dict[str, Any] = field(default_factory=dict)
+    inverses: Mapping[int, tuple[Any, Any]] = field(default_factory=dict, repr=False, compare=False)
     _world: Any = field(default=None, repr=False, compare=False)
 
     def resized(self, width: int, height: int) -> Scene:
@@ -228,7 +230,7 @@ def _load(
         path, state.camera, [light for light in lights if light is not None],
         tuple(state.objects), variant, api, state.camera_line, state.light_line,
         tuple(state.obj_files), tuple(state.warnings), list(ctx.notes), state.sky,
-        state.render,
+        state.render, ctx.inverses,
     )  # fmt: skip
 
 

@@ -20,7 +20,7 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from yaml.nodes import MappingNode, Node
 
@@ -28,9 +28,11 @@ from groundwork.files import describe, read_bytes, resolved
 from scene.context import Context
 from scene.kinds import ADDABLE, BY_NAME
 from scene.materials import read_material
-from scene.obj_mesh import Mesh, read_mesh
 from scene.reader import Entry, line_of
 from scene.transforms import read_transform, transform_problem
+
+if TYPE_CHECKING:  # an OBJ's reader only for a scene that reads one (``_mesh``)
+    from scene.obj_mesh import Mesh
 
 SCENE_ITEMS = ("camera", "light", "area_light", "sky", "render")
 """What a scene file adds besides shapes (``scene.loader`` reads each)."""
@@ -338,6 +340,8 @@ def _mesh(ctx: Context, spec: ShapeSpec) -> Mesh:
         data = read_bytes(path, MAX_OBJ_BYTES)
     except OSError as error:
         ctx.reader.fail(spec.line, f"{spec.label}: cannot read OBJ file {path}: {error.strerror}")
+    from scene.obj_mesh import read_mesh  # deferred: most scenes read no OBJ file
+
     try:
         mesh = read_mesh(data, str(path))
     except ValueError as error:

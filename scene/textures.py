@@ -26,7 +26,6 @@ from yaml.nodes import Node
 
 from scene.colors import read_color
 from scene.context import Context
-from scene.images import load_image
 from scene.reader import Entry
 
 # the format's mapping -> the book's function (the cube has its own pattern, cube_map)
@@ -132,5 +131,7 @@ def read_uv_pattern(ctx: Context, node: Node, what: str) -> Any:
         colors = [read_color(ctx, named[name].value, f"{what}: {name}") for name in ALIGN_COLORS]
         return ctx.need("uv_align_check", type_node, "an align_check UV pattern")(*colors)
     file_node = reader.require(entries, "file", node, f"{what} (image)")
+    from scene.images import load_image  # deferred: a PNG or PPM decoder for a scene that has one
+
     image = load_image(ctx, file_node)
     return ctx.need("uv_image", type_node, "an image UV pattern")(image)

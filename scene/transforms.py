@@ -100,11 +100,18 @@ def _exponent(value: Fraction) -> float:
 
 
 def _inverse_is_finite(ctx: Context, matrix: Any, size: int) -> bool:
+    """Whether the variant's ``inverse`` of ``matrix`` is a matrix of finite floats; if so,
+    it is kept in ``ctx.inverses`` for the packer."""
     try:
         inverted = ctx.api["inverse"](matrix)
-        return all(math.isfinite(float(inverted[r, c])) for r in range(size) for c in range(size))
+        finite = all(
+            math.isfinite(float(inverted[r, c])) for r in range(size) for c in range(size)
+        )
     except (ValueError, ZeroDivisionError, OverflowError):
         return False
+    if finite:
+        ctx.inverses[id(matrix)] = (matrix, inverted)
+    return finite
 
 
 def transform_problem(ctx: Context, matrix: Any) -> str | None:

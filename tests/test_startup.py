@@ -48,16 +48,22 @@ NEVER_ON_THE_RENDER_PATH = (
     # temporary files are made by groundwork.files (tempfile brings random, shutil's
     # archivers); the fir branch's drawing (random) only for a scene that adds one
     "tempfile", "random", "scene.fir_branch",
+    # an OBJ model's reader and the image textures' decoder: only for a scene that names one
+    "scene.obj_mesh", "scene.images",
     # the kernel cache's digests are the interpreter's own SHA-256 (hashlib loads OpenSSL's)
     "hashlib", "_hashlib",
+    # shutil brings its archivers (bz2, lzma): argparse's formatter would import it for the
+    # terminal's width (rtc.cli gives it one), the kernels' module writer to remove a folder
+    "shutil", "bz2", "lzma",
 )  # fmt: skip
 # The dataclasses a render defines, at most: each compiles its methods from source at every
 # start (about half a millisecond of a render's command each, a quarter of its imports' CPU
 # when this was written); tables and records that nothing mutates or replaces are
 # NamedTuples (scene.kinds, scene.pattern_kinds, scene.limits, scene.reader's Entry, the
-# registry's entries and specs, the numba variant's options and feature sets). A new one
+# registry's entries and specs, the numba variant's options and feature sets, a compiled
+# library's loaded function). A new one
 # on the render path needs a reason, and this figure raised with it.
-RENDER_DATACLASSES = {"naive": 46, "numba": 59}
+RENDER_DATACLASSES = {"naive": 45, "numba": 57}
 # What only building a compiled library needs (running the C compiler): a render that loads
 # one already built imports none of it
 ONLY_TO_BUILD_A_LIBRARY = ("subprocess", "shlex")
@@ -338,3 +344,26 @@ def test_a_new_file_is_made_by_its_call_alone(
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted([path.name, Path(taken).name])
     files.check_can_write(tmp_path, ".check-")
     assert len(list(tmp_path.iterdir())) == 2  # the check leaves nothing behind
+
+
+@pytest.mark.parametrize("own_inverse", [False, True])
+def test_a_load_inverts_each_shapes_transform_once(own_inverse: bool) -> None:
+    """The loader's check of a shape's transform keeps the inverse it computed
+    (``Scene.inverses``) and the packer's flattening takes that very matrix instead of
+    inverting again; only when the API's ``inverse`` is the reference's, the one the
+    packer uses (a variant's own ``inverse`` is never taken for it)."""
+    from raytracer.api import naive_api
+    from raytracer.matrices import inverse
+    from scene import load_scene
+    from variants.arrays import flatten
+
+    api = dict(naive_api())
+    if own_inverse:
+        api["inverse"] = lambda m: inverse(m)  # the same numbers, another function
+    scene = load_scene(ROOT / "scenes" / "reference.yml", api)
+    kept = {id(inverted) for _, inverted in scene.inverses.values()}
+    leaves = [node for node in flatten.from_description(scene) if isinstance(node, flatten.Leaf)]
+    transformed = [leaf for leaf in leaves if not flatten.is_identity(leaf.inv)]
+    reused = [leaf for leaf in transformed if id(leaf.inv) in kept]
+    assert len(scene.inverses) >= len(transformed) > 3
+    assert len(reused) == (0 if own_inverse else len(transformed))

@@ -24,7 +24,7 @@ import itertools
 import operator
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -36,9 +36,11 @@ from raytracer.shapes.shape import Shape
 from raytracer.world import World
 from scene.build import make_material
 from scene.kinds import BY_NAME, SHAPE_METHODS, Kind, reference_kind, unchanged
-from scene.obj_mesh import Mesh
 from scene.shapes import GROUPS, ShapeSpec
 from variants.arrays.rows import rows3x4
+
+if TYPE_CHECKING:  # an OBJ model's arrays: imported by the loader for a scene that reads one
+    from scene.obj_mesh import Mesh
 
 BOX_PAD = 1e-9  # a world box grows by this much (relative, plus absolute): no hit is lost
 
@@ -180,12 +182,18 @@ def affine(m: object, what: str) -> Matrix:
     return m
 
 
-def inverse_affine(m: object, what: str) -> Matrix:
+def inverse_affine(
+    m: object, what: str, known: Mapping[int, tuple[Any, Any]] | None = None
+) -> Matrix:
     """The reference's inverse of an affine ``m`` (the identity's is itself); a
-    ``FlattenError`` when it has none."""
+    ``FlattenError`` when it has none. ``known``: inverses already computed with the
+    reference's ``inverse``, by the matrix's id, the matrix beside it (a scene's load)."""
     matrix = affine(m, what)
     if is_identity(matrix):
         return identity_matrix
+    found = known.get(id(matrix)) if known else None
+    if found is not None and found[0] is matrix:
+        return found[1]
     try:
         return inverse(matrix)
     except ValueError:
@@ -385,10 +393,12 @@ def from_world(world: World) -> list[Node]:
 
 @dataclass(eq=False)  # a flattening's state: compared by identity
 class _Described:
-    """The state of flattening one description: its API, and the materials made so far
+    """The state of flattening one description: its API, the inverses its load computed
+    with the reference's ``inverse`` (``Scene.inverses``), and the materials made so far
     (one value per material the file gives, and one default)."""
 
     api: Mapping[str, Any]
+    inverses: Mapping[int, tuple[Any, Any]]
     made: dict[int, Any] = field(default_factory=dict)
     default: Any = None
 
@@ -405,7 +415,8 @@ class _Described:
 
 def from_description(scene: Any) -> list[Node]:
     """Chapter 7: every shape of a scene description (``scene.Scene``), nothing built."""
-    state = _Described(scene.api)
+    same = scene.api.get("inverse") is inverse  # the load inverted with the reference's
+    state = _Described(scene.api, getattr(scene, "inverses", {}) if same else {})
     return [
         _from_spec(state, spec, identity_matrix, identity_matrix, None, True)
         for spec in scene.objects
@@ -421,7 +432,7 @@ def _from_spec(
         inv, fwd = parent_inv, parent_fwd
     else:
         what = f"the transform of {where}"
-        inv = compose(inverse_affine(spec.transform, what), parent_inv)
+        inv = compose(inverse_affine(spec.transform, what, state.inverses), parent_inv)
         fwd = compose(parent_fwd, spec.transform)
     material = spec.material if spec.material is not None else material
     shadow = spec.shadow if spec.shadow is not None else shadow

@@ -28,7 +28,6 @@ from __future__ import annotations
 import ctypes
 import functools
 import os
-import shutil
 import sys
 import threading
 from dataclasses import dataclass
@@ -136,6 +135,8 @@ def _write_if_changed(path: Path, text: str) -> None:
         try:
             os.replace(temporary, path)
         except OSError:  # a folder where the module goes
+            import shutil  # deferred: shutil and its archivers are not on a render's path
+
             shutil.rmtree(path, ignore_errors=True)
             os.replace(temporary, path)
     finally:
