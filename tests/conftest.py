@@ -4,8 +4,9 @@ Two depths (``pytest`` is the gate's; ``pytest --thorough`` a maintainer's befor
 
 - numba's kernels: the gate renders every scene through numba's generic kernel (every
   feature compiled in, ``RTC_NUMBA_SPECIALIZE=off``, set here for the session and the
-  processes it starts), so a cold run compiles one render kernel per precision instead of one
-  per scene's feature set; the tests whose subject is specialization ask for it
+  processes it starts; float32's and fast math's hold every feature their scenes use,
+  ``RTC_NUMBA_OPTION_FEATURES``), so a cold run compiles one render kernel per precision
+  instead of one per scene's feature set; the tests whose subject is specialization ask for it
   (``specialized_kernels``). ``--thorough`` specializes every render, as a user's run does.
   The kernel folder is named in ``RTC_NUMBA_KERNELS`` for the session, so every worker and
   the processes they start share it however a test changes the environment.
@@ -34,9 +35,18 @@ from hypothesis.database import DirectoryBasedExampleDatabase
 from once_per_run import OncePerRun
 
 from compiled.folder import kernel_folder
+from variants.numba.features import OPTION_FEATURES, FeatureSet
 from variants.numba.render import GENERIC_ONLY
 
 KERNELS = "RTC_NUMBA_KERNELS"
+OPTIONS_LEAVE_OUT = FeatureSet.from_key(
+    "texture_map+cube_map+uv_image+area_lights+jitter+nodes+test_shape+test_pattern"
+)
+"""What no scene the gate renders in float32 or with fast math has (test_numba.py's options
+and regions, test_differential.py's random worlds, test_stability.py's cases, path-traced
+ones among them): the generic kernel of those precisions leaves it out
+(``RTC_NUMBA_OPTION_FEATURES``); a scene that needs any of it runs every feature."""
+OPTION_KERNEL = FeatureSet(FeatureSet.everything().flags - OPTIONS_LEAVE_OUT.flags)
 
 # tracebacks: a failure pytest cannot format is still one failure (tests/tracebacks.py);
 # cpu_seconds: each test's CPU seconds, with RTC_TEST_CPU_LOG set (tests/cpu_seconds.py)
@@ -84,6 +94,8 @@ def pytest_configure(config: pytest.Config) -> None:
             settings.load_profile("thorough")
         os.environ.setdefault(GENERIC_ONLY, "on")
     os.environ.setdefault(GENERIC_ONLY, "off")
+    if os.environ[GENERIC_ONLY] == "off":  # the gate's (``--thorough`` specializes)
+        os.environ.setdefault(OPTION_FEATURES, OPTION_KERNEL.key)
     if not os.environ.get(KERNELS):
         # the run's kernel folder, named: a test that unsets it (``monkeypatch.delenv``)
         # then gets it back, so a worker never leaves the folder the others share (a test

@@ -667,6 +667,30 @@ def test_rtc_render_explain_prints_the_feature_set(
     assert out.is_file()
 
 
+def test_the_option_kernel_is_narrowed_only_where_the_scene_fits(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """``RTC_NUMBA_OPTION_FEATURES`` (the gate's: tests/conftest.py) narrows the generic
+    kernel of float32 and fast math to what it names, for a scene that needs no more; a
+    scene that needs more, and float64, run every feature; a name no switch has is refused."""
+    from variants.numba.features import OPTION_FEATURES, FeatureSet
+    from variants.numba.render import GENERIC_ONLY, Options
+
+    monkeypatch.setenv(GENERIC_ONLY, "off")  # the gate's (``--thorough`` specializes)
+    monkeypatch.setenv(OPTION_FEATURES, "sphere+plane+shadows+reflection")
+    sphere = FeatureSet.from_key("sphere+shadows")
+    narrowed = FeatureSet.from_key("sphere+plane+shadows+reflection")
+    for options in (Options(float32=True, specialize=False), Options(fastmath=True)):
+        assert options.config(sphere).features == narrowed
+        assert options.config(sphere.with_path()).features == FeatureSet.everything()
+    assert Options(specialize=False).config(sphere).features == FeatureSet.everything()
+    monkeypatch.setenv(GENERIC_ONLY, "on")
+    assert Options(float32=True).config(sphere).features == sphere  # specialized: its own
+    monkeypatch.setenv(OPTION_FEATURES, "sphere+sphears")
+    with pytest.raises(ValueError, match="no kernel feature is named 'sphears'"):
+        Options(float32=True, specialize=False).config(sphere)
+
+
 def test_rtc_bench_numba_targets(capsys: pytest.CaptureFixture[str]) -> None:
     """``rtc bench --numba-targets`` runs the numba benchmark (here its regions section
     alone); its options need the flag."""

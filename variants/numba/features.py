@@ -13,6 +13,7 @@ opaque-spheres scene runs a kernel with no refraction, Schlick, cylinder or patt
 
 from __future__ import annotations
 
+import os
 from typing import NamedTuple
 
 import numpy as np
@@ -58,6 +59,17 @@ class FeatureSet(NamedTuple):
         """The generic kernel: every switch on (``specialize=off``, and the book API)."""
         return cls(frozenset(ALL_FLAGS))
 
+    @classmethod
+    def from_key(cls, key: str) -> FeatureSet:
+        """The set ``key`` spells (``FeatureSet.key``'s spelling); a name no switch has is
+        an error naming it."""
+        switches = {name.removeprefix("HAS_").lower(): name for name in ALL_FLAGS}
+        words = [word for word in key.split("+") if word and word != "empty"]
+        unknown = [word for word in words if word not in switches]
+        if unknown:
+            raise ValueError(f"no kernel feature is named {', '.join(map(repr, unknown))}")
+        return cls(frozenset(switches[word] for word in words))
+
     @property
     def key(self) -> str:
         """A short, stable spelling: the flags that are on, without ``HAS_``."""
@@ -95,6 +107,26 @@ class FeatureSet(NamedTuple):
             for name in ALL_FLAGS
             if name not in self.flags and name != "HAS_PATTERNS"
         ]
+
+
+OPTION_FEATURES = "RTC_NUMBA_OPTION_FEATURES"
+"""The generic kernel of float32 and fast math with fewer features: where a render that
+runs the generic kernel (``specialize=off``, ``RTC_NUMBA_SPECIALIZE=off``) computes in
+float32 or with fast math and its scene needs only the features this names
+(``FeatureSet.key``'s spelling), its kernel holds those alone. The test suite sets it to
+what its float32 and fast-math scenes use (tests/conftest.py); unset, every feature."""
+
+
+def generic(needed: FeatureSet, approximate: bool) -> FeatureSet:
+    """The features of the generic kernel that renders a scene needing ``needed``: every
+    one, or for an ``approximate`` precision (float32, fast math) the set that
+    ``RTC_NUMBA_OPTION_FEATURES`` names where it holds ``needed``."""
+    narrowed = os.environ.get(OPTION_FEATURES) if approximate else None
+    if narrowed:
+        chosen = FeatureSet.from_key(narrowed)
+        if needed.flags <= chosen.flags:
+            return chosen
+    return FeatureSet.everything()
 
 
 def analyse(packed: Packed) -> FeatureSet:

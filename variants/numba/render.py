@@ -33,7 +33,7 @@ from raytracer.tracer import Region
 from raytracer.world import World
 from variants.numba import layout as L
 from variants.numba.bvh import DEFAULT
-from variants.numba.features import KIND_NAMES, FeatureSet, analyse
+from variants.numba.features import KIND_NAMES, FeatureSet, analyse, generic
 from variants.numba.lights import describe as describe_lights
 from variants.numba.pack import pack_camera, pack_world
 from variants.numba.packed import Packed, PackedCamera
@@ -87,7 +87,8 @@ class Options(NamedTuple):
         return self.specialize and os.environ.get(GENERIC_ONLY, "on") != "off"
 
     def config(self, features: FeatureSet, count_rays: bool = False) -> KernelConfig:
-        chosen = features if self.specializing else FeatureSet.everything()
+        approximate = self.float32 or self.fastmath
+        chosen = features if self.specializing else generic(features, approximate)
         return KernelConfig(chosen, self.float32, self.fastmath, count_rays)
 
     def generic(self) -> KernelConfig:
@@ -374,7 +375,9 @@ def explain(options: Options, w: World) -> str:
         lines.append(f"  kernel: specialized to these features; left out: {left_out}")
     else:
         why = "specialize=off" if not options.specialize else f"{GENERIC_ONLY}=off"
-        lines.append(f"  kernel: generic, every feature compiled in ({why})")
+        everything = config.features == FeatureSet.everything()
+        held = "every feature" if everything else config.features.key
+        lines.append(f"  kernel: generic, {held} compiled in ({why})")
     lines.append(
         "  path integrator (--integrator path): a kernel of its own, these features and the "
         "path code; the one below is the book's integrator's, which leaves the path code out"
