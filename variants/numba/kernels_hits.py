@@ -407,7 +407,8 @@ def nearest_ball(balls, n_balls, tb, ox, oy, oz, dx, dy, dz, a, best_t, best_p, 
                  best_v):  # fmt: skip
     """``nearest_hit``'s last pass: the hit (t, primitive, index, u, v) after the balls,
     given the nearest so far. Every ball's ``ball_reach`` at once (in ``tb``), then the
-    exact test of those the ray can reach."""
+    exact test of those the ray can reach, stopping after the last of them (most rays
+    reach one ball or none: the ground, a sphere, the sky)."""
     reached = 0
     for j in range(n_balls):
         reach = ball_reach(balls, n_balls, j, ox, oy, oz, dx, dy, dz, a)
@@ -425,6 +426,9 @@ def nearest_ball(balls, n_balls, tb, ox, oy, oz, dx, dy, dz, a, best_t, best_p, 
                 best_l = local
                 best_p = int(balls[B_PRIM * n_balls + j])
                 nearest = j
+            reached -= 1
+            if reached == 0:  # the last ball the ray can reach: the rest cannot
+                break
     if nearest >= 0:
         best_u = ZERO
         best_v = ZERO

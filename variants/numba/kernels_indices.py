@@ -21,6 +21,7 @@ from variants.numba.kernels_geometry import (
     ONE,
     ZERO,
     ball_roots,
+    ball_terms,
     box_range,
     nth,
     starts_after,
@@ -122,6 +123,54 @@ def tally(p, base, compact, n, t0, t1, t2, t3, t_hit, p_hit, l_hit, state):
 
 
 @njit(**INLINE)
+def ball_may_hold(balls, n_balls, j, hx, hy, hz):
+    """Can ball j hold the point (hx, hy, hz)? False when the point is well outside it
+    (1e-6 of r² to spare, more than rounding moves the roots of a grazing ray)."""
+    cx = hx - balls[B_X * n_balls + j]
+    cy = hy - balls[B_Y * n_balls + j]
+    cz = hz - balls[B_Z * n_balls + j]
+    r2 = balls[B_R2 * n_balls + j]
+    return not cx * cx + cy * cy + cz * cz > r2 + r2 * F(1e-6)
+
+
+@njit(**INLINE)
+def balls_tally(balls, n_balls, pf, ox, oy, oz, dx, dy, dz, t_hit, p_hit, l_hit, state):
+    """``refractive_indices``'s balls: a ball other than the hit's can be a container only
+    if the hit point is inside it (one root before t_hit, one after). One vectorized pass
+    counts those that may hold the point and whether the hit's primitive is a ball; when
+    no other may, only the hit's ball is tallied (from its row, the same numbers), else
+    every ball that may hold the point and the hit's own. Returns ``state`` updated."""
+    a = dx * dx + dy * dy + dz * dz
+    hx = ox + dx * t_hit
+    hy = oy + dy * t_hit
+    hz = oz + dz * t_hit
+    others = 0
+    own = 0
+    for j in range(n_balls):  # counts only: no stores, so vector instructions
+        mine = balls[B_PRIM * n_balls + j] == F(p_hit)
+        own += 1 if mine else 0
+        others += 1 if not mine and ball_may_hold(balls, n_balls, j, hx, hy, hz) else 0
+    if others == 0:
+        if own > 0:
+            hb, cc = ball_terms(pf, p_hit, ox, oy, oz, dx, dy, dz)
+            discriminant = hb * hb - a * cc
+            if discriminant >= ZERO:
+                t0, t1 = ball_roots(hb, cc, a, discriminant)
+                state = tally(p_hit, 0, False, 2, t0, t1, INF, INF, t_hit, p_hit, l_hit, state)
+        return state
+    for j in range(n_balls):
+        p = int(balls[B_PRIM * n_balls + j])
+        if p != p_hit and not ball_may_hold(balls, n_balls, j, hx, hy, hz):
+            continue
+        hb, cc = ball_soa_terms(balls, n_balls, j, ox, oy, oz, dx, dy, dz)
+        discriminant = hb * hb - a * cc
+        if discriminant >= ZERO:
+            t0, t1 = ball_roots(hb, cc, a, discriminant)
+            state = tally(p, 0, False, 2, t0, t1, INF, INF, t_hit, p_hit, l_hit, state)
+    return state
+
+
+@njit(**INLINE)
 def refractive_indices(w, s, ox, oy, oz, dx, dy, dz, eps, t_hit, p_hit, l_hit):
     """Chapter 11: (n1, n2) at the hit (t_hit, p_hit, l_hit), from every intersection along
     the ray (negative t included, as in the reference's list)."""
@@ -184,28 +233,8 @@ def refractive_indices(w, s, ox, oy, oz, dx, dy, dz, eps, t_hit, p_hit, l_hit):
             i += 1
         else:
             i += 1
-    if HAS_SPHERE:
-        a = dx * dx + dy * dy + dz * dz
-        # a ball other than the hit's can be a container only if the hit point is inside it
-        # (one root before t_hit, one after); a point well outside (1e-6 of r² to spare, more
-        # than rounding moves the roots of a grazing ray) skips them
-        hx = ox + dx * t_hit
-        hy = oy + dy * t_hit
-        hz = oz + dz * t_hit
-        for j in range(n_balls):
-            p = int(balls[B_PRIM * n_balls + j])
-            if p != p_hit:
-                cx = hx - balls[B_X * n_balls + j]
-                cy = hy - balls[B_Y * n_balls + j]
-                cz = hz - balls[B_Z * n_balls + j]
-                r2 = balls[B_R2 * n_balls + j]
-                if cx * cx + cy * cy + cz * cz > r2 + r2 * F(1e-6):
-                    continue
-            hb, cc = ball_soa_terms(balls, n_balls, j, ox, oy, oz, dx, dy, dz)
-            discriminant = hb * hb - a * cc
-            if discriminant >= ZERO:
-                t0, t1 = ball_roots(hb, cc, a, discriminant)
-                state = tally(p, 0, False, 2, t0, t1, INF, INF, t_hit, p_hit, l_hit, state)
+    if HAS_SPHERE and n_balls > 0:
+        state = balls_tally(balls, n_balls, pf, ox, oy, oz, dx, dy, dz, t_hit, p_hit, l_hit, state)
     other_t, other_p, other_l, hit_inside, hit_t, hit_l = state
     outside = pf[other_p * NF + REFRACTIVE_INDEX] if other_p >= 0 else ONE
     own = pf[p_hit * NF + REFRACTIVE_INDEX]
