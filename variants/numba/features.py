@@ -123,7 +123,12 @@ def generic(needed: FeatureSet, approximate: bool) -> FeatureSet:
     ``RTC_NUMBA_OPTION_FEATURES`` names where it holds ``needed``."""
     narrowed = os.environ.get(OPTION_FEATURES) if approximate else None
     if narrowed:
-        chosen = FeatureSet.from_key(narrowed)
+        try:
+            chosen = FeatureSet.from_key(narrowed)
+        except ValueError as error:
+            from variants.registry import RenderError  # the render's one-line failure
+
+            raise RenderError(f"{OPTION_FEATURES}={narrowed!r}: {error}") from None
         if needed.flags <= chosen.flags:
             return chosen
     return FeatureSet.everything()
