@@ -15,7 +15,7 @@ import re
 # text (bidirectional embeddings, overrides and isolates; the line and paragraph separators).
 # A pattern, compiled at its first use by ``re``'s own cache: most commands never show a
 # user's text, and compiling this class takes about a millisecond of every command's start
-_UNSAFE = ("[\x00-\x1f\x7f-\x9f\u061c\u200e\u200f\u2028-\u202e\u2066-\u2069]")
+_UNSAFE = "[\x00-\x1f\x7f-\x9f\u061c\u200e\u200f\u2028-\u202e\u2066-\u2069]"
 
 
 def _escaped(match: re.Match[str]) -> str:
