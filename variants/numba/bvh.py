@@ -113,6 +113,24 @@ def outward32(boxes: np.ndarray) -> np.ndarray:
     return rounded
 
 
+def store_links(nodes: np.ndarray) -> None:
+    """The compact nodes' links (``NODE_A``, ``NODE_C``: written by the builder as float
+    values) stored as integer bits of the float's width, in place: the kernels read them
+    without a conversion (``int_bits``; the conversion was on the walk's path from a node
+    to its children)."""
+    links = nodes[:, L.NODE_A : L.NODE_C + 1].astype(np.int64)
+    nodes.view(_bits(nodes.dtype))[:, L.NODE_A : L.NODE_C + 1] = links
+
+
+def node_links(nodes: np.ndarray) -> np.ndarray:
+    """The compact nodes' (``NODE_A``, ``NODE_C``) as integers (``store_links``)."""
+    return nodes.view(_bits(nodes.dtype))[:, L.NODE_A : L.NODE_C + 1].astype(np.int64)
+
+
+def _bits(dtype: np.dtype) -> type:
+    return np.int64 if dtype.itemsize == 8 else np.int32
+
+
 def build_into(
     items: np.ndarray,
     units: np.ndarray,

@@ -316,7 +316,8 @@ def _push(work, tasks, start, end, depth, parent, row):
 
 @njit(**HELPER)
 def _node(nodes, row, first, code, fwork):
-    """Compact node ``row``: the node's box (from ``fwork``), then ``first`` and ``code``."""
+    """Compact node ``row``: the node's box (from ``fwork``), then ``first`` and ``code``
+    (as float values: ``bvh.store_links`` makes them integer bits)."""
     at = row * NNODE
     for c in range(NBOX):
         nodes[at + c] = fwork[NODE_BOX + c]

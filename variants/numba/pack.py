@@ -48,6 +48,7 @@ from variants.numba.bvh import (
     Hierarchy,
     build_into,
     outward32,
+    store_links,
 )
 from variants.numba.errors import PackError, refusal
 from variants.numba.lights import light_rows
@@ -299,6 +300,7 @@ class _Packer(Rows):
         tn = _stack(self.tn, L.NTN, np.float64).astype(dtype, copy=False)
         seconds = time.perf_counter() - started if started is not None else 0.0
         boxes, nodes, at = _box_table(_outward(boxes, dtype), nodes.astype(dtype, copy=False))
+        store_links(nodes)
         items[items[:, L.ITEM_TYPE] == L.I_NODES, L.ITEM_B] = at
         return Packed(
             pf.astype(dtype, copy=False), pi, items, boxes, csg,
