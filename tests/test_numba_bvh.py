@@ -705,7 +705,7 @@ def test_a_broken_node_table_fails_the_checks_and_the_picture() -> None:
     with pytest.raises(AssertionError, match="misses item"):
         _check_nodes(shrunk)
     lost = pack_world(w, compact=True)
-    codes = lost.nodes.view(np.int64)[:, L.NODE_C]  # the links' bits (``bvh.store_links``)
+    codes = lost.nodes.view(np.int64)[:, L.NODE_C]  # the links: integer bits (``bvh.node_links``)
     codes[codes > 0] = 1  # leaves keep one triangle
     with pytest.raises(AssertionError, match="every triangle in one leaf"):
         _check_nodes(lost)

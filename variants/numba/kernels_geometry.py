@@ -77,7 +77,8 @@ PI = F(math.pi)
 
 def _int_bits(typingctx, x):
     """The bits of float ``x`` as a signed integer of its width (a compact node's links,
-    stored as such in its float row: ``bvh.store_links``; read without a conversion)."""
+    stored as such in its float row by the builder, ``bvh.node_links``; read without a
+    conversion)."""
     width = x.bitwidth
     result = types.int64 if width == 64 else types.int32
 

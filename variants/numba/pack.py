@@ -47,8 +47,8 @@ from variants.numba.bvh import (
     STRUCTURES,
     Hierarchy,
     build_into,
+    nodes_as,
     outward32,
-    store_links,
 )
 from variants.numba.errors import PackError, refusal
 from variants.numba.lights import light_rows
@@ -299,8 +299,7 @@ class _Packer(Rows):
         tg = _stack(self.tg, L.NTG, np.float64).astype(dtype, copy=False)
         tn = _stack(self.tn, L.NTN, np.float64).astype(dtype, copy=False)
         seconds = time.perf_counter() - started if started is not None else 0.0
-        boxes, nodes, at = _box_table(_outward(boxes, dtype), nodes.astype(dtype, copy=False))
-        store_links(nodes)
+        boxes, nodes, at = _box_table(_outward(boxes, dtype), nodes_as(nodes, dtype))
         items[items[:, L.ITEM_TYPE] == L.I_NODES, L.ITEM_B] = at
         return Packed(
             pf.astype(dtype, copy=False), pi, items, boxes, csg,
