@@ -622,13 +622,14 @@ def _check_nodes(packed: Packed) -> None:
     start = int(items[at, L.ITEM_B])  # where the nodes are in the kernels' box table
     table = packed.box_table()
     assert start >= packed.boxes.size, "the nodes follow the boxes"
-    assert np.array_equal(table[start : start + nodes.size], nodes.reshape(-1))
+    assert table[start : start + nodes.size].tobytes() == nodes.tobytes()  # (links: bits)
     end = int(items[at, L.ITEM_A])
     boxes = _node_boxes(packed)
     reached: list[int] = []
     children: list[int] = []
+    links = bvh.node_links(nodes)
     for row in range(len(nodes)):
-        first, code = int(nodes[row, L.NODE_A]), int(nodes[row, L.NODE_C])
+        first, code = int(links[row, 0]), int(links[row, 1])
         outer = boxes[row]
         if code < 0:
             assert code >= -4 and first % 2 == 1 and first + 1 < len(nodes)
@@ -664,7 +665,11 @@ def test_compact_nodes_keep_their_invariants() -> None:
     # float32 boxes hold the float64 ones (the builder's boxes are float32 values already)
     assert (narrow.nodes[:, :3].astype(np.float64) <= wide.nodes[:, :3]).all()
     assert (narrow.nodes[:, 3:6].astype(np.float64) >= wide.nodes[:, 3:6]).all()
-    assert np.array_equal(narrow.nodes[:, 6:], wide.nodes[:, 6:])
+    assert np.array_equal(bvh.node_links(narrow.nodes), bvh.node_links(wide.nodes))
+    # the links are integer bits in their float slots, not float values (no link is 0)
+    for packed in (wide, narrow):
+        links = bvh.node_links(packed.nodes).astype(packed.nodes.dtype)
+        assert (packed.nodes[:, L.NODE_A : L.NODE_C + 1] != links).all()
     # the items' walk and the book's API never see them; sah-items builds none
     items_only = pack_world(w, structure="sah-items", compact=True)
     assert L.I_NODES not in set(items_only.items[:, L.ITEM_TYPE].tolist())
@@ -695,12 +700,13 @@ def test_a_broken_node_table_fails_the_checks_and_the_picture() -> None:
     tracer = load_variant("numba[threads=1]").tracer
     right = np.asarray(tracer.render(camera, w, RenderSettings()).array)
     shrunk = pack_world(w, compact=True)
-    leaf = int(np.flatnonzero(shrunk.nodes[:, L.NODE_C] > 0)[0])
+    leaf = int(np.flatnonzero(bvh.node_links(shrunk.nodes)[:, 1] > 0)[0])
     shrunk.nodes[leaf, 3:6] = shrunk.nodes[leaf, 0:3]  # a leaf's box made a point
     with pytest.raises(AssertionError, match="misses item"):
         _check_nodes(shrunk)
     lost = pack_world(w, compact=True)
-    lost.nodes[lost.nodes[:, L.NODE_C] > 0, L.NODE_C] = 1  # leaves keep one triangle
+    codes = lost.nodes.view(np.int64)[:, L.NODE_C]  # the links: integer bits (``bvh.node_links``)
+    codes[codes > 0] = 1  # leaves keep one triangle
     with pytest.raises(AssertionError, match="every triangle in one leaf"):
         _check_nodes(lost)
     for broken in (shrunk, lost):

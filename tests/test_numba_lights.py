@@ -17,6 +17,7 @@ import pytest
 from differential_strategies import build_world, one_feature_set_worlds
 from hypothesis import given, settings
 
+from harness.instruments.raycount import count_rays
 from raytracer.camera import RenderSettings
 from raytracer.materials import material
 from variants.numba import layout as L
@@ -239,3 +240,18 @@ def test_a_light_that_is_not_a_point_light_is_refused_naming_it() -> None:
     w.lights.append("a lamp")
     with pytest.raises(ValueError, match="numba: light 1 of the world is a str; the kernels"):
         api["render"](api["camera"](4, 4, 1.0), w)
+
+
+def test_a_world_without_light_counts_the_rays_the_reference_casts() -> None:
+    """Without a light every hit is black: the render skips its normal, shading and the
+    rays it spawns (``kernels_trace.drain``); the counting kernel still casts them all,
+    as the reference does (its reflective floor and glass sphere spawn rays)."""
+    counts = {}
+    for name in ("naive", "numba"):
+        variant = load_variant(name)
+        camera, world = lit_scene(variant.api, 0)
+        counted = count_rays(variant, camera, world, RenderSettings())
+        assert counted is not None
+        counts[name] = {kind: counted[kind] for kind in ("camera", "shadow", "secondary")}
+    assert counts["numba"] == counts["naive"]
+    assert counts["naive"]["secondary"] > 0 and counts["naive"]["camera"] == 16 * 12

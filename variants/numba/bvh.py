@@ -33,6 +33,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -56,7 +57,8 @@ BVH_BUILDER = Recipe(
         ("int32_t *", "uitems"), ("int32_t *", "items"), ("double *", "boxes"),
         ("int64_t", "base"), ("int64_t *", "work"), ("double *", "fwork"),
         ("int64_t", "leaf_max"), ("int64_t", "sah_depth"), ("double", "unit_cost"),
-        ("int64_t *", "stats"), ("double *", "nodes"), ("int64_t", "with_nodes"),
+        ("int64_t *", "stats"), ("double *", "nodes"), ("int64_t *", "links"),
+        ("int64_t", "with_nodes"),
     ),
     what="the hierarchy builder",
 )  # fmt: skip
@@ -113,6 +115,27 @@ def outward32(boxes: np.ndarray) -> np.ndarray:
     return rounded
 
 
+def node_links(nodes: np.ndarray) -> np.ndarray:
+    """The compact nodes' links (``NODE_A``, ``NODE_C``) as int64: integers stored as the
+    bits of their float slots (the builder writes them so: the kernels read them without
+    a conversion, ``int_bits``, which was on the walk's path from a node to its children)."""
+    return nodes.view(_bits(nodes.dtype))[:, L.NODE_A : L.NODE_C + 1].astype(np.int64)
+
+
+def nodes_as(nodes: np.ndarray, dtype: Any) -> np.ndarray:
+    """The compact nodes in float type ``dtype`` (the boxes converted, the links kept as
+    integers of the new width: ``node_links``)."""
+    if np.dtype(dtype) == nodes.dtype:
+        return nodes
+    converted = nodes.astype(dtype)
+    converted.view(_bits(converted.dtype))[:, L.NODE_A : L.NODE_C + 1] = node_links(nodes)
+    return converted
+
+
+def _bits(dtype: np.dtype) -> type:
+    return np.int64 if dtype.itemsize == 8 else np.int32
+
+
 def build_into(
     items: np.ndarray,
     units: np.ndarray,
@@ -145,7 +168,7 @@ def build_into(
     count = load_bvh_builder().function(
         n, units.reshape(-1), order, items.reshape(-1), out.reshape(-1), boxes.reshape(-1),
         base, work, fwork, LEAF_MAX, sah_depth, UNIT_COST, stats, table[boxes.size :],
-        int(with_nodes),
+        table[boxes.size :].view(np.int64), int(with_nodes),
     )  # fmt: skip
     if count < 0 or stats[3] >= L.BVH_DEPTH:
         raise RuntimeError(f"numba: the hierarchy over {n} units went too deep (a bug)")

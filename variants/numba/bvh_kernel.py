@@ -315,18 +315,20 @@ def _push(work, tasks, start, end, depth, parent, row):
 
 
 @njit(**HELPER)
-def _node(nodes, row, first, code, fwork):
-    """Compact node ``row``: the node's box (from ``fwork``), then ``first`` and ``code``."""
+def _node(nodes, links, row, first, code, fwork):
+    """Compact node ``row``: the node's box (from ``fwork``), then ``first`` and ``code``
+    as integers (``links``: the same table as int64: integer bits in the float slots,
+    which the kernels read without a conversion)."""
     at = row * NNODE
     for c in range(NBOX):
         nodes[at + c] = fwork[NODE_BOX + c]
-    nodes[at + NODE_A] = first
-    nodes[at + NODE_C] = code
+    links[at + NODE_A] = first
+    links[at + NODE_C] = code
 
 
 @njit(cache=True, error_model="numpy")
 def build(n, units, order, uitems, items, boxes, base, work, fwork, leaf_max, sah_depth,
-          unit_cost, stats, nodes, with_nodes):  # fmt: skip
+          unit_cost, stats, nodes, links, with_nodes):  # fmt: skip
     """Build the hierarchy over ``n`` units; returns the number of items written.
 
     units: n x UNIT_WIDTH float32 boxes (flat; reordered in place); order: each unit's item
@@ -338,7 +340,8 @@ def build(n, units, order, uitems, items, boxes, base, work, fwork, leaf_max, sa
     sah_depth: the depth from which stretches are halved; unit_cost: a unit's test in box
     tests; stats: STATS ints written (nodes, leaves, box items, depth, items); nodes:
     with_nodes != 0: the tree as compact nodes too (NNODE floats each, at most 2 n - 1;
-    ``bvh.build_into``), the root in row 0, each inner node's two children side by side."""
+    ``bvh.build_into``), the root in row 0, each inner node's two children side by side;
+    links: ``nodes`` as int64 (``_node``)."""
     count = leaves = box_items = deepest = n_open = tasks = 0
     rows = 1  # compact nodes given a row
     pos = base
@@ -365,7 +368,7 @@ def build(n, units, order, uitems, items, boxes, base, work, fwork, leaf_max, sa
             # a leaf: a box (when it holds more than one unit), then the units' items
             leaves += 1
             if with_nodes != 0:
-                _node(nodes, row, pos + 1 if m > 1 else pos, m, fwork)
+                _node(nodes, links, row, pos + 1 if m > 1 else pos, m, fwork)
             if m > 1:
                 _box_item(items, pos, pos + 1 + m, 0, 0, boxes, box_items, fwork)
                 box_items += 1
@@ -383,7 +386,7 @@ def build(n, units, order, uitems, items, boxes, base, work, fwork, leaf_max, sa
         _box_item(items, pos, 0, 0, axis + 1, boxes, box_items, fwork)
         box_items += 1
         if with_nodes != 0:
-            _node(nodes, row, rows, -2 - axis, fwork)
+            _node(nodes, links, row, rows, -2 - axis, fwork)
         if n_open >= STACK or tasks + 2 > STACK:
             return -1  # cannot happen: the depth is bounded (see above)
         work[OPENED + 2 * n_open] = pos
@@ -409,14 +412,14 @@ def make_entry(cache):
     """``build`` as a C function over raw pointers (numba's ``cfunc``): ``int64 f(int64 n,
     float *units, int64 *order, int32 *uitems, int32 *items, double *boxes, int64 base,
     int64 *work, double *fwork, int64 leaf_max, int64 sah_depth, double unit_cost, int64
-    *stats, double *nodes, int64 with_nodes)``; ``cache``: numba's disk cache."""
+    *stats, double *nodes, int64 *links, int64 with_nodes)``; ``cache``: numba's disk cache."""
     fp = types.CPointer(types.float64)
     ip = types.CPointer(types.int64)
     i32p = types.CPointer(types.int32)
     i64 = types.int64
     signature = types.int64(
         i64, types.CPointer(types.float32), ip, i32p, i32p, fp, i64, ip, fp, i64, i64,
-        types.float64, ip, fp, i64,
+        types.float64, ip, fp, ip, i64,
     )  # fmt: skip
     flags: dict[str, Any] = {"_nrt": False, "error_model": "numpy"}
     return cfunc(signature, cache=cache, **flags)(build.py_func)

@@ -17,7 +17,9 @@ import math
 from typing import Any
 
 import numpy as np
-from numba import njit
+from llvmlite import ir
+from numba import njit, types
+from numba.extending import intrinsic
 
 from variants.numba.kernel_flags import (
     FASTMATH,
@@ -71,6 +73,22 @@ ONE = F(1.0)
 TWO = F(2.0)
 THIRD = F(1.0 / 3.0)
 PI = F(math.pi)
+
+
+def _int_bits(typingctx, x):
+    """The bits of float ``x`` as a signed integer of its width (a compact node's links,
+    stored as such in its float row by the builder, ``bvh.node_links``; read without a
+    conversion)."""
+    width = x.bitwidth
+    result = types.int64 if width == 64 else types.int32
+
+    def codegen(context, builder, signature, args):
+        return builder.bitcast(args[0], ir.IntType(width))
+
+    return result(x), codegen
+
+
+int_bits: Any = intrinsic(_int_bits)  # (called as int_bits(x): numba passes typingctx)
 
 
 @njit(**INLINE)

@@ -46,6 +46,7 @@ from variants.numba.kernels_geometry import (
     ball_first,
     box_enter,
     box_hit,
+    int_bits,
     nth,
     to_object_point,
     to_object_vector,
@@ -361,8 +362,8 @@ def nodes_nearest(w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, ep
     while True:
         if enter != INF:
             m = base + node * NNODE
-            first = int(boxes[m + NODE_A])
-            code = int(boxes[m + NODE_C])
+            first = int_bits(boxes[m + NODE_A])
+            code = int_bits(boxes[m + NODE_C])
             if code < 0:
                 m = base + first * NNODE
                 near = node_enter(boxes, m, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, best_t, parallel)
@@ -538,8 +539,8 @@ def nodes_occluded(w, s, i, last, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, 
     while True:
         if inside:
             m = base + node * NNODE
-            first = int(boxes[m + NODE_A])
-            code = int(boxes[m + NODE_C])
+            first = int_bits(boxes[m + NODE_A])
+            code = int_bits(boxes[m + NODE_C])
             if code < 0:
                 m = base + first * NNODE
                 near = node_enter(boxes, m, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, distance, parallel) != INF

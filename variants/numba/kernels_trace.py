@@ -251,7 +251,7 @@ def drain(w, s, eps, stack, top, r, g, b, key):
     """Chapter 7 (``color_at``, iteratively): trace every ray on the stack and everything it
     spawns; returns the sum of their weighted surface colors added to (r, g, b). ``key``:
     the sample's (``sample_key``), the same at every bounce."""
-    pf, pi, _, _, _, _, _, _, _, _, _, geo = w
+    pf, pi, _, _, _, _, _, _, _, n_lights, _, geo = w
     _, si, _ = s
     while top > 0:
         top -= 1
@@ -267,7 +267,10 @@ def drain(w, s, eps, stack, top, r, g, b, key):
         if COUNT_RAYS:
             si[0 * NSI + RAYS] += 1
         t, p, local, u, v = nearest_hit(w, s, ox, oy, oz, dx, dy, dz, eps)
-        if p < 0:
+        if p < 0 or (n_lights == 0 and not COUNT_RAYS):
+            # nothing hit; or no light: every hit is black (the ambient term comes with a
+            # light), so its normal, shading and the rays it spawns are skipped (the
+            # counting kernel still traces them: the reference's ray counts)
             continue
         (_px, _py, _pz, ex, ey, ez, nx, ny, nz, _inside, over_x, over_y, over_z, under_x, under_y,
          under_z, rx, ry, rz) = prepare(pf, pi, p, ox, oy, oz, dx, dy, dz, t, u, v, eps, geo, local)  # fmt: skip

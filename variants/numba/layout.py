@@ -189,7 +189,8 @@ NBALL = 6
 # boxes: one row per box item (its ITEM_D): lo x, y, z, hi x, y, z
 NBOX = 6
 # nodes (after the boxes in the flat box table): a hierarchy over compact triangles, a
-# node per row, a node's two children side by side: its box (NBOX), then
+# node per row, a node's two children side by side: its box (NBOX), then two links,
+# integers stored as the bits of their float slot (``bvh.node_links``, ``int_bits``):
 NODE_A = 6  # an inner node: its first child's row; a leaf: its first I_TRI item
 NODE_C = 7  # a leaf: how many triangles (> 0); an inner node: -1 - its split axis + 1
 # (-1: no axis, the first child first; -2, -3, -4: x, y, z, the second child first for

@@ -47,6 +47,7 @@ from variants.numba.bvh import (
     STRUCTURES,
     Hierarchy,
     build_into,
+    nodes_as,
     outward32,
 )
 from variants.numba.errors import PackError, refusal
@@ -298,7 +299,7 @@ class _Packer(Rows):
         tg = _stack(self.tg, L.NTG, np.float64).astype(dtype, copy=False)
         tn = _stack(self.tn, L.NTN, np.float64).astype(dtype, copy=False)
         seconds = time.perf_counter() - started if started is not None else 0.0
-        boxes, nodes, at = _box_table(_outward(boxes, dtype), nodes.astype(dtype, copy=False))
+        boxes, nodes, at = _box_table(_outward(boxes, dtype), nodes_as(nodes, dtype))
         items[items[:, L.ITEM_TYPE] == L.I_NODES, L.ITEM_B] = at
         return Packed(
             pf.astype(dtype, copy=False), pi, items, boxes, csg,

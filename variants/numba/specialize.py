@@ -97,7 +97,9 @@ def module_source(config: KernelConfig) -> str:
         "from typing import Any",
         "",
         "import numpy as np",
+        "from llvmlite import ir",
         "from numba import cfunc, njit, types",
+        "from numba.extending import intrinsic",
         "",
         f"F = np.{'float32' if config.float32 else 'float64'}",
         # every fast-math flag but nnan and ninf: the kernels use infinity (no bound, no hit)

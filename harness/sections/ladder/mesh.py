@@ -10,7 +10,8 @@ seconds (the machine may be shared; the medians and the ratio of each pair are k
 kernel's steps (``STEPS``: the variant with one of its options turned back) in the same
 turns, so that the row shows what each buys. A
 render's time includes what a primary-ray render adds to the intersections (the camera's
-rays, the hit's normal, writing the canvas); Embree's is the intersections alone. Without
+rays, writing the canvas; with no light every hit is black, so a render skips the hit's
+normal and shading); Embree's is the intersections alone. Without
 ``embreex`` the entry says why (``status: unavailable``) and the report prints that line.
 The row's kernels are compiled before, in the bench's background compile (``warm``).
 """
