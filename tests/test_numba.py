@@ -143,6 +143,11 @@ PICTURES: dict[str, tuple[Build, RenderSettings]] = {
     "reference-16x12": (scene_file("reference.yml", (16, 12)), RenderSettings(epsilon=0.001)),
     "shapes-16x12": (scene_file("shapes.yml", (16, 12)), RenderSettings()),
     "csg-16x12": (scene_file("csg.yml", (16, 12)), RenderSettings()),
+    # balls alone (their shadow rays' filter) and more samples than a block of camera rays,
+    # not a multiple of it (``kernels_trace.block_ray``)
+    "cpp-spheres-11spp": (
+        scene_file("cpp-spheres.yml", (12, 9)), RenderSettings(samples=11, seed=5)
+    ),
 }
 
 

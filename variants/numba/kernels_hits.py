@@ -436,6 +436,35 @@ def nearest_ball(balls, n_balls, tb, ox, oy, oz, dx, dy, dz, a, best_t, best_p, 
     return best_t, best_p, best_l, best_u, best_v
 
 
+# how far below zero a ball's ``ball_reach`` along the shadow ray's unnormalized vector must
+# be, relative to the size of its terms, for the reach along the unit vector to be negative
+# too (rounding moves it by a few units in the last place: this is thousands of them)
+SLACK = F(4096) * np.finfo(F).eps
+
+
+@njit(**INLINE)
+def balls_may_shadow(balls, n_balls, ox, oy, oz, vx, vy, vz):
+    """Can a shadow-casting ball meet the ray from (ox, oy, oz) along (vx, vy, vz), not
+    normalized? ``ball_reach``'s two signs (with a = |v|² and hb = |v| times the unit
+    vector's, up to rounding) taken with ``SLACK`` to spare: False only where ``shadowed``'s
+    test along the unit vector finds no ball reached either; no square root, no division.
+    One vectorized pass (a min and a max of floats per ball, no masks)."""
+    a = vx * vx + vy * vy + vz * vz
+    may = 0
+    for j in range(n_balls):
+        cx = ox - balls[B_X * n_balls + j]
+        cy = oy - balls[B_Y * n_balls + j]
+        cz = oz - balls[B_Z * n_balls + j]
+        hb = cx * vx + cy * vy + cz * vz
+        cc = cx * cx + cy * cy + cz * cz - balls[B_R2 * n_balls + j]
+        size = abs(cx * vx) + abs(cy * vy) + abs(cz * vz)
+        line = hb * hb - a * cc + SLACK * (hb * hb + a * abs(cc))
+        ahead = max(-cc, SLACK * size - hb)
+        reach = min(min(line, ahead), balls[B_SHADOW * n_balls + j] - F(0.5))
+        may += 1 if reach >= ZERO else 0
+    return may > 0
+
+
 @njit(**INLINE)
 def occludes(pf, pi, items, geo, i, ox, oy, oz, dx, dy, dz, a, eps, distance):
     """Does item i (a primitive or a compact triangle) meet the ray before ``distance``?"""
@@ -459,6 +488,8 @@ def shadowed(w, s, ox, oy, oz, vx, vy, vz, eps, slot):
     share their occluder; then the items. (Any occluder gives the same answer.)"""
     pf, pi, items, n_items, boxes, _, balls, n_balls, _, _, _, geo = w
     sf, si, _ = s
+    if HAS_SPHERE and n_items == 0 and not balls_may_shadow(balls, n_balls, ox, oy, oz, vx, vy, vz):
+        return False  # balls alone, none in the way: no need of the unit vector
     distance = math.sqrt(vx * vx + vy * vy + vz * vz)
     if distance == ZERO:
         return False

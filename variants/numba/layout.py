@@ -262,3 +262,6 @@ MIN_SCRATCH = 2 * BVH_DEPTH + 2  # entries at least: the RAYS counters, the rang
 # the per-ray stack of reflected and refracted rays: origin, direction, weight, remaining;
 # entry k at stack[k * STACK_WIDTH + column]
 STACK_WIDTH = 8
+# a thread's next camera rays (``kernels_trace.sample_rays``), after its stack: a row of
+# RAY_BLOCK per coordinate (ox, oy, oz, dx, dy, dz)
+RAY_BLOCK = 8

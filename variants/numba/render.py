@@ -120,7 +120,7 @@ class Scratch:
     def __init__(self, threads: int, depth: int, packed: Packed, dtype: Any) -> None:
         entries = max(packed.cs_size, packed.cs_prims, L.MIN_SCRATCH)
         itemsize = np.dtype(dtype).itemsize
-        self.stack_size = (depth + 2) * L.STACK_WIDTH
+        self.stack_size = (depth + 2) * L.STACK_WIDTH + 6 * L.RAY_BLOCK  # and the camera rays
         self.sf_size = entries * L.NSF
         floats = self.stack_size + self.sf_size + max(packed.balls.shape[1], 1)
         ints = entries * L.NSI
