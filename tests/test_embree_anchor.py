@@ -237,6 +237,30 @@ class FakeBench:
         return self.folder / section
 
 
+def test_the_mesh_rows_render_counts_the_calling_threads_cpu_alone() -> None:
+    """Another thread burning CPU during the render (Embree's builders spinning after its
+    turn) is not counted: the burn is joined inside the timed render."""
+    burned: list[float] = []
+
+    def burn() -> None:
+        started = time.thread_time()
+        while time.thread_time() - started < 0.2:
+            pass
+        burned.append(time.thread_time() - started)
+
+    class Tracer:
+        def new_canvas(self, c: Any) -> None:
+            return None
+
+        def render_into(self, *args: Any) -> None:
+            worker = threading.Thread(target=burn)
+            worker.start()
+            worker.join()  # the calling thread sleeps meanwhile
+
+    assert mesh._render_cpu((Tracer(), None, None, None)) < 0.1  # the process's: >= 0.2
+    assert burned and burned[0] >= 0.2
+
+
 def test_the_mesh_job_renders_and_intersects_the_same_rays_in_turns() -> None:
     """At 8x6 (a third of 12x9's CPU seconds: naive's picture of 368 triangles is most of
     them) 20 of the 48 rays meet the knot: the picture still holds the knot and the sky."""
