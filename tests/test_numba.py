@@ -700,16 +700,18 @@ def test_the_option_kernel_is_narrowed_only_where_the_scene_fits(
 
 
 def test_rtc_bench_numba_targets(capsys: pytest.CaptureFixture[str]) -> None:
-    """``rtc bench --numba-targets`` runs the numba benchmark (here its regions section
-    alone); its options need the flag."""
+    """``rtc bench --numba-targets`` runs the numba benchmark (here its regions and
+    balance sections: each calls the render entry itself); its options need the flag."""
     from harness.numba_targets import SECTIONS
     from rtc.cli import main
 
-    skip = [arg for section in SECTIONS if section != "regions" for arg in ("--skip", section)]
+    run = ("regions", "balance")
+    skip = [arg for section in SECTIONS if section not in run for arg in ("--skip", section)]
     assert main(["bench", "--numba-targets", "--runs", "1", *skip]) == 0
     printed = capsys.readouterr().out
     assert "480 render_region rows of a prepared frame" in printed
     assert "same picture: True" in printed
+    assert "2-thread balance (reference 640x480, CPU seconds, best of 1): all rows" in printed
     assert main(["bench", "--numba-targets", "--runs", "0"]) == 2
     assert "--runs must be at least 1" in capsys.readouterr().err
     assert main(["bench", "--numba-targets", "--naive-size", "0x0"]) == 2

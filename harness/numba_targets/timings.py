@@ -94,13 +94,15 @@ def balance(runs: int) -> None:
     out = np.zeros((c.vsize, c.hsize, 3))
 
     def rows(k: int, step: int) -> float:
+        # a fresh scratch per render (its shadow memo empty), the frame's other last
+        # arguments (the sky, the integrator, the roulette) as the render passes them
         best = math.inf
         for _ in range(runs):
             scratch = Scratch(1, settings.depth, frame.packed, np.float64)
             cpu = time.process_time()
             frame.renderer.function(
                 out.ctypes.data, 0, 0, c.hsize, c.vsize, k, step, *frame.common,
-                *scratch.addresses(0),
+                *scratch.addresses(0), *frame.addresses[0][len(scratch.addresses(0)) :],
             )  # fmt: skip
             best = min(best, time.process_time() - cpu)
         return best
