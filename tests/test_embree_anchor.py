@@ -91,12 +91,9 @@ def test_primary_rays_hit_the_pixels_the_books_triangles_hit() -> None:
     assert set(measured.as_dict()) >= {"rays", "median", "cpu_median", "hits", "version"}
 
 
-def test_the_cpu_counted_is_the_calling_threads_not_embrees_spinning_workers() -> None:
-    """Embree's builder threads may spin after a build while the query runs on the calling
-    thread alone; a fake binding whose query has another thread burn CPU meanwhile shows
-    that only the calling thread's CPU is counted (the burn is joined before ``run`` returns,
-    so it happens inside the timed call whatever the machine's load)."""
-    burned: list[float] = []
+def burn_on_another_thread(burned: list[float]) -> None:
+    """Another thread burns 0.2 s of its own CPU (its CPU seconds appended to ``burned``)
+    while the calling thread sleeps in ``join``."""
 
     def burn() -> None:
         started = time.thread_time()
@@ -104,11 +101,21 @@ def test_the_cpu_counted_is_the_calling_threads_not_embrees_spinning_workers() -
             pass
         burned.append(time.thread_time() - started)
 
+    worker = threading.Thread(target=burn)
+    worker.start()
+    worker.join()
+
+
+def test_the_cpu_counted_is_the_calling_threads_not_embrees_spinning_workers() -> None:
+    """Embree's builder threads may spin after a build while the query runs on the calling
+    thread alone; a fake binding whose query has another thread burn CPU meanwhile shows
+    that only the calling thread's CPU is counted (the burn is joined before ``run`` returns,
+    so it happens inside the timed call whatever the machine's load)."""
+    burned: list[float] = []
+
     class Scene:
         def run(self, origins: np.ndarray, directions: np.ndarray) -> np.ndarray:
-            worker = threading.Thread(target=burn)
-            worker.start()
-            worker.join()  # the calling thread sleeps meanwhile
+            burn_on_another_thread(burned)
             return np.full(len(origins), -1)
 
     scenes, meshes = ModuleType("fake_scenes"), ModuleType("fake_meshes")
@@ -242,20 +249,12 @@ def test_the_mesh_rows_render_counts_the_calling_threads_cpu_alone() -> None:
     turn) is not counted: the burn is joined inside the timed render."""
     burned: list[float] = []
 
-    def burn() -> None:
-        started = time.thread_time()
-        while time.thread_time() - started < 0.2:
-            pass
-        burned.append(time.thread_time() - started)
-
     class Tracer:
         def new_canvas(self, c: Any) -> None:
             return None
 
         def render_into(self, *args: Any) -> None:
-            worker = threading.Thread(target=burn)
-            worker.start()
-            worker.join()  # the calling thread sleeps meanwhile
+            burn_on_another_thread(burned)
 
     assert mesh._render_cpu((Tracer(), None, None, None)) < 0.1  # the process's: >= 0.2
     assert burned and burned[0] >= 0.2
