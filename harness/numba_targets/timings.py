@@ -86,23 +86,21 @@ def balance(runs: int) -> None:
     thread's rows rendered alone, on this thread (CPU seconds, so the machine's load does
     not matter much). 2 threads cannot beat the slower half."""
     # deferred: saves ~200 ms (numba's render) of rtc bench --help
-    from variants.numba.render import Options, Scratch, prepare_frame
+    from variants.numba.render import Options, prepare_frame
 
     _, c, w = load("numba[threads=1]", REFERENCE)
     settings = render_settings()
-    frame = prepare_frame(Options(threads=1), c, w, settings)
     out = np.zeros((c.vsize, c.hsize, 3))
 
     def rows(k: int, step: int) -> float:
-        # a fresh scratch per render (its shadow memo empty), the frame's other last
-        # arguments (the sky, the integrator, the roulette) as the render passes them
         best = math.inf
         for _ in range(runs):
-            scratch = Scratch(1, settings.depth, frame.packed, np.float64)
+            # a fresh frame per render: its scratch's shadow memo empty, as a render's is
+            frame = prepare_frame(Options(threads=1), c, w, settings)
             cpu = time.process_time()
             frame.renderer.function(
                 out.ctypes.data, 0, 0, c.hsize, c.vsize, k, step, *frame.common,
-                *scratch.addresses(0), *frame.addresses[0][len(scratch.addresses(0)) :],
+                *frame.addresses[0],
             )  # fmt: skip
             best = min(best, time.process_time() - cpu)
         return best
