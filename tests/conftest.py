@@ -5,8 +5,9 @@ Two depths (``pytest`` is the gate's; ``pytest --thorough`` a maintainer's befor
 - numba's kernels: the gate renders every scene through numba's generic kernel (every
   feature compiled in, ``RTC_NUMBA_SPECIALIZE=off``, set here for the session and the
   processes it starts; float32's and fast math's hold every feature their scenes use,
-  ``RTC_NUMBA_OPTION_FEATURES``), so a cold run compiles one render kernel per precision
-  instead of one per scene's feature set; the tests whose subject is specialization ask for it
+  ``RTC_NUMBA_OPTION_FEATURES``; helpers called, not inlined: ``RTC_NUMBA_GENERIC_CALLS``),
+  so a cold run compiles one render kernel per precision instead of one per scene's feature
+  set; the tests whose subject is specialization ask for it
   (``specialized_kernels``). ``--thorough`` specializes every render, as a user's run does.
   The kernel folder is named in ``RTC_NUMBA_KERNELS`` for the session, so every worker and
   the processes they start share it however a test changes the environment.
@@ -36,7 +37,7 @@ from once_per_run import OncePerRun
 
 from compiled.folder import kernel_folder
 from variants.numba.features import OPTION_FEATURES, FeatureSet
-from variants.numba.render import GENERIC_ONLY
+from variants.numba.render import GENERIC_CALLS, GENERIC_ONLY
 
 KERNELS = "RTC_NUMBA_KERNELS"
 OPTIONS_LEAVE_OUT = FeatureSet.from_key(
@@ -96,6 +97,7 @@ def pytest_configure(config: pytest.Config) -> None:
     os.environ.setdefault(GENERIC_ONLY, "off")
     if os.environ[GENERIC_ONLY] == "off":  # the gate's (``--thorough`` specializes)
         os.environ.setdefault(OPTION_FEATURES, OPTION_KERNEL.key)
+        os.environ.setdefault(GENERIC_CALLS, "on")
     if not os.environ.get(KERNELS):
         # the run's kernel folder, named: a test that unsets it (``monkeypatch.delenv``)
         # then gets it back, so a worker never leaves the folder the others share (a test

@@ -49,8 +49,9 @@ from variants.arrays.canvas import ArrayCanvas
 from variants.numba import layout as L
 from variants.numba.api import EXTRA, NumbaTracer
 from variants.numba.errors import PackError
-from variants.numba.features import analyse
+from variants.numba.features import FeatureSet, analyse
 from variants.numba.pack import pack_world
+from variants.numba.render import GENERIC_CALLS, GENERIC_ONLY, Options
 from variants.registry import Variant, VariantError, load_variant
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -424,6 +425,28 @@ def test_specialize_off_uses_the_generic_kernel() -> None:
     variant = load_variant("numba[specialize=off]")
     assert variant.name == "numba[specialize=off]"
     assert "generic, every feature" in variant.tracer.explain(variant.api["default_world"]())
+
+
+def test_the_gates_generic_kernel_calls_its_helpers_and_a_users_inlines_them(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """``RTC_NUMBA_GENERIC_CALLS=on`` (the gate's, tests/conftest.py) makes the generic
+    kernel the book API's module, helpers called (compiled in two thirds of the time); a
+    specialized kernel, and any kernel without it, inlines them as a user's render does."""
+    features = FeatureSet.from_key("sphere+shadows")
+    generic, specialized = Options(specialize=False), Options()
+    monkeypatch.setenv(GENERIC_ONLY, "on")
+    monkeypatch.setenv(GENERIC_CALLS, "on")
+    assert not generic.config(features).inline and specialized.config(features).inline
+    assert generic.config(features) == generic.generic()
+    assert "helpers called" in generic.config(features).describe()
+    for value in ("off", None):
+        if value is None:
+            monkeypatch.delenv(GENERIC_CALLS)
+        else:
+            monkeypatch.setenv(GENERIC_CALLS, value)
+        assert generic.config(features).inline
+        assert "helpers called" not in generic.config(features).describe()
 
 
 # ------------------------------------------------------------------------ allocations

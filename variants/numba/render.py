@@ -47,6 +47,14 @@ GENERIC_ONLY = "RTC_NUMBA_SPECIALIZE"
 """``RTC_NUMBA_SPECIALIZE=off``: every render of this process (and of the processes it
 starts) runs the generic kernel, as ``specialize=off`` does, whatever the variant's option;
 the test suite sets it (tests/conftest.py): one kernel for all its scenes, not one each."""
+GENERIC_CALLS = "RTC_NUMBA_GENERIC_CALLS"
+"""``RTC_NUMBA_GENERIC_CALLS=on``: a generic kernel (``specialize=off``, or the switch
+above) calls its helpers rather than inlining them, as the book API's module does (it is
+that module): it compiles in two thirds of the CPU time (28 against 42 s for float64's) and
+runs a little slower. The test suite sets it (tests/conftest.py; ``--thorough`` does not);
+a timed render, whose ``specialize=off`` step shows what specialization buys, never should.
+Without fast math the pictures are the same bits (no fused multiply-add, so a call boundary
+changes no rounding)."""
 
 
 def max_threads() -> int:
@@ -87,9 +95,11 @@ class Options(NamedTuple):
         return self.specialize and os.environ.get(GENERIC_ONLY, "on") != "off"
 
     def config(self, features: FeatureSet, count_rays: bool = False) -> KernelConfig:
-        approximate = self.float32 or self.fastmath
-        chosen = features if self.specializing else generic(features, approximate)
-        return KernelConfig(chosen, self.float32, self.fastmath, count_rays)
+        if self.specializing:
+            return KernelConfig(features, self.float32, self.fastmath, count_rays)
+        chosen = generic(features, self.float32 or self.fastmath)
+        inline = os.environ.get(GENERIC_CALLS, "off") != "on"
+        return KernelConfig(chosen, self.float32, self.fastmath, count_rays, inline)
 
     def generic(self) -> KernelConfig:
         """The kernel module the book-API calls use: every feature, this precision, its

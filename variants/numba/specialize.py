@@ -70,12 +70,12 @@ class KernelConfig:
     float32: bool = False
     fastmath: bool = False
     count_rays: bool = False
-    inline: bool = True  # False: the book API's entry points (``INLINE_HELPERS``)
+    inline: bool = True  # False: helpers called (``INLINE_HELPERS``): the book API's module
 
     def describe(self) -> str:
         precision = "float32" if self.float32 else "float64"
         counting = ", counting rays" if self.count_rays else ""
-        calls = "" if self.inline else ", the book API's"
+        calls = "" if self.inline else ", helpers called"
         return f"{precision}, fastmath {'on' if self.fastmath else 'off'}{counting}{calls}"
 
 
