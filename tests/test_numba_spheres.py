@@ -15,11 +15,13 @@ from variants.numba.kernels_hits import ball_soa_terms, balls_may_shadow
 @njit(error_model="numpy")
 def _answers(balls, n, rays):
     """Per shadow ray (origin, vector to the light): (the filter's answer, the exact one:
-    does a shadow-casting ball meet the unit ray before the light?)."""
-    out = np.zeros((len(rays), 2), np.bool_)
+    does a shadow-casting ball meet the unit ray before the light?, does the exact test
+    meet a ball whose value the filter left below 0?)."""
+    out = np.zeros((len(rays), 3), np.bool_)
+    tb = np.zeros(max(n, 1))
     for k in range(len(rays)):
         ox, oy, oz, vx, vy, vz = rays[k]
-        out[k, 0] = balls_may_shadow(balls, n, ox, oy, oz, vx, vy, vz)
+        out[k, 0] = balls_may_shadow(balls, n, ox, oy, oz, vx, vy, vz, tb)
         distance = np.sqrt(vx * vx + vy * vy + vz * vz)
         dx, dy, dz = vx / distance, vy / distance, vz / distance
         a = dx * dx + dy * dy + dz * dz
@@ -28,6 +30,7 @@ def _answers(balls, n, rays):
                 hb, cc = ball_soa_terms(balls, n, j, ox, oy, oz, dx, dy, dz)
                 found, _, _ = ball_first(hb, cc, a, distance)
                 out[k, 1] = out[k, 1] or found
+                out[k, 2] = out[k, 2] or (found and tb[j] < 0.0)
     return out
 
 
@@ -64,7 +67,8 @@ def _grazing(rng: np.random.Generator, balls: np.ndarray, n: int, count: int) ->
 
 def test_the_shadow_filter_never_turns_down_a_ball_the_exact_test_meets() -> None:
     """Wherever the exact test finds a shadow-casting ball before the light, the filter
-    says a ball may be in the way (its answer no lets ``shadowed`` return at once); on
+    says a ball may be in the way (its answer no lets ``shadowed`` return at once), and
+    that ball's value is not below 0 (``shadowed`` tests exactly only those balls); on
     random rays it also says no often, and both exact answers occur."""
     rng = np.random.default_rng(36)
     n = 9
@@ -76,6 +80,8 @@ def test_the_shadow_filter_never_turns_down_a_ball_the_exact_test_meets() -> Non
         answers = _answers(balls, n, rays)
         missed = answers[:, 1] & ~answers[:, 0]
         assert not missed.any(), f"{missed.sum()} shadow rays let through: {rays[missed][:3]}"
+        dropped = answers[:, 2]
+        assert not dropped.any(), f"{dropped.sum()} balls met but turned down: {rays[dropped][:3]}"
         assert 0 < answers[:, 1].sum() < len(rays)
     answers = _answers(balls, n, random_rays)
     assert (~answers[:, 0]).sum() > len(random_rays) // 10  # the filter answers no often

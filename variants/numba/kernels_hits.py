@@ -7,7 +7,9 @@
   balls (``layout``) come after the items: one vectorized pass says which ones the ray can
   reach at all (``ball_reach``), then those get the exact test.
 - ``shadowed`` counts, in one vectorized pass, the shadow-casting balls the ray can reach,
-  and tests them exactly only when there are any; then the items. Its shadow ray is the
+  and tests them exactly only when there are any; then the items. In a world of balls
+  alone, the pass before the ray is normalized (``balls_may_shadow``) also picks the balls
+  to test exactly. Its shadow ray is the
   book's, a unit vector and the distance to the light (along the unnormalized vector the
   book's EPSILON parallel tests would see a direction |v| times too long).
 - ``csg_collect`` is chapter 16's list of a CSG tree, sorted and filtered in post-order.
@@ -443,12 +445,13 @@ SLACK = F(4096) * np.finfo(F).eps
 
 
 @njit(**INLINE)
-def balls_may_shadow(balls, n_balls, ox, oy, oz, vx, vy, vz):
+def balls_may_shadow(balls, n_balls, ox, oy, oz, vx, vy, vz, tb):
     """Can a shadow-casting ball meet the ray from (ox, oy, oz) along (vx, vy, vz), not
     normalized? ``ball_reach``'s two signs (with a = |v|² and hb = |v| times the unit
-    vector's, up to rounding) taken with ``SLACK`` to spare: False only where ``shadowed``'s
-    test along the unit vector finds no ball reached either; no square root, no division.
-    One vectorized pass (a min and a max of floats per ball, no masks)."""
+    vector's, up to rounding) taken with ``SLACK`` to spare: each ball's value is below 0
+    only where ``shadowed``'s test along the unit vector does not reach it either (kept in
+    ``tb``); no square root, no division. One vectorized pass (a min and a max of floats
+    per ball, no masks)."""
     a = vx * vx + vy * vy + vz * vz
     may = 0
     for j in range(n_balls):
@@ -461,6 +464,7 @@ def balls_may_shadow(balls, n_balls, ox, oy, oz, vx, vy, vz):
         line = hb * hb - a * cc + SLACK * (hb * hb + a * abs(cc))
         ahead = max(-cc, SLACK * size - hb)
         reach = min(min(line, ahead), balls[B_SHADOW * n_balls + j] - F(0.5))
+        tb[j] = reach
         may += 1 if reach >= ZERO else 0
     return may > 0
 
@@ -487,9 +491,27 @@ def shadowed(w, s, ox, oy, oz, vx, vy, vz, eps, slot):
     time (on this thread, for this light: memo ``slot``), since neighbouring pixels usually
     share their occluder; then the items. (Any occluder gives the same answer.)"""
     pf, pi, items, n_items, boxes, _, balls, n_balls, _, _, _, geo = w
-    sf, si, _ = s
-    if HAS_SPHERE and n_items == 0 and not balls_may_shadow(balls, n_balls, ox, oy, oz, vx, vy, vz):
-        return False  # balls alone, none in the way: no need of the unit vector
+    sf, si, tb = s
+    if HAS_SPHERE and n_items == 0:
+        # balls alone: none in the way needs no unit vector; else the exact test of those
+        # ``balls_may_shadow`` may not turn down (a ball it does is not reached along the
+        # unit vector either, and ``ball_first`` finds no hit in a ball not reached)
+        if not balls_may_shadow(balls, n_balls, ox, oy, oz, vx, vy, vz, tb):
+            return False
+        distance = math.sqrt(vx * vx + vy * vy + vz * vz)
+        if distance == ZERO:
+            return False
+        dx = vx / distance
+        dy = vy / distance
+        dz = vz / distance
+        a = dx * dx + dy * dy + dz * dz
+        for j in range(n_balls):
+            if tb[j] >= ZERO:
+                hb, cc = ball_soa_terms(balls, n_balls, j, ox, oy, oz, dx, dy, dz)
+                found, _, _ = ball_first(hb, cc, a, distance)
+                if found:
+                    return True
+        return False  # (no items: no memo either)
     distance = math.sqrt(vx * vx + vy * vy + vz * vz)
     if distance == ZERO:
         return False
