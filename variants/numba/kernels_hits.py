@@ -9,7 +9,8 @@
 - ``shadowed`` counts, in one vectorized pass, the shadow-casting balls the ray can reach,
   and tests them exactly only when there are any; then the items. In a world of balls
   alone, the pass before the ray is normalized (``balls_may_shadow``) also picks the balls
-  to test exactly. Its shadow ray is the
+  to test: most shadows are certain without the unit vector (``ball_surely_shadows``),
+  the rest are tested exactly. Its shadow ray is the
   book's, a unit vector and the distance to the light (along the unnormalized vector the
   book's EPSILON parallel tests would see a direction |v| times too long).
 - ``csg_collect`` is chapter 16's list of a CSG tree, sorted and filtered in post-order.
@@ -469,6 +470,41 @@ def balls_may_shadow(balls, n_balls, ox, oy, oz, vx, vy, vz, tb):
     return may > 0
 
 
+# ``ball_surely_shadows``'s margins: its line's discriminant at least this much of its
+# terms, and the point of the line nearest the centre this much before the light (far more
+# than rounding moves the exact test's entry point: a few parts in 1e9 in float64)
+SURE = F(max(2.0**-20, 65536 * float(np.finfo(F).eps)))
+
+
+@njit(**INLINE)
+def ball_surely_shadows(balls, n_balls, j, ox, oy, oz, vx, vy, vz, a):
+    """Does shadow-casting ball j certainly meet the segment from (ox, oy, oz) to the end
+    of (vx, vy, vz), not normalized (``a`` = |v|²), where ``shadowed``'s exact test along
+    the unit vector would find it too? From inside it (cc < 0, the same cc as that test's):
+    the light well outside it (by ``SURE``), so the segment leaves it before the light. From
+    outside (cc > 0), going towards it (hb < 0 with ``SLACK`` to spare, as
+    ``balls_may_shadow``), its line well through it and the point of the line nearest its
+    centre (-hb / a) well before the light (both by ``SURE``): the segment then enters it
+    before the light. No square root, no division."""
+    cx = ox - balls[B_X * n_balls + j]
+    cy = oy - balls[B_Y * n_balls + j]
+    cz = oz - balls[B_Z * n_balls + j]
+    hb = cx * vx + cy * vy + cz * vz
+    cc = cx * cx + cy * cy + cz * cz - balls[B_R2 * n_balls + j]
+    size = abs(cx * vx) + abs(cy * vy) + abs(cz * vz)
+    if balls[B_SHADOW * n_balls + j] == ZERO:
+        return False
+    if cc < ZERO:  # from inside: the light well outside it (|c + v|² - r² = cc + 2 hb + a)
+        r2 = balls[B_R2 * n_balls + j]
+        return cc + F(2.0) * hb + a > SURE * (a + r2 - cc + F(2.0) * abs(hb))
+    return (
+        cc > ZERO
+        and hb < -SLACK * size
+        and -hb < a - SURE * a
+        and hb * hb - a * cc > SURE * (hb * hb + a * cc)
+    )
+
+
 @njit(**INLINE)
 def occludes(pf, pi, items, geo, i, ox, oy, oz, dx, dy, dz, a, eps, distance):
     """Does item i (a primitive or a compact triangle) meet the ray before ``distance``?"""
@@ -498,6 +534,10 @@ def shadowed(w, s, ox, oy, oz, vx, vy, vz, eps, slot):
         # unit vector either, and ``ball_first`` finds no hit in a ball not reached)
         if not balls_may_shadow(balls, n_balls, ox, oy, oz, vx, vy, vz, tb):
             return False
+        av = vx * vx + vy * vy + vz * vz
+        for j in range(n_balls):  # most shadows: a ball well in the way, no unit vector
+            if tb[j] >= ZERO and ball_surely_shadows(balls, n_balls, j, ox, oy, oz, vx, vy, vz, av):
+                return True
         distance = math.sqrt(vx * vx + vy * vy + vz * vz)
         if distance == ZERO:
             return False
