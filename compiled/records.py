@@ -96,12 +96,19 @@ MAX_LIBRARY_BYTES = 256 << 20  # a render kernel is a few MB
 _keys: dict[str, str] = {}  # a library's path -> its build key's SHA-256
 
 
+@functools.lru_cache(maxsize=64)
+def _key_digest(key_parts: tuple[str, ...]) -> str:
+    """The SHA-256 of the build key of ``key_parts``, once per process (a render asks for
+    its library every frame, and its key is a few hundred kilobytes of source)."""
+    key = "\n".join([*key_parts, UNREACHABLE, platform_key()])
+    return sha256_hex(key.encode("utf-8"))
+
+
 def library_path(prefix: str, *key_parts: str) -> Path:
     """Where the library whose build depends on ``key_parts`` (its source texts and C entry
     point) is known: ``<kernel folder>/<prefix><digest>.so``, a name (the library itself is
     kept under its own digest, named by the record ``<prefix><digest>.json``: ``built``)."""
-    key = "\n".join([*key_parts, UNREACHABLE, platform_key()])
-    digest = sha256_hex(key.encode("utf-8"))
+    digest = _key_digest(key_parts)
     path = kernel_folder() / f"{prefix}{digest[:16]}.so"
     _keys[str(path)] = digest
     return path

@@ -34,3 +34,27 @@ def test_a_build_is_announced_before_and_after_and_a_loaded_library_is_not(
     assert heard[0][1] is None and heard[1][1] is not None and heard[1][1] >= 0
     library.load_once({}, missing, build, str, str, "after removal")
     assert len(heard) == 2  # the listener was removed
+
+
+def test_a_library_path_is_hashed_once_per_process(monkeypatch: Any, tmp_path: Path) -> None:
+    """A render asks for its library's path every frame: the digest of its build key (a
+    few hundred kilobytes of source) is computed the first time only, and a different key
+    gets its own."""
+    from compiled import records
+
+    monkeypatch.setenv("RTC_NUMBA_KERNELS", str(tmp_path / "kernels"))
+    records.platform_key()  # (its own digests, once per process)
+    hashed: list[int] = []
+    real = records.sha256_hex
+
+    def counting(data: bytes) -> str:
+        hashed.append(len(data))
+        return real(data)
+
+    monkeypatch.setattr(records, "sha256_hex", counting)
+    source = "x = 1\n" * 1000 + str(tmp_path)  # a key no other test has asked for
+    first = records.library_path("tiny_", source, "entry")
+    again = records.library_path("tiny_", source, "entry")
+    other = records.library_path("tiny_", source + "# changed\n", "entry")
+    assert first == again != other
+    assert len(hashed) == 2

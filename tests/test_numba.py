@@ -743,3 +743,33 @@ def test_rtc_bench_numba_targets(capsys: pytest.CaptureFixture[str]) -> None:
     assert "--naive-pixels must be 0 or more" in capsys.readouterr().err
     assert main(["bench", "--runs", "3"]) == 2
     assert "only with --numba-targets" in capsys.readouterr().err
+
+
+def test_a_camera_transform_is_inverted_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    """``pack_camera`` (every frame) inverts a camera transform the first time only, with
+    the reference's numbers; another transform gets its own inverse."""
+    from raytracer.camera import camera
+    from raytracer.transformations import view_transform
+    from raytracer.tuples import point, vector
+    from variants.numba import pack
+
+    inverted: list[Matrix] = []
+    real = pack.inverse
+
+    def counting(m: Matrix, what: str) -> Matrix:
+        inverted.append(m)
+        return real(m, what)
+
+    monkeypatch.setattr(pack, "inverse", counting)
+    c = replace(
+        camera(8, 6, math.pi / 3),
+        transform=view_transform(point(1, 2, -5), point(0, 1, 0), vector(0, 1, 0)),
+    )
+    first = pack.pack_camera(c).array
+    again = pack.pack_camera(c).array
+    assert len(inverted) == 1 and np.array_equal(first, again)
+    expected = real(c.transform, "the camera transform")
+    assert list(first[:12]) == [expected[r, k] for r in range(3) for k in range(4)]
+    c = replace(c, transform=view_transform(point(1, 2, -6), point(0, 1, 0), vector(0, 1, 0)))
+    other = pack.pack_camera(c).array
+    assert len(inverted) == 2 and not np.array_equal(first, other)

@@ -7,7 +7,10 @@
   balls (``layout``) come after the items: one vectorized pass says which ones the ray can
   reach at all (``ball_reach``), then those get the exact test.
 - ``shadowed`` counts, in one vectorized pass, the shadow-casting balls the ray can reach,
-  and tests them exactly only when there are any; then the items. Its shadow ray is the
+  and tests them exactly only when there are any; then the items. In a world of balls
+  alone, the pass before the ray is normalized (``balls_may_shadow``) also picks the balls
+  to test: most shadows are certain without the unit vector (``ball_surely_shadows``),
+  the rest are tested exactly. Its shadow ray is the
   book's, a unit vector and the distance to the light (along the unnormalized vector the
   book's EPSILON parallel tests would see a direction |v| times too long).
 - ``csg_collect`` is chapter 16's list of a CSG tree, sorted and filtered in post-order.
@@ -443,12 +446,13 @@ SLACK = F(4096) * np.finfo(F).eps
 
 
 @njit(**INLINE)
-def balls_may_shadow(balls, n_balls, ox, oy, oz, vx, vy, vz):
+def balls_may_shadow(balls, n_balls, ox, oy, oz, vx, vy, vz, tb):
     """Can a shadow-casting ball meet the ray from (ox, oy, oz) along (vx, vy, vz), not
     normalized? ``ball_reach``'s two signs (with a = |v|² and hb = |v| times the unit
-    vector's, up to rounding) taken with ``SLACK`` to spare: False only where ``shadowed``'s
-    test along the unit vector finds no ball reached either; no square root, no division.
-    One vectorized pass (a min and a max of floats per ball, no masks)."""
+    vector's, up to rounding) taken with ``SLACK`` to spare: each ball's value is below 0
+    only where ``shadowed``'s test along the unit vector does not reach it either (kept in
+    ``tb``); no square root, no division. One vectorized pass (a min and a max of floats
+    per ball, no masks)."""
     a = vx * vx + vy * vy + vz * vz
     may = 0
     for j in range(n_balls):
@@ -461,8 +465,44 @@ def balls_may_shadow(balls, n_balls, ox, oy, oz, vx, vy, vz):
         line = hb * hb - a * cc + SLACK * (hb * hb + a * abs(cc))
         ahead = max(-cc, SLACK * size - hb)
         reach = min(min(line, ahead), balls[B_SHADOW * n_balls + j] - F(0.5))
+        tb[j] = reach
         may += 1 if reach >= ZERO else 0
     return may > 0
+
+
+# ``ball_surely_shadows``'s margins: its line's discriminant at least this much of its
+# terms, and the point of the line nearest the centre this much before the light (far more
+# than rounding moves the exact test's entry point: a few parts in 1e9 in float64)
+SURE = F(max(2.0**-20, 65536 * float(np.finfo(F).eps)))
+
+
+@njit(**INLINE)
+def ball_surely_shadows(balls, n_balls, j, ox, oy, oz, vx, vy, vz, a):
+    """Does shadow-casting ball j certainly meet the segment from (ox, oy, oz) to the end
+    of (vx, vy, vz), not normalized (``a`` = |v|²), where ``shadowed``'s exact test along
+    the unit vector would find it too? From inside it (cc < 0, the same cc as that test's):
+    the light well outside it (by ``SURE``), so the segment leaves it before the light. From
+    outside (cc > 0), going towards it (hb < 0 with ``SLACK`` to spare, as
+    ``balls_may_shadow``), its line well through it and the point of the line nearest its
+    centre (-hb / a) well before the light (both by ``SURE``): the segment then enters it
+    before the light. No square root, no division."""
+    cx = ox - balls[B_X * n_balls + j]
+    cy = oy - balls[B_Y * n_balls + j]
+    cz = oz - balls[B_Z * n_balls + j]
+    hb = cx * vx + cy * vy + cz * vz
+    cc = cx * cx + cy * cy + cz * cz - balls[B_R2 * n_balls + j]
+    size = abs(cx * vx) + abs(cy * vy) + abs(cz * vz)
+    if balls[B_SHADOW * n_balls + j] == ZERO:
+        return False
+    if cc < ZERO:  # from inside: the light well outside it (|c + v|² - r² = cc + 2 hb + a)
+        r2 = balls[B_R2 * n_balls + j]
+        return cc + F(2.0) * hb + a > SURE * (a + r2 - cc + F(2.0) * abs(hb))
+    return (
+        cc > ZERO
+        and hb < -SLACK * size
+        and -hb < a - SURE * a
+        and hb * hb - a * cc > SURE * (hb * hb + a * cc)
+    )
 
 
 @njit(**INLINE)
@@ -487,9 +527,31 @@ def shadowed(w, s, ox, oy, oz, vx, vy, vz, eps, slot):
     time (on this thread, for this light: memo ``slot``), since neighbouring pixels usually
     share their occluder; then the items. (Any occluder gives the same answer.)"""
     pf, pi, items, n_items, boxes, _, balls, n_balls, _, _, _, geo = w
-    sf, si, _ = s
-    if HAS_SPHERE and n_items == 0 and not balls_may_shadow(balls, n_balls, ox, oy, oz, vx, vy, vz):
-        return False  # balls alone, none in the way: no need of the unit vector
+    sf, si, tb = s
+    if HAS_SPHERE and n_items == 0:
+        # balls alone: none in the way needs no unit vector; else the exact test of those
+        # ``balls_may_shadow`` may not turn down (a ball it does is not reached along the
+        # unit vector either, and ``ball_first`` finds no hit in a ball not reached)
+        if not balls_may_shadow(balls, n_balls, ox, oy, oz, vx, vy, vz, tb):
+            return False
+        av = vx * vx + vy * vy + vz * vz
+        for j in range(n_balls):  # most shadows: a ball well in the way, no unit vector
+            if tb[j] >= ZERO and ball_surely_shadows(balls, n_balls, j, ox, oy, oz, vx, vy, vz, av):
+                return True
+        distance = math.sqrt(vx * vx + vy * vy + vz * vz)
+        if distance == ZERO:
+            return False
+        dx = vx / distance
+        dy = vy / distance
+        dz = vz / distance
+        a = dx * dx + dy * dy + dz * dz
+        for j in range(n_balls):
+            if tb[j] >= ZERO:
+                hb, cc = ball_soa_terms(balls, n_balls, j, ox, oy, oz, dx, dy, dz)
+                found, _, _ = ball_first(hb, cc, a, distance)
+                if found:
+                    return True
+        return False  # (no items: no memo either)
     distance = math.sqrt(vx * vx + vy * vy + vz * vz)
     if distance == ZERO:
         return False

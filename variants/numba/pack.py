@@ -519,8 +519,25 @@ def _label(shape: object) -> str:
     return f"a {type(shape).__name__}"
 
 
+_CAMERA_INVERSES: dict[int, tuple[Any, Any]] = {}  # id -> (transform, its inverse)
+
+
+def camera_inverse(m: Any) -> Any:
+    """The reference's inverse of a camera transform, once per transform (a frame is
+    prepared for every render, its camera's inverse a few hundred Python operations). A
+    transform is immutable and kept beside its inverse: the same object has the same one."""
+    found = _CAMERA_INVERSES.get(id(m))
+    if found is not None and found[0] is m:
+        return found[1]
+    inv = inverse(m, "the camera transform")
+    if len(_CAMERA_INVERSES) >= 16:
+        _CAMERA_INVERSES.clear()
+    _CAMERA_INVERSES[id(m)] = (m, inv)
+    return inv
+
+
 def pack_camera(c: Camera, dtype: Any = np.float64) -> PackedCamera:
     """The inverse view transform (the reference's), half extents and pixel size."""
-    inv = inverse(c.transform, "the camera transform")
+    inv = camera_inverse(c.transform)
     row = [*rows3x4(inv), float(c.half_width), float(c.half_height), float(c.pixel_size)]
     return PackedCamera(np.array(row, dtype=dtype), int(c.hsize), int(c.vsize))
