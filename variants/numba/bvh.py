@@ -40,8 +40,8 @@ import numpy as np
 from compiled.library import Compiled, Recipe, load
 from variants.numba import layout as L
 
-STRUCTURES = ("sah", "sah-items", "groups", "off")
-SAH = ("sah", "sah-items")  # the structures built by the heuristic
+STRUCTURES = ("sah", "sah4", "sah-items", "groups", "off")
+SAH = ("sah", "sah4", "sah-items")  # the structures built by the heuristic
 DEFAULT = "sah"
 LEAF_MAX = 4  # the most units in a leaf
 UNIT_COST = 1.0  # a unit's test against a box test, for the heuristic (a primitive is first
@@ -130,6 +130,49 @@ def nodes_as(nodes: np.ndarray, dtype: Any) -> np.ndarray:
     converted = nodes.astype(dtype)
     converted.view(_bits(converted.dtype))[:, L.NODE_A : L.NODE_C + 1] = node_links(nodes)
     return converted
+
+
+def wide_nodes(nodes: np.ndarray, dtype: Any) -> np.ndarray:
+    """The compact nodes (float64, the builder's) collapsed into wide ones (``layout``:
+    ``NWIDE`` float32 each, viewed as ``dtype``), the root in row 0: an inner node at an even
+    depth adopts its children's children (an inner child's two, a leaf child itself), so a
+    wide node is two levels of the tree and the walk's stack holds at most 3 entries per
+    wide level."""
+    links = node_links(nodes)
+    first, code = links[:, 0], links[:, 1]
+    inner = code < 0
+    depth = np.zeros(len(nodes), dtype=np.int64)
+    level = np.zeros(1, dtype=np.int64)
+    while len(level):
+        level = level[inner[level]]
+        depth[first[level]] = depth[first[level] + 1] = depth[level] + 1
+        level = np.concatenate([first[level], first[level] + 1])
+    rows = np.flatnonzero(inner & (depth % 2 == 0))
+    if not inner[0]:
+        rows = np.zeros(1, dtype=np.int64)
+        slots = np.array([[0, -1, -1, -1]])
+    else:
+        c0, c1 = first[rows], first[rows] + 1
+        slots = np.stack([
+            np.where(inner[c0], first[c0], c0), np.where(inner[c0], first[c0] + 1, -1),
+            np.where(inner[c1], first[c1], c1), np.where(inner[c1], first[c1] + 1, -1),
+        ], axis=1)  # fmt: skip
+    row_of = np.full(len(nodes), -1, dtype=np.int64)
+    row_of[rows] = np.arange(len(rows))
+    wide = np.zeros((len(rows), L.NWIDE), dtype=np.float32)
+    used = slots >= 0
+    at = np.where(used, slots, 0)
+    for c in range(L.NBOX):
+        empty = np.inf if c < 3 else -np.inf
+        wide[:, c * L.WIDE : (c + 1) * L.WIDE] = np.where(used, nodes[at, c], empty)
+    leaf = -1 - (first[at] * 8 + code[at])
+    link = np.where(used, np.where(inner[at], row_of[at], leaf), 0)
+    if used.any() and (np.where(used & inner[at], row_of[at], 0) < 0).any():
+        raise RuntimeError("numba: a wide node's child is not a wide node (a bug)")
+    if (link >= 2**31).any() or (link < -(2**31)).any():
+        raise RuntimeError("numba: too many triangles for a wide node's int32 links")
+    wide.view(np.int32)[:, L.W_LINK : L.W_LINK + L.WIDE] = link
+    return wide.view(dtype)
 
 
 def _bits(dtype: np.dtype) -> type:

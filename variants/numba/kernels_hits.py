@@ -48,6 +48,10 @@ from variants.numba.kernels_geometry import (
     box_hit,
     int_bits,
     nth,
+    int32_at,
+    narrow_at,
+    slab,
+    wide_keys,
     to_object_point,
     to_object_vector,
 )
@@ -97,6 +101,9 @@ from variants.numba.layout import (
     NNODE,
     NODE_A,
     NODE_C,
+    NWIDE,
+    W_LINK,
+    WIDE,
     NSF,
     NSI,
     OP_DIFFERENCE,
@@ -283,10 +290,16 @@ def nearest_hit(w, s, ox, oy, oz, dx, dy, dz, eps):
             else:
                 i = items[i * NITEM + ITEM_A]
         elif HAS_NODES and kind == I_NODES:
-            best_t, best_p, best_l, best_u, best_v = nodes_nearest(
-                w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, eps,
-                best_t, best_p, best_l, best_u, best_v,
-            )  # fmt: skip
+            if items[i * NITEM + ITEM_C] == WIDE:
+                best_t, best_p, best_l, best_u, best_v = wide_nearest(
+                    w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, eps,
+                    best_t, best_p, best_l, best_u, best_v,
+                )  # fmt: skip
+            else:
+                best_t, best_p, best_l, best_u, best_v = nodes_nearest(
+                    w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, eps,
+                    best_t, best_p, best_l, best_u, best_v,
+                )  # fmt: skip
             i = items[i * NITEM + ITEM_A]
         elif kind == I_PRIM:
             p = items[i * NITEM + ITEM_A]
@@ -400,6 +413,115 @@ def nodes_nearest(w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, ep
         enter = sf[top * NSF + CS_T]
         if enter > best_t:
             enter = INF
+    return best_t, best_p, best_l, best_u, best_v
+
+
+NO_NODE = -1  # a link no leaf has (a leaf holds a triangle at least)
+# a wide node's sort keys (``wide_keys``, ``lane_key``): from MISS_KEY on, a child the
+# ray does not enter
+MISS_KEY = np.int64(0x7F800000) << 32
+LARGEST32 = np.float32(np.finfo(np.float32).max)
+INF32 = np.float32(np.inf)
+NARROW = np.dtype(F).itemsize // 4  # float32 per value of the box table (wide nodes)
+
+
+@njit(**INLINE)
+def lane_enter(boxes, m, j, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, thi, parallel):
+    """``node_enter`` for child j of the wide node at float32 ``m`` of the box table (its
+    box a column of the node's six rows of WIDE, ``layout``; ``near_*``: 0, or 3 * WIDE
+    for a ray going down the axis)."""
+    if parallel:
+        tlo, thi = slab(ox, ix, narrow_at(boxes, m + j), narrow_at(boxes, m + 3 * WIDE + j), ZERO, thi)
+        tlo, thi = slab(oy, iy, narrow_at(boxes, m + WIDE + j), narrow_at(boxes, m + 4 * WIDE + j), tlo, thi)
+        tlo, thi = slab(oz, iz, narrow_at(boxes, m + 2 * WIDE + j), narrow_at(boxes, m + 5 * WIDE + j), tlo, thi)
+        return tlo if tlo <= thi else INF
+    tlo = max(max(ZERO, (narrow_at(boxes, m + near_x + j) - ox) * ix),
+              max((narrow_at(boxes, m + WIDE + near_y + j) - oy) * iy,
+                  (narrow_at(boxes, m + 2 * WIDE + near_z + j) - oz) * iz))
+    thi = min(min(thi, (narrow_at(boxes, m + 3 * WIDE - near_x + j) - ox) * ix),
+              min((narrow_at(boxes, m + 4 * WIDE - near_y + j) - oy) * iy,
+                  (narrow_at(boxes, m + 5 * WIDE - near_z + j) - oz) * iz))
+    return tlo if tlo <= thi else INF
+
+
+@njit(**INLINE)
+def lane_key(enter, link):
+    """``wide_keys``' key for one child: where the ray enters it (``lane_enter``) and its
+    link."""
+    rounded = INF32 if enter == INF else min(np.float32(enter), LARGEST32)
+    return (np.int64(int_bits(rounded)) << 32) | (np.int64(link) & 0xFFFFFFFF)
+
+
+@njit(**CALLED)
+def wide_nearest(w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, eps,
+                 best_t, best_p, best_l, best_u, best_v):  # fmt: skip
+    """``nodes_nearest`` through I_NODES item i's wide nodes (``layout``, ``bvh=sah4``):
+    a node's four children's boxes tested together, the children entered taken nearest
+    first (a sorting network over the four entry distances, a miss being INF), the others
+    kept on the range stack (above ``top``) and dropped when they come back beyond the
+    nearest hit so far. Returns the hit after the node's triangles; ties as
+    ``nearest_hit``'s."""
+    pf, _, items, _, boxes, _, _, _, _, _, _, geo = w
+    _, si, _ = s
+    base = items[i * NITEM + ITEM_B] * NARROW  # the nodes' start, in float32
+    bottom = top
+    node = 0
+    near_x = 3 * WIDE if dx < ZERO else 0  # the side of a box the ray meets first, per axis
+    near_y = 3 * WIDE if dy < ZERO else 0
+    near_z = 3 * WIDE if dz < ZERO else 0
+    run = -1  # the run whose object space (lo*, ld*) the ray is in
+    lox = loy = loz = ldx = ldy = ldz = ZERO
+    while True:
+        if node >= 0:
+            m = base + node * NWIDE
+            if parallel:
+                k0 = lane_key(lane_enter(boxes, m, 0, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, best_t, parallel), int32_at(boxes, m + W_LINK))
+                k1 = lane_key(lane_enter(boxes, m, 1, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, best_t, parallel), int32_at(boxes, m + W_LINK + 1))
+                k2 = lane_key(lane_enter(boxes, m, 2, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, best_t, parallel), int32_at(boxes, m + W_LINK + 2))
+                k3 = lane_key(lane_enter(boxes, m, 3, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, best_t, parallel), int32_at(boxes, m + W_LINK + 3))
+            else:  # the same keys, the four boxes at once
+                k0, k1, k2, k3 = wide_keys(boxes, m, near_x, near_y, near_z, ox, oy, oz, ix, iy, iz, best_t)
+            # sorted by a network of integer mins and maxes: no branch
+            k0, k1 = min(k0, k1), max(k0, k1)
+            k2, k3 = min(k2, k3), max(k2, k3)
+            k0, k2 = min(k0, k2), max(k0, k2)
+            k1, k3 = min(k1, k3), max(k1, k3)
+            k1, k2 = min(k1, k2), max(k1, k2)
+            if k0 < MISS_KEY:
+                # the others entered pushed, farthest first, without a branch (a key
+                # written above the stack's top is no entry: the next push overwrites it)
+                si[top * NSI + BV_FROM] = k3
+                top += 1 if k3 < MISS_KEY else 0
+                si[top * NSI + BV_FROM] = k2
+                top += 1 if k2 < MISS_KEY else 0
+                si[top * NSI + BV_FROM] = k1
+                top += 1 if k1 < MISS_KEY else 0
+                node = (k0 << 32) >> 32
+                continue
+        else:
+            leaf = -1 - node
+            first = leaf >> 3
+            for k in range(first, first + (leaf & 7)):
+                p = items[k * NITEM + ITEM_A]
+                q = items[k * NITEM + ITEM_B]
+                if p != run:  # the ray in the run's object space, once per run
+                    run = p
+                    lox, loy, loz = to_object_point(pf, p, ox, oy, oz)
+                    ldx, ldy, ldz = to_object_vector(pf, p, dx, dy, dz)
+                n, hit, u, v = compact_intersect(geo[0], q, lox, loy, loz, ldx, ldy, ldz, eps)
+                t = hit if n > 0 and hit >= ZERO else INF
+                if t < best_t or (t == best_t and (p < best_p or (p == best_p and q < best_l))):
+                    best_t, best_p, best_l, best_u, best_v = t, p, q, u, v
+        node = NO_NODE  # the nearest child left that the ray enters before best_t
+        limit = int_bits(np.float32(best_t))  # an entry beyond it is beyond best_t
+        while top > bottom:
+            top -= 1
+            key = si[top * NSI + BV_FROM]
+            if (key >> 32) <= limit:
+                node = (key << 32) >> 32
+                break
+        if node == NO_NODE:
+            break
     return best_t, best_p, best_l, best_u, best_v
 
 
@@ -537,7 +659,10 @@ def shadowed(w, s, ox, oy, oz, vx, vy, vz, eps, slot):
             else:
                 i = items[i * NITEM + ITEM_A]
         elif HAS_NODES and kind == I_NODES:
-            if nodes_occluded(w, s, i, last, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, a, eps, distance, slot):
+            if items[i * NITEM + ITEM_C] == WIDE:
+                if wide_occluded(w, s, i, last, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, a, eps, distance, slot):
+                    return True
+            elif nodes_occluded(w, s, i, last, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, a, eps, distance, slot):
                 return True
             i = items[i * NITEM + ITEM_A]
         elif HAS_CSG and kind == I_CSG:
@@ -550,6 +675,43 @@ def shadowed(w, s, ox, oy, oz, vx, vy, vz, eps, slot):
         else:
             i += 1
     return False
+
+
+@njit(**CALLED)
+def wide_occluded(w, s, i, last, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, a, eps,
+                  distance, slot):  # fmt: skip
+    """``nodes_occluded`` through I_NODES item i's wide nodes (``bvh=sah4``): every child
+    the ray enters before ``distance`` is visited, in slot order."""
+    pf, pi, items, _, boxes, _, _, _, _, _, _, geo = w
+    _, si, _ = s
+    base = items[i * NITEM + ITEM_B] * NARROW  # the nodes' start, in float32
+    top = 0
+    node = 0
+    near_x = 3 * WIDE if dx < ZERO else 0
+    near_y = 3 * WIDE if dy < ZERO else 0
+    near_z = 3 * WIDE if dz < ZERO else 0
+    while True:
+        if node >= 0:
+            m = base + node * NWIDE
+            for j in range(WIDE - 1, -1, -1):
+                if lane_enter(boxes, m, j, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, distance, parallel) != INF:
+                    si[top * NSI + BV_FROM] = int32_at(boxes, m + W_LINK + j)
+                    top += 1
+        else:
+            leaf = -1 - node
+            first = leaf >> 3
+            for k in range(first, first + (leaf & 7)):
+                if (
+                    k != last
+                    and pi[items[k * NITEM + ITEM_A] * NI + CASTS_SHADOW] != 0
+                    and occludes(pf, pi, items, geo, k, ox, oy, oz, dx, dy, dz, a, eps, distance)
+                ):
+                    si[slot * NSI + MEMO] = k
+                    return True
+        if top == 0:
+            return False
+        top -= 1
+        node = si[top * NSI + BV_FROM]
 
 
 @njit(**CALLED)
