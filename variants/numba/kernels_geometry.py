@@ -177,6 +177,71 @@ def _wide_keys(typingctx, table, m, near_x, near_y, near_z, ox, oy, oz, ix, iy, 
     return signature, codegen
 
 
+def _wide_enters(typingctx, table, m, near_x, near_y, near_z, ox, oy, oz, ix, iy, iz, thi):
+    """``wide_keys``' slab tests alone: where the ray enters each of the four children
+    (t >= 0), INF when it misses it or enters it only beyond ``thi``."""
+    dtype = table.dtype
+    width = dtype.bitwidth
+    signature = types.UniTuple(dtype, 4)(
+        table, m, near_x, near_y, near_z, ox, oy, oz, ix, iy, iz, thi
+    )
+
+    def codegen(context, builder, signature, args):
+        data = builder.bitcast(
+            _table_data(context, builder, signature.args[0], args[0]), ir.FloatType().as_pointer()
+        )
+        real = context.get_value_type(dtype)
+        vector = ir.VectorType(real, 4)
+        narrow = ir.VectorType(ir.FloatType(), 4)
+        wide = ir.VectorType(ir.IntType(64), 4)
+        at = context.cast(builder, args[1], signature.args[1], types.intp)
+        near = [context.cast(builder, args[2 + a], signature.args[2 + a], types.intp) for a in range(3)]
+
+        def load(offset, kind):  # four values from float32 m + offset on
+            pointer = builder.gep(data, [builder.add(at, offset)])
+            return builder.load(builder.bitcast(pointer, kind.as_pointer()), align=4)
+
+        def side(offset):  # four sides, widened to the table's type
+            values = load(offset, narrow)
+            return values if width == 32 else builder.fpext(values, vector)
+
+        def splat(value):
+            lanes = ir.Constant(vector, None)
+            for j in range(4):
+                lanes = builder.insert_element(lanes, value, ir.Constant(ir.IntType(32), j))
+            return lanes
+
+        def scalar(k):
+            return splat(context.cast(builder, args[k], signature.args[k], dtype))
+
+        def larger(a, b):
+            return builder.select(builder.fcmp_ordered(">", a, b), a, b)
+
+        def smaller(a, b):
+            return builder.select(builder.fcmp_ordered("<", a, b), a, b)
+
+        def const(value):
+            return ir.Constant(at.type, value)
+
+        o = [scalar(5), scalar(6), scalar(7)]
+        inverse = [scalar(8), scalar(9), scalar(10)]
+        row = 4  # WIDE
+        first = [side(builder.add(const(a * row), near[a])) for a in range(3)]
+        last = [side(builder.sub(const((3 + a) * row), near[a])) for a in range(3)]
+        enters = [builder.fmul(builder.fsub(first[a], o[a]), inverse[a]) for a in range(3)]
+        leaves = [builder.fmul(builder.fsub(last[a], o[a]), inverse[a]) for a in range(3)]
+        zero = ir.Constant(vector, None)
+        tlo = larger(larger(zero, enters[0]), larger(enters[1], enters[2]))
+        thi = smaller(smaller(scalar(11), leaves[0]), smaller(leaves[1], leaves[2]))
+        hit = builder.fcmp_ordered("<=", tlo, thi)
+        inf = ir.Constant(vector, [ir.Constant(real, float("inf"))] * 4)
+        entry = builder.select(hit, tlo, inf)
+        items = [builder.extract_element(entry, ir.Constant(ir.IntType(32), j)) for j in range(4)]
+        return context.make_tuple(builder, signature.return_type, items)
+
+    return signature, codegen
+
+
 def _narrow_at(typingctx, table, k):
     """The float32 at float32 index ``k`` of the table (read as float32), in the table's
     type (a wide node's box side, ``layout``)."""
@@ -209,6 +274,7 @@ def _int32_at(typingctx, table, k):
 
 narrow_at: Any = intrinsic(_narrow_at)
 int32_at: Any = intrinsic(_int32_at)
+wide_enters: Any = intrinsic(_wide_enters)
 wide_keys: Any = intrinsic(_wide_keys)  # (called without typingctx, as ``int_bits``)
 
 

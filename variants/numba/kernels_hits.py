@@ -51,6 +51,7 @@ from variants.numba.kernels_geometry import (
     int32_at,
     narrow_at,
     slab,
+    wide_enters,
     wide_keys,
     to_object_point,
     to_object_vector,
@@ -452,6 +453,14 @@ def lane_key(enter, link):
     return (np.int64(int_bits(rounded)) << 32) | (np.int64(link) & 0xFFFFFFFF)
 
 
+@njit(**INLINE)
+def ordered(ea, ca, eb, cb):
+    """The two (entry, link) pairs, the nearer first."""
+    if eb < ea:
+        return eb, cb, ea, ca
+    return ea, ca, eb, cb
+
+
 @njit(**CALLED)
 def wide_nearest(w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, eps,
                  best_t, best_p, best_l, best_u, best_v):  # fmt: skip
@@ -462,7 +471,7 @@ def wide_nearest(w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, eps
     nearest hit so far. Returns the hit after the node's triangles; ties as
     ``nearest_hit``'s."""
     pf, _, items, _, boxes, _, _, _, _, _, _, geo = w
-    _, si, _ = s
+    sf, si, _ = s
     base = items[i * NITEM + ITEM_B] * NARROW  # the nodes' start, in float32
     bottom = top
     node = 0
@@ -475,28 +484,35 @@ def wide_nearest(w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, eps
         if node >= 0:
             m = base + node * NWIDE
             if parallel:
-                k0 = lane_key(lane_enter(boxes, m, 0, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, best_t, parallel), int32_at(boxes, m + W_LINK))
-                k1 = lane_key(lane_enter(boxes, m, 1, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, best_t, parallel), int32_at(boxes, m + W_LINK + 1))
-                k2 = lane_key(lane_enter(boxes, m, 2, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, best_t, parallel), int32_at(boxes, m + W_LINK + 2))
-                k3 = lane_key(lane_enter(boxes, m, 3, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, best_t, parallel), int32_at(boxes, m + W_LINK + 3))
-            else:  # the same keys, the four boxes at once
-                k0, k1, k2, k3 = wide_keys(boxes, m, near_x, near_y, near_z, ox, oy, oz, ix, iy, iz, best_t)
-            # sorted by a network of integer mins and maxes: no branch
-            k0, k1 = min(k0, k1), max(k0, k1)
-            k2, k3 = min(k2, k3), max(k2, k3)
-            k0, k2 = min(k0, k2), max(k0, k2)
-            k1, k3 = min(k1, k3), max(k1, k3)
-            k1, k2 = min(k1, k2), max(k1, k2)
-            if k0 < MISS_KEY:
-                # the others entered pushed, farthest first, without a branch (a key
-                # written above the stack's top is no entry: the next push overwrites it)
-                si[top * NSI + BV_FROM] = k3
-                top += 1 if k3 < MISS_KEY else 0
-                si[top * NSI + BV_FROM] = k2
-                top += 1 if k2 < MISS_KEY else 0
-                si[top * NSI + BV_FROM] = k1
-                top += 1 if k1 < MISS_KEY else 0
-                node = (k0 << 32) >> 32
+                e0 = lane_enter(boxes, m, 0, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, best_t, parallel)
+                e1 = lane_enter(boxes, m, 1, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, best_t, parallel)
+                e2 = lane_enter(boxes, m, 2, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, best_t, parallel)
+                e3 = lane_enter(boxes, m, 3, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, best_t, parallel)
+            else:  # the same entries, the four boxes at once
+                e0, e1, e2, e3 = wide_enters(boxes, m, near_x, near_y, near_z, ox, oy, oz, ix, iy, iz, best_t)
+            c0 = int32_at(boxes, m + W_LINK)
+            c1 = int32_at(boxes, m + W_LINK + 1)
+            c2 = int32_at(boxes, m + W_LINK + 2)
+            c3 = int32_at(boxes, m + W_LINK + 3)
+            e0, c0, e1, c1 = ordered(e0, c0, e1, c1)
+            e2, c2, e3, c3 = ordered(e2, c2, e3, c3)
+            e0, c0, e2, c2 = ordered(e0, c0, e2, c2)
+            e1, c1, e3, c3 = ordered(e1, c1, e3, c3)
+            e1, c1, e2, c2 = ordered(e1, c1, e2, c2)
+            if e0 != INF:
+                if e3 != INF:
+                    si[top * NSI + BV_FROM] = c3
+                    sf[top * NSF + CS_T] = e3
+                    top += 1
+                if e2 != INF:
+                    si[top * NSI + BV_FROM] = c2
+                    sf[top * NSF + CS_T] = e2
+                    top += 1
+                if e1 != INF:
+                    si[top * NSI + BV_FROM] = c1
+                    sf[top * NSF + CS_T] = e1
+                    top += 1
+                node = c0
                 continue
         else:
             leaf = -1 - node
@@ -513,12 +529,10 @@ def wide_nearest(w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, eps
                 if t < best_t or (t == best_t and (p < best_p or (p == best_p and q < best_l))):
                     best_t, best_p, best_l, best_u, best_v = t, p, q, u, v
         node = NO_NODE  # the nearest child left that the ray enters before best_t
-        limit = int_bits(np.float32(best_t))  # an entry beyond it is beyond best_t
         while top > bottom:
             top -= 1
-            key = si[top * NSI + BV_FROM]
-            if (key >> 32) <= limit:
-                node = (key << 32) >> 32
+            if sf[top * NSF + CS_T] <= best_t:
+                node = si[top * NSI + BV_FROM]
                 break
         if node == NO_NODE:
             break
