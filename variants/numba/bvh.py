@@ -134,7 +134,7 @@ def nodes_as(nodes: np.ndarray, dtype: Any) -> np.ndarray:
 
 def wide_nodes(nodes: np.ndarray, dtype: Any) -> np.ndarray:
     """The compact nodes (float64, the builder's) collapsed into wide ones (``layout``:
-    ``NWIDE`` float32 each, viewed as ``dtype``), the root in row 0: an inner node at an even
+    ``NWIDE`` values of type ``dtype`` each), the root in row 0: an inner node at an even
     depth adopts its children's children (an inner child's two, a leaf child itself), so a
     wide node is two levels of the tree and the walk's stack holds at most 3 entries per
     wide level."""
@@ -159,7 +159,7 @@ def wide_nodes(nodes: np.ndarray, dtype: Any) -> np.ndarray:
         ], axis=1)  # fmt: skip
     row_of = np.full(len(nodes), -1, dtype=np.int64)
     row_of[rows] = np.arange(len(rows))
-    wide = np.zeros((len(rows), L.NWIDE), dtype=np.float32)
+    wide = np.zeros((len(rows), L.NWIDE), dtype=dtype)
     used = slots >= 0
     at = np.where(used, slots, 0)
     for c in range(L.NBOX):
@@ -171,8 +171,9 @@ def wide_nodes(nodes: np.ndarray, dtype: Any) -> np.ndarray:
         raise RuntimeError("numba: a wide node's child is not a wide node (a bug)")
     if (link >= 2**31).any() or (link < -(2**31)).any():
         raise RuntimeError("numba: too many triangles for a wide node's int32 links")
-    wide.view(np.int32)[:, L.W_LINK : L.W_LINK + L.WIDE] = link
-    return wide.view(dtype)
+    at32 = L.W_LINK * wide.itemsize // 4
+    wide.view(np.int32)[:, at32 : at32 + L.WIDE] = link
+    return wide
 
 
 def _bits(dtype: np.dtype) -> type:

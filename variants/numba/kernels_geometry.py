@@ -98,88 +98,12 @@ def _table_data(context, builder, table_type, table):
     return context.make_array(table_type)(context, builder, table).data
 
 
-def _wide_keys(typingctx, table, m, near_x, near_y, near_z, ox, oy, oz, ix, iy, iz, thi):
-    """The wide node at float32 ``m`` of the table (``layout``, read as float32 whatever
-    its type): its four slab tests at once, as vector instructions, in the table's type
-    (the float32 sides widened: exact); ``near_*``: 0, or 3 * WIDE for a ray going down
-    the axis. Returns a sort key per child (int64): high half the float32 bits of where
-    the ray enters it (t >= 0, rounded to float32, at most the largest finite float32;
-    INF when the ray misses it or enters it only beyond ``thi``), low half its link (the
-    node's int32, loaded beside the boxes, not after the sort). The same entries as four
-    scalar ``lane_enter`` (no NaN arises: every 1 / d is finite)."""
-    dtype = table.dtype
-    width = dtype.bitwidth
-    signature = types.UniTuple(types.int64, 4)(
-        table, m, near_x, near_y, near_z, ox, oy, oz, ix, iy, iz, thi
-    )
-
-    def codegen(context, builder, signature, args):
-        data = builder.bitcast(
-            _table_data(context, builder, signature.args[0], args[0]), ir.FloatType().as_pointer()
-        )
-        real = context.get_value_type(dtype)
-        vector = ir.VectorType(real, 4)
-        narrow = ir.VectorType(ir.FloatType(), 4)
-        wide = ir.VectorType(ir.IntType(64), 4)
-        at = context.cast(builder, args[1], signature.args[1], types.intp)
-        near = [context.cast(builder, args[2 + a], signature.args[2 + a], types.intp) for a in range(3)]
-
-        def load(offset, kind):  # four values from float32 m + offset on
-            pointer = builder.gep(data, [builder.add(at, offset)])
-            return builder.load(builder.bitcast(pointer, kind.as_pointer()), align=4)
-
-        def side(offset):  # four sides, widened to the table's type
-            values = load(offset, narrow)
-            return values if width == 32 else builder.fpext(values, vector)
-
-        def splat(value):
-            lanes = ir.Constant(vector, None)
-            for j in range(4):
-                lanes = builder.insert_element(lanes, value, ir.Constant(ir.IntType(32), j))
-            return lanes
-
-        def scalar(k):
-            return splat(context.cast(builder, args[k], signature.args[k], dtype))
-
-        def larger(a, b):
-            return builder.select(builder.fcmp_ordered(">", a, b), a, b)
-
-        def smaller(a, b):
-            return builder.select(builder.fcmp_ordered("<", a, b), a, b)
-
-        def const(value):
-            return ir.Constant(at.type, value)
-
-        o = [scalar(5), scalar(6), scalar(7)]
-        inverse = [scalar(8), scalar(9), scalar(10)]
-        row = 4  # WIDE
-        first = [side(builder.add(const(a * row), near[a])) for a in range(3)]
-        last = [side(builder.sub(const((3 + a) * row), near[a])) for a in range(3)]
-        enters = [builder.fmul(builder.fsub(first[a], o[a]), inverse[a]) for a in range(3)]
-        leaves = [builder.fmul(builder.fsub(last[a], o[a]), inverse[a]) for a in range(3)]
-        zero = ir.Constant(vector, None)
-        tlo = larger(larger(zero, enters[0]), larger(enters[1], enters[2]))
-        thi = smaller(smaller(scalar(11), leaves[0]), smaller(leaves[1], leaves[2]))
-        hit = builder.fcmp_ordered("<=", tlo, thi)
-        rounded = tlo if width == 32 else builder.fptrunc(tlo, narrow)
-        largest = ir.Constant(narrow, [ir.Constant(ir.FloatType(), 3.4028234663852886e38)] * 4)
-        inf = ir.Constant(narrow, [ir.Constant(ir.FloatType(), float("inf"))] * 4)
-        entry = builder.select(hit, smaller(rounded, largest), inf)
-        high = builder.shl(
-            builder.zext(builder.bitcast(entry, ir.VectorType(ir.IntType(32), 4)), wide),
-            ir.Constant(wide, [ir.Constant(ir.IntType(64), 32)] * 4),
-        )
-        links = load(const(6 * row), ir.VectorType(ir.IntType(32), 4))
-        keys = builder.or_(high, builder.zext(links, wide))
-        items = [builder.extract_element(keys, ir.Constant(ir.IntType(32), j)) for j in range(4)]
-        return context.make_tuple(builder, signature.return_type, items)
-
-    return signature, codegen
-
-
 def _wide_enters(typingctx, table, m, near_x, near_y, near_z, ox, oy, oz, ix, iy, iz, thi):
-    """``wide_keys``' slab tests alone: where the ray enters each of the four children
-    (t >= 0), INF when it misses it or enters it only beyond ``thi``."""
+    """The wide node at ``table[m]`` (``layout``): its four children's slab tests at once,
+    as vector instructions (a row of WIDE values per side); ``near_*``: 0, or 3 * WIDE for
+    a ray going down the axis. Returns where the ray enters each child (t >= 0), or INF
+    where it misses it or enters it only beyond ``thi``: the same values as four
+    ``kernels_hits.lane_enter`` (no NaN arises: every 1 / d is finite)."""
     dtype = table.dtype
     width = dtype.bitwidth
     signature = types.UniTuple(dtype, 4)(
@@ -187,32 +111,24 @@ def _wide_enters(typingctx, table, m, near_x, near_y, near_z, ox, oy, oz, ix, iy
     )
 
     def codegen(context, builder, signature, args):
-        data = builder.bitcast(
-            _table_data(context, builder, signature.args[0], args[0]), ir.FloatType().as_pointer()
-        )
+        data = _table_data(context, builder, signature.args[0], args[0])
         real = context.get_value_type(dtype)
         vector = ir.VectorType(real, 4)
-        narrow = ir.VectorType(ir.FloatType(), 4)
-        wide = ir.VectorType(ir.IntType(64), 4)
         at = context.cast(builder, args[1], signature.args[1], types.intp)
-        near = [context.cast(builder, args[2 + a], signature.args[2 + a], types.intp) for a in range(3)]
+        near = [
+            context.cast(builder, args[2 + a], signature.args[2 + a], types.intp) for a in range(3)
+        ]
 
-        def load(offset, kind):  # four values from float32 m + offset on
+        def side(offset):  # the row of four values at table[m + offset]
             pointer = builder.gep(data, [builder.add(at, offset)])
-            return builder.load(builder.bitcast(pointer, kind.as_pointer()), align=4)
+            return builder.load(builder.bitcast(pointer, vector.as_pointer()), align=width // 8)
 
-        def side(offset):  # four sides, widened to the table's type
-            values = load(offset, narrow)
-            return values if width == 32 else builder.fpext(values, vector)
-
-        def splat(value):
+        def scalar(k):  # argument k in every lane
+            value = context.cast(builder, args[k], signature.args[k], dtype)
             lanes = ir.Constant(vector, None)
             for j in range(4):
                 lanes = builder.insert_element(lanes, value, ir.Constant(ir.IntType(32), j))
             return lanes
-
-        def scalar(k):
-            return splat(context.cast(builder, args[k], signature.args[k], dtype))
 
         def larger(a, b):
             return builder.select(builder.fcmp_ordered(">", a, b), a, b)
@@ -220,47 +136,26 @@ def _wide_enters(typingctx, table, m, near_x, near_y, near_z, ox, oy, oz, ix, iy
         def smaller(a, b):
             return builder.select(builder.fcmp_ordered("<", a, b), a, b)
 
-        def const(value):
-            return ir.Constant(at.type, value)
-
+        row = 4  # WIDE
         o = [scalar(5), scalar(6), scalar(7)]
         inverse = [scalar(8), scalar(9), scalar(10)]
-        row = 4  # WIDE
-        first = [side(builder.add(const(a * row), near[a])) for a in range(3)]
-        last = [side(builder.sub(const((3 + a) * row), near[a])) for a in range(3)]
+        first = [side(builder.add(ir.Constant(at.type, a * row), near[a])) for a in range(3)]
+        last = [side(builder.sub(ir.Constant(at.type, (3 + a) * row), near[a])) for a in range(3)]
         enters = [builder.fmul(builder.fsub(first[a], o[a]), inverse[a]) for a in range(3)]
-        leaves = [builder.fmul(builder.fsub(last[a], o[a]), inverse[a]) for a in range(3)]
-        zero = ir.Constant(vector, None)
-        tlo = larger(larger(zero, enters[0]), larger(enters[1], enters[2]))
-        thi = smaller(smaller(scalar(11), leaves[0]), smaller(leaves[1], leaves[2]))
-        hit = builder.fcmp_ordered("<=", tlo, thi)
+        exits = [builder.fmul(builder.fsub(last[a], o[a]), inverse[a]) for a in range(3)]
+        tlo = larger(larger(ir.Constant(vector, None), enters[0]), larger(enters[1], enters[2]))
+        thi = smaller(smaller(scalar(11), exits[0]), smaller(exits[1], exits[2]))
         inf = ir.Constant(vector, [ir.Constant(real, float("inf"))] * 4)
-        entry = builder.select(hit, tlo, inf)
-        items = [builder.extract_element(entry, ir.Constant(ir.IntType(32), j)) for j in range(4)]
-        return context.make_tuple(builder, signature.return_type, items)
+        entry = builder.select(builder.fcmp_ordered("<=", tlo, thi), tlo, inf)
+        lanes = [builder.extract_element(entry, ir.Constant(ir.IntType(32), j)) for j in range(4)]
+        return context.make_tuple(builder, signature.return_type, lanes)
 
     return signature, codegen
 
 
-def _narrow_at(typingctx, table, k):
-    """The float32 at float32 index ``k`` of the table (read as float32), in the table's
-    type (a wide node's box side, ``layout``)."""
-    dtype = table.dtype
-
-    def codegen(context, builder, signature, args):
-        data = builder.bitcast(
-            _table_data(context, builder, signature.args[0], args[0]), ir.FloatType().as_pointer()
-        )
-        at = context.cast(builder, args[1], signature.args[1], types.intp)
-        value = builder.load(builder.gep(data, [at]), align=4)
-        return value if dtype.bitwidth == 32 else builder.fpext(value, ir.DoubleType())
-
-    return dtype(table, k), codegen
-
-
 def _int32_at(typingctx, table, k):
     """The int32 at int32 index ``k`` of the table (read as int32), as int64 (a wide node's
-    link, ``layout``)."""
+    links, ``layout``)."""
 
     def codegen(context, builder, signature, args):
         data = builder.bitcast(
@@ -272,10 +167,8 @@ def _int32_at(typingctx, table, k):
     return types.int64(table, k), codegen
 
 
-narrow_at: Any = intrinsic(_narrow_at)
-int32_at: Any = intrinsic(_int32_at)
+int32_at: Any = intrinsic(_int32_at)  # (called without typingctx, as ``int_bits``)
 wide_enters: Any = intrinsic(_wide_enters)
-wide_keys: Any = intrinsic(_wide_keys)  # (called without typingctx, as ``int_bits``)
 
 
 @njit(**INLINE)

@@ -46,15 +46,13 @@ from variants.numba.kernels_geometry import (
     ball_first,
     box_enter,
     box_hit,
+    int32_at,
     int_bits,
     nth,
-    int32_at,
-    narrow_at,
     slab,
-    wide_enters,
-    wide_keys,
     to_object_point,
     to_object_vector,
+    wide_enters,
 )
 from variants.numba.kernels_prims import (
     first_hit_in,
@@ -102,14 +100,14 @@ from variants.numba.layout import (
     NNODE,
     NODE_A,
     NODE_C,
-    NWIDE,
-    W_LINK,
-    WIDE,
     NSF,
     NSI,
+    NWIDE,
     OP_DIFFERENCE,
     OP_INTERSECTION,
     OP_UNION,
+    W_LINK,
+    WIDE,
 )
 
 # ---- kernel template ----
@@ -418,12 +416,7 @@ def nodes_nearest(w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, ep
 
 
 NO_NODE = -1  # a link no leaf has (a leaf holds a triangle at least)
-# a wide node's sort keys (``wide_keys``, ``lane_key``): from MISS_KEY on, a child the
-# ray does not enter
-MISS_KEY = np.int64(0x7F800000) << 32
-LARGEST32 = np.float32(np.finfo(np.float32).max)
-INF32 = np.float32(np.inf)
-NARROW = np.dtype(F).itemsize // 4  # float32 per value of the box table (wide nodes)
+LINKS = np.dtype(F).itemsize // 4  # int32 links per value of the box table (wide nodes)
 
 
 @njit(**INLINE)
@@ -432,25 +425,17 @@ def lane_enter(boxes, m, j, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, thi,
     box a column of the node's six rows of WIDE, ``layout``; ``near_*``: 0, or 3 * WIDE
     for a ray going down the axis)."""
     if parallel:
-        tlo, thi = slab(ox, ix, narrow_at(boxes, m + j), narrow_at(boxes, m + 3 * WIDE + j), ZERO, thi)
-        tlo, thi = slab(oy, iy, narrow_at(boxes, m + WIDE + j), narrow_at(boxes, m + 4 * WIDE + j), tlo, thi)
-        tlo, thi = slab(oz, iz, narrow_at(boxes, m + 2 * WIDE + j), narrow_at(boxes, m + 5 * WIDE + j), tlo, thi)
+        tlo, thi = slab(ox, ix, boxes[m + j], boxes[m + 3 * WIDE + j], ZERO, thi)
+        tlo, thi = slab(oy, iy, boxes[m + WIDE + j], boxes[m + 4 * WIDE + j], tlo, thi)
+        tlo, thi = slab(oz, iz, boxes[m + 2 * WIDE + j], boxes[m + 5 * WIDE + j], tlo, thi)
         return tlo if tlo <= thi else INF
-    tlo = max(max(ZERO, (narrow_at(boxes, m + near_x + j) - ox) * ix),
-              max((narrow_at(boxes, m + WIDE + near_y + j) - oy) * iy,
-                  (narrow_at(boxes, m + 2 * WIDE + near_z + j) - oz) * iz))
-    thi = min(min(thi, (narrow_at(boxes, m + 3 * WIDE - near_x + j) - ox) * ix),
-              min((narrow_at(boxes, m + 4 * WIDE - near_y + j) - oy) * iy,
-                  (narrow_at(boxes, m + 5 * WIDE - near_z + j) - oz) * iz))
+    tlo = max(max(ZERO, (boxes[m + near_x + j] - ox) * ix),
+              max((boxes[m + WIDE + near_y + j] - oy) * iy,
+                  (boxes[m + 2 * WIDE + near_z + j] - oz) * iz))
+    thi = min(min(thi, (boxes[m + 3 * WIDE - near_x + j] - ox) * ix),
+              min((boxes[m + 4 * WIDE - near_y + j] - oy) * iy,
+                  (boxes[m + 5 * WIDE - near_z + j] - oz) * iz))
     return tlo if tlo <= thi else INF
-
-
-@njit(**INLINE)
-def lane_key(enter, link):
-    """``wide_keys``' key for one child: where the ray enters it (``lane_enter``) and its
-    link."""
-    rounded = INF32 if enter == INF else min(np.float32(enter), LARGEST32)
-    return (np.int64(int_bits(rounded)) << 32) | (np.int64(link) & 0xFFFFFFFF)
 
 
 @njit(**INLINE)
@@ -472,7 +457,7 @@ def wide_nearest(w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, eps
     ``nearest_hit``'s."""
     pf, _, items, _, boxes, _, _, _, _, _, _, geo = w
     sf, si, _ = s
-    base = items[i * NITEM + ITEM_B] * NARROW  # the nodes' start, in float32
+    base = items[i * NITEM + ITEM_B]
     bottom = top
     node = 0
     near_x = 3 * WIDE if dx < ZERO else 0  # the side of a box the ray meets first, per axis
@@ -490,10 +475,10 @@ def wide_nearest(w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, eps
                 e3 = lane_enter(boxes, m, 3, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, best_t, parallel)
             else:  # the same entries, the four boxes at once
                 e0, e1, e2, e3 = wide_enters(boxes, m, near_x, near_y, near_z, ox, oy, oz, ix, iy, iz, best_t)
-            c0 = int32_at(boxes, m + W_LINK)
-            c1 = int32_at(boxes, m + W_LINK + 1)
-            c2 = int32_at(boxes, m + W_LINK + 2)
-            c3 = int32_at(boxes, m + W_LINK + 3)
+            c0 = int32_at(boxes, (m + W_LINK) * LINKS)
+            c1 = int32_at(boxes, (m + W_LINK) * LINKS + 1)
+            c2 = int32_at(boxes, (m + W_LINK) * LINKS + 2)
+            c3 = int32_at(boxes, (m + W_LINK) * LINKS + 3)
             e0, c0, e1, c1 = ordered(e0, c0, e1, c1)
             e2, c2, e3, c3 = ordered(e2, c2, e3, c3)
             e0, c0, e2, c2 = ordered(e0, c0, e2, c2)
@@ -698,7 +683,7 @@ def wide_occluded(w, s, i, last, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, a
     the ray enters before ``distance`` is visited, in slot order."""
     pf, pi, items, _, boxes, _, _, _, _, _, _, geo = w
     _, si, _ = s
-    base = items[i * NITEM + ITEM_B] * NARROW  # the nodes' start, in float32
+    base = items[i * NITEM + ITEM_B]
     top = 0
     node = 0
     near_x = 3 * WIDE if dx < ZERO else 0
@@ -709,7 +694,7 @@ def wide_occluded(w, s, i, last, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, a
             m = base + node * NWIDE
             for j in range(WIDE - 1, -1, -1):
                 if lane_enter(boxes, m, j, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, distance, parallel) != INF:
-                    si[top * NSI + BV_FROM] = int32_at(boxes, m + W_LINK + j)
+                    si[top * NSI + BV_FROM] = int32_at(boxes, (m + W_LINK) * LINKS + j)
                     top += 1
         else:
             leaf = -1 - node

@@ -198,11 +198,10 @@ NODE_C = 7  # a leaf: how many triangles (> 0); an inner node: -1 - its split ax
 # a ray going down that axis)
 NNODE = 8
 # wide nodes (``bvh=sah4``: the same hierarchy collapsed, a node adopting its children's
-# children), float32 values whatever the table's type (the builder's boxes are float32
-# values: exact), NWIDE of them a node (two per float64 slot): four children's boxes as six
-# rows of four (lo x, lo y, lo z, hi x, hi y, hi z; child j at row * WIDE + j; an empty
-# slot's box holds nothing), then four links as int32: a child node's row (>= 0), or a
-# leaf, -1 - (its first I_TRI item * 8 + how many triangles); then nothing (to 128 bytes)
+# children), NWIDE values a node: four children's boxes as six rows of four (lo x, lo y,
+# lo z, hi x, hi y, hi z; child j at row * WIDE + j; an empty slot's box holds nothing: lo
+# +inf, hi -inf), then four links as int32 (in W_LINK's value and on): a child node's row
+# (>= 0), or a leaf, -1 - (its first I_TRI item * 8 + how many triangles); then nothing
 WIDE = 4
 W_LINK = 6 * WIDE
 NWIDE = 32

@@ -48,8 +48,8 @@ from variants.numba.bvh import (
     Hierarchy,
     build_into,
     nodes_as,
-    wide_nodes,
     outward32,
+    wide_nodes,
 )
 from variants.numba.errors import PackError, refusal
 from variants.numba.lights import light_rows
