@@ -692,10 +692,26 @@ def wide_occluded(w, s, i, last, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, a
     while True:
         if node >= 0:
             m = base + node * NWIDE
-            for j in range(WIDE - 1, -1, -1):
-                if lane_enter(boxes, m, j, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, distance, parallel) != INF:
-                    si[top * NSI + BV_FROM] = int32_at(boxes, (m + W_LINK) * LINKS + j)
-                    top += 1
+            if parallel:
+                e0 = lane_enter(boxes, m, 0, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, distance, parallel)
+                e1 = lane_enter(boxes, m, 1, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, distance, parallel)
+                e2 = lane_enter(boxes, m, 2, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, distance, parallel)
+                e3 = lane_enter(boxes, m, 3, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, distance, parallel)
+            else:  # the same entries, the four boxes at once
+                e0, e1, e2, e3 = wide_enters(boxes, m, near_x, near_y, near_z, ox, oy, oz, ix, iy, iz, distance)
+            links = (m + W_LINK) * LINKS
+            if e3 != INF:
+                si[top * NSI + BV_FROM] = int32_at(boxes, links + 3)
+                top += 1
+            if e2 != INF:
+                si[top * NSI + BV_FROM] = int32_at(boxes, links + 2)
+                top += 1
+            if e1 != INF:
+                si[top * NSI + BV_FROM] = int32_at(boxes, links + 1)
+                top += 1
+            if e0 != INF:
+                si[top * NSI + BV_FROM] = int32_at(boxes, links)
+                top += 1
         else:
             leaf = -1 - node
             first = leaf >> 3
