@@ -38,7 +38,7 @@ ROOT = Path(__file__).resolve().parents[1]
 SCENES = ROOT / "scenes"
 FLOAT64_WORST = 1e-6  # as in test_numba
 ONE_STEP = 1.0 / 255.0
-STRUCTURES = ("numba", "numba[bvh=groups]", "numba[bvh=off]")
+STRUCTURES = ("numba", "numba[bvh=sah4]", "numba[bvh=groups]", "numba[bvh=off]")
 
 
 def _icosahedron(api: Any, smooth: bool, splits: int = 1) -> Any:
