@@ -38,7 +38,7 @@ ROOT = Path(__file__).resolve().parents[1]
 SCENES = ROOT / "scenes"
 FLOAT64_WORST = 1e-6  # as in test_numba
 ONE_STEP = 1.0 / 255.0
-STRUCTURES = ("numba", "numba[bvh=groups]", "numba[bvh=off]")
+STRUCTURES = ("numba", "numba[bvh=sah4]", "numba[bvh=groups]", "numba[bvh=off]")
 
 
 def _icosahedron(api: Any, smooth: bool, splits: int = 1) -> Any:
@@ -453,7 +453,7 @@ def test_the_option_is_named_and_checked() -> None:
     assert load_variant("numba[bvh=off]").name == "numba[bvh=off]"
     assert load_variant("numba[bvh=groups,threads=1]").name == "numba[bvh=groups,threads=1]"
     assert load_variant("numba[bvh=sah]").name == "numba"
-    expected = "bvh='octree' must be one of sah, sah-items, groups, off"
+    expected = "bvh='octree' must be one of sah, sah4, sah-items, groups, off"
     with pytest.raises(VariantError, match=expected):
         load_variant("numba[bvh=octree]")
 
@@ -709,6 +709,141 @@ def test_a_broken_node_table_fails_the_checks_and_the_picture() -> None:
     codes[codes > 0] = 1  # leaves keep one triangle
     with pytest.raises(AssertionError, match="every triangle in one leaf"):
         _check_nodes(lost)
+    for broken in (shrunk, lost):
+        picture = np.asarray(tracer.render(camera, broken, RenderSettings()).array)
+        assert not np.array_equal(picture, right)
+
+
+# ------------------------------------------------- wide nodes (``bvh=sah4``, ``layout``)
+
+
+def _wide_parts(packed: Packed) -> tuple[np.ndarray, np.ndarray]:
+    """The wide nodes' boxes (float64: node, side, child) and links (node, child)."""
+    nodes = packed.nodes
+    boxes = nodes[:, : L.W_LINK].astype(np.float64).reshape(-1, L.NBOX, L.WIDE)
+    per = nodes.itemsize // 4  # int32 links per value
+    links = nodes.view(np.int32)[:, L.W_LINK * per : L.W_LINK * per + L.WIDE]
+    return boxes, links.astype(np.int64)
+
+
+def _check_wide(packed: Packed) -> None:
+    """The I_NODES item (ITEM_C: WIDE) and its wide nodes: the root in row 0, every other
+    node a child of one node, inside that child's box; a leaf child's triangles inside
+    its box; an empty slot's box holding nothing; every triangle item in one leaf."""
+    items = packed.items
+    (at,) = np.flatnonzero(items[:, L.ITEM_TYPE] == L.I_NODES)
+    assert items[at, L.ITEM_C] == L.WIDE
+    start = int(items[at, L.ITEM_B])
+    table = packed.box_table()
+    assert start >= packed.boxes.size, "the nodes follow the boxes"
+    assert table[start : start + packed.nodes.size].tobytes() == packed.nodes.tobytes()
+    end = int(items[at, L.ITEM_A])
+    boxes, links = _wide_parts(packed)
+    reached: list[int] = []
+    children: list[int] = []
+    for row in range(len(boxes)):
+        for j in range(L.WIDE):
+            box = np.concatenate([boxes[row, 0:3, j], boxes[row, 3:6, j]])
+            link = int(links[row, j])
+            if (box[:3] == np.inf).all() and (box[3:] == -np.inf).all():
+                assert link == 0, f"node {row}: an empty slot with a link"
+                continue
+            assert (box[:3] <= box[3:]).all(), f"node {row}: child {j}'s box holds nothing"
+            if link >= 0:
+                assert 0 < link < len(boxes)
+                children.append(link)
+                inner = boxes[link]
+                used = inner[0] != np.inf
+                lo, hi = inner[0:3, used].min(axis=1), inner[3:6, used].max(axis=1)
+                assert _contains(box, np.concatenate([lo, hi])), f"node {row} misses {link}"
+                continue
+            first, count = (-1 - link) >> 3, (-1 - link) & 7
+            assert count > 0 and at < first and first + count <= end
+            for k in range(first, first + count):
+                assert items[k, L.ITEM_TYPE] == L.I_TRI
+                shape = packed.shapes[int(items[k, L.ITEM_A])]
+                run_first = packed.pi[items[k, L.ITEM_A], L.TRI_FIRST]
+                shape = _triangle_of(packed, int(items[k, L.ITEM_B]) - int(run_first), shape)
+                assert _contains(box, _world_box(shape)), f"leaf of {row} misses item {k}"
+                reached.append(k)
+    assert sorted(children) == list(range(1, len(boxes))), "every node a child once"
+    triangles = [k for k in range(at, end) if items[k, L.ITEM_TYPE] == L.I_TRI]
+    assert sorted(reached) == triangles, "every triangle in one leaf"
+
+
+def test_wide_nodes_keep_their_invariants() -> None:
+    api = load_variant("naive").api
+    _, w = _two_meshes(api)
+    wide = pack_world(w, structure="sah4", compact=True)
+    _check_wide(wide)
+    assert "HAS_NODES" in analyse(wide).flags
+    assert np.shares_memory(wide.box_table(), wide.nodes)
+    # a wide node is two levels of the binary tree: about a third as many nodes
+    binary = pack_world(w, compact=True)
+    inner = int((bvh.node_links(binary.nodes)[:, 1] < 0).sum())
+    assert inner // 2 <= len(wide.nodes) < inner
+    narrow = pack_world(w, np.float32, structure="sah4", compact=True)
+    _check_wide(narrow)
+    assert narrow.nodes.dtype == np.float32
+    # the same boxes (float32 values already) and links in either type
+    assert np.array_equal(_wide_parts(narrow)[0], _wide_parts(wide)[0])
+    assert np.array_equal(_wide_parts(narrow)[1], _wide_parts(wide)[1])
+    assert len(pack_world(w, structure="sah4").nodes) == 0  # the book's API: none
+
+
+def test_a_tree_of_one_leaf_is_one_wide_node() -> None:
+    tiny = np.zeros((1, L.NNODE))
+    tiny[0, :6] = (0, 0, 0, 1, 1, 1)
+    tiny.view(np.int64)[0, L.NODE_A : L.NODE_C + 1] = (7, 3)  # a leaf of 3 triangles
+    (node,) = bvh.wide_nodes(tiny, np.float64)
+    links = node.view(np.int32)[2 * L.W_LINK : 2 * L.W_LINK + L.WIDE]
+    assert links.tolist() == [-1 - (7 * 8 + 3), 0, 0, 0]
+    assert node[0 : L.W_LINK : L.WIDE].tolist() == [0, 0, 0, 1, 1, 1]
+    assert (node[1 : 3 * L.WIDE : L.WIDE] == np.inf).all()
+
+
+def _axis_camera(api: Any) -> Any:
+    """A camera whose middle pixel's ray runs along the z axis, and whose middle column's
+    and row's rays are parallel to a plane of two axes: the walks' parallel tests."""
+    view = api["view_transform"](
+        api["point"](0, 0.8, -5), api["point"](0, 0.8, 0), api["vector"](0, 1, 0)
+    )
+    return replace(api["camera"](41, 31, math.pi / 3), transform=view)
+
+
+@pytest.mark.parametrize("float32", [False, True], ids=["float64", "float32"])
+def test_wide_nodes_draw_the_same_picture_as_the_compact_nodes(float32: bool) -> None:
+    api = load_variant("naive").api
+    camera, w = _two_meshes(api)
+    extra = ",float32" if float32 else ""
+    for view in (camera, _axis_camera(api)):
+        pictures = [
+            np.asarray(load_variant(f"numba[{bvh_option}threads=1{extra}]").tracer.render(
+                view, w, RenderSettings()).array, dtype=np.float64)
+            for bvh_option in ("", "bvh=sah4,")
+        ]  # fmt: skip
+        assert len({tuple(np.round(p, 3)) for p in pictures[0].reshape(-1, 3)}) > 50
+        assert np.array_equal(pictures[1], pictures[0])
+
+
+def test_a_broken_wide_table_fails_the_checks_and_the_picture() -> None:
+    api = load_variant("naive").api
+    camera, w = _two_meshes(api)
+    tracer = load_variant("numba[bvh=sah4,threads=1]").tracer
+    right = np.asarray(tracer.render(camera, w, RenderSettings()).array)
+    shrunk = pack_world(w, structure="sah4", compact=True)
+    _, links = _wide_parts(shrunk)
+    row, j = (int(v) for v in np.argwhere(links < 0)[0])
+    for side in range(3):  # a leaf's box made a point
+        shrunk.nodes[row, (3 + side) * L.WIDE + j] = shrunk.nodes[row, side * L.WIDE + j]
+    with pytest.raises(AssertionError, match="misses item"):
+        _check_wide(shrunk)
+    lost = pack_world(w, structure="sah4", compact=True)
+    ints = lost.nodes.view(np.int32)[:, 2 * L.W_LINK : 2 * L.W_LINK + L.WIDE]
+    leaves = ints < 0
+    ints[leaves] = -1 - (((-1 - ints[leaves]) >> 3) * 8 + 1)  # leaves keep one triangle
+    with pytest.raises(AssertionError, match="every triangle in one leaf"):
+        _check_wide(lost)
     for broken in (shrunk, lost):
         picture = np.asarray(tracer.render(camera, broken, RenderSettings()).array)
         assert not np.array_equal(picture, right)

@@ -10,10 +10,11 @@ Options (all off by default; the name spells the ones given, sorted):
   ``NUMBA_NUM_THREADS``); no shared-generator option (the C++ report's lesson): the path
   numbers are a hash with no state to share (docs/architecture.md, "No shared generator");
 - ``specialize=off``: always the generic kernel, every feature compiled in;
-- ``bvh=sah|sah-items|groups|off``: how the rays find the primitives they may hit
+- ``bvh=sah|sah4|sah-items|groups|off``: how the rays find the primitives they may hit
   (``bvh``): a bounding-volume hierarchy built by the surface area heuristic (the default;
-  over triangles alone it is also laid out as compact nodes, ``sah-items`` walks it as
-  items only), the scene's own group boxes, or none (every ray visits every primitive).
+  over triangles alone it is also laid out as compact nodes, ``sah4`` collapses those
+  into wide nodes of four children, ``sah-items`` walks it as items only), the scene's
+  own group boxes, or none (every ray visits every primitive).
 
 The package: ``layout`` (array columns), ``pack`` (world -> arrays, into a ``packed``
 world; ``lights`` and ``textures`` pack the light table and the texture patterns' records;
@@ -70,7 +71,7 @@ NAME = "numba"
 OPTIONS = ("bvh", "fastmath", "float32", "specialize", "threads")
 USAGE = (
     "float32, fastmath, threads=N (default: every CPU this process may use), specialize=off, "
-    "bvh=sah|sah-items|groups|off (default sah)"
+    "bvh=sah|sah4|sah-items|groups|off (default sah)"
 )
 ONE_STEP = 1.0 / 255.0
 # float32 arithmetic: where it answers differently from naive beyond its tolerance (each

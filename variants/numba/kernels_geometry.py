@@ -91,6 +91,86 @@ def _int_bits(typingctx, x):
 int_bits: Any = intrinsic(_int_bits)  # (called as int_bits(x): numba passes typingctx)
 
 
+def _table_data(context, builder, table_type, table):
+    """The pointer to a table's first value (an array's data, or a C entry's pointer)."""
+    if isinstance(table_type, types.CPointer):
+        return table
+    return context.make_array(table_type)(context, builder, table).data
+
+
+def _wide_enters(typingctx, table, m, near_x, near_y, near_z, ox, oy, oz, ix, iy, iz, thi):
+    """The wide node at ``table[m]`` (``layout``): its four children's slab tests at once,
+    as vector instructions (a row of WIDE values per side); ``near_*``: 0, or 3 * WIDE for
+    a ray going down the axis. Returns where the ray enters each child (t >= 0), or INF
+    where it misses it or enters it only beyond ``thi``: the same values as four
+    ``kernels_hits.lane_enter`` (no NaN arises: every 1 / d is finite)."""
+    dtype = table.dtype
+    width = dtype.bitwidth
+    signature = types.UniTuple(dtype, 4)(
+        table, m, near_x, near_y, near_z, ox, oy, oz, ix, iy, iz, thi
+    )
+
+    def codegen(context, builder, signature, args):
+        data = _table_data(context, builder, signature.args[0], args[0])
+        real = context.get_value_type(dtype)
+        vector = ir.VectorType(real, 4)
+        at = context.cast(builder, args[1], signature.args[1], types.intp)
+        near = [
+            context.cast(builder, args[2 + a], signature.args[2 + a], types.intp) for a in range(3)
+        ]
+
+        def side(offset):  # the row of four values at table[m + offset]
+            pointer = builder.gep(data, [builder.add(at, offset)])
+            return builder.load(builder.bitcast(pointer, vector.as_pointer()), align=width // 8)
+
+        def scalar(k):  # argument k in every lane
+            value = context.cast(builder, args[k], signature.args[k], dtype)
+            lanes = ir.Constant(vector, None)
+            for j in range(4):
+                lanes = builder.insert_element(lanes, value, ir.Constant(ir.IntType(32), j))
+            return lanes
+
+        def larger(a, b):
+            return builder.select(builder.fcmp_ordered(">", a, b), a, b)
+
+        def smaller(a, b):
+            return builder.select(builder.fcmp_ordered("<", a, b), a, b)
+
+        row = 4  # WIDE
+        o = [scalar(5), scalar(6), scalar(7)]
+        inverse = [scalar(8), scalar(9), scalar(10)]
+        first = [side(builder.add(ir.Constant(at.type, a * row), near[a])) for a in range(3)]
+        last = [side(builder.sub(ir.Constant(at.type, (3 + a) * row), near[a])) for a in range(3)]
+        enters = [builder.fmul(builder.fsub(first[a], o[a]), inverse[a]) for a in range(3)]
+        exits = [builder.fmul(builder.fsub(last[a], o[a]), inverse[a]) for a in range(3)]
+        tlo = larger(larger(ir.Constant(vector, None), enters[0]), larger(enters[1], enters[2]))
+        thi = smaller(smaller(scalar(11), exits[0]), smaller(exits[1], exits[2]))
+        inf = ir.Constant(vector, [ir.Constant(real, float("inf"))] * 4)
+        entry = builder.select(builder.fcmp_ordered("<=", tlo, thi), tlo, inf)
+        lanes = [builder.extract_element(entry, ir.Constant(ir.IntType(32), j)) for j in range(4)]
+        return context.make_tuple(builder, signature.return_type, lanes)
+
+    return signature, codegen
+
+
+def _int32_at(typingctx, table, k):
+    """The int32 at int32 index ``k`` of the table (read as int32), as int64 (a wide node's
+    links, ``layout``)."""
+
+    def codegen(context, builder, signature, args):
+        data = builder.bitcast(
+            _table_data(context, builder, signature.args[0], args[0]), ir.IntType(32).as_pointer()
+        )
+        at = context.cast(builder, args[1], signature.args[1], types.intp)
+        return builder.sext(builder.load(builder.gep(data, [at]), align=4), ir.IntType(64))
+
+    return types.int64(table, k), codegen
+
+
+int32_at: Any = intrinsic(_int32_at)  # (called without typingctx, as ``int_bits``)
+wide_enters: Any = intrinsic(_wide_enters)
+
+
 @njit(**INLINE)
 def to_object_point(pf, p, x, y, z):
     """Chapter 5: a world-space point in primitive p's object space (the composed inverse)."""

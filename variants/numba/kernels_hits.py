@@ -49,10 +49,13 @@ from variants.numba.kernels_geometry import (
     ball_first,
     box_enter,
     box_hit,
+    int32_at,
     int_bits,
     nth,
+    slab,
     to_object_point,
     to_object_vector,
+    wide_enters,
 )
 from variants.numba.kernels_prims import (
     first_hit_in,
@@ -102,9 +105,12 @@ from variants.numba.layout import (
     NODE_C,
     NSF,
     NSI,
+    NWIDE,
     OP_DIFFERENCE,
     OP_INTERSECTION,
     OP_UNION,
+    W_LINK,
+    WIDE,
 )
 
 # ---- kernel template ----
@@ -286,10 +292,16 @@ def nearest_hit(w, s, ox, oy, oz, dx, dy, dz, eps):
             else:
                 i = items[i * NITEM + ITEM_A]
         elif HAS_NODES and kind == I_NODES:
-            best_t, best_p, best_l, best_u, best_v = nodes_nearest(
-                w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, eps,
-                best_t, best_p, best_l, best_u, best_v,
-            )  # fmt: skip
+            if items[i * NITEM + ITEM_C] == WIDE:
+                best_t, best_p, best_l, best_u, best_v = wide_nearest(
+                    w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, eps,
+                    best_t, best_p, best_l, best_u, best_v,
+                )  # fmt: skip
+            else:
+                best_t, best_p, best_l, best_u, best_v = nodes_nearest(
+                    w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, eps,
+                    best_t, best_p, best_l, best_u, best_v,
+                )  # fmt: skip
             i = items[i * NITEM + ITEM_A]
         elif kind == I_PRIM:
             p = items[i * NITEM + ITEM_A]
@@ -403,6 +415,115 @@ def nodes_nearest(w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, ep
         enter = sf[top * NSF + CS_T]
         if enter > best_t:
             enter = INF
+    return best_t, best_p, best_l, best_u, best_v
+
+
+NO_NODE = -1  # a link no leaf has (a leaf holds a triangle at least)
+LINKS = np.dtype(F).itemsize // 4  # int32 links per value of the box table (wide nodes)
+
+
+@njit(**INLINE)
+def lane_enter(boxes, m, j, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, thi, parallel):
+    """``node_enter`` for child j of the wide node at float32 ``m`` of the box table (its
+    box a column of the node's six rows of WIDE, ``layout``; ``near_*``: 0, or 3 * WIDE
+    for a ray going down the axis)."""
+    if parallel:
+        tlo, thi = slab(ox, ix, boxes[m + j], boxes[m + 3 * WIDE + j], ZERO, thi)
+        tlo, thi = slab(oy, iy, boxes[m + WIDE + j], boxes[m + 4 * WIDE + j], tlo, thi)
+        tlo, thi = slab(oz, iz, boxes[m + 2 * WIDE + j], boxes[m + 5 * WIDE + j], tlo, thi)
+        return tlo if tlo <= thi else INF
+    tlo = max(max(ZERO, (boxes[m + near_x + j] - ox) * ix),
+              max((boxes[m + WIDE + near_y + j] - oy) * iy,
+                  (boxes[m + 2 * WIDE + near_z + j] - oz) * iz))
+    thi = min(min(thi, (boxes[m + 3 * WIDE - near_x + j] - ox) * ix),
+              min((boxes[m + 4 * WIDE - near_y + j] - oy) * iy,
+                  (boxes[m + 5 * WIDE - near_z + j] - oz) * iz))
+    return tlo if tlo <= thi else INF
+
+
+@njit(**INLINE)
+def ordered(ea, ca, eb, cb):
+    """The two (entry, link) pairs, the nearer first."""
+    if eb < ea:
+        return eb, cb, ea, ca
+    return ea, ca, eb, cb
+
+
+@njit(**CALLED)
+def wide_nearest(w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, eps,
+                 best_t, best_p, best_l, best_u, best_v):  # fmt: skip
+    """``nodes_nearest`` through I_NODES item i's wide nodes (``layout``, ``bvh=sah4``):
+    a node's four children's boxes tested together, the children entered taken nearest
+    first (a sorting network over the four entry distances, a miss being INF), the others
+    kept on the range stack (above ``top``) and dropped when they come back beyond the
+    nearest hit so far. Returns the hit after the node's triangles; ties as
+    ``nearest_hit``'s."""
+    pf, _, items, _, boxes, _, _, _, _, _, _, geo = w
+    sf, si, _ = s
+    base = items[i * NITEM + ITEM_B]
+    bottom = top
+    node = 0
+    near_x = 3 * WIDE if dx < ZERO else 0  # the side of a box the ray meets first, per axis
+    near_y = 3 * WIDE if dy < ZERO else 0
+    near_z = 3 * WIDE if dz < ZERO else 0
+    run = -1  # the run whose object space (lo*, ld*) the ray is in
+    lox = loy = loz = ldx = ldy = ldz = ZERO
+    while True:
+        if node >= 0:
+            m = base + node * NWIDE
+            if parallel:
+                e0 = lane_enter(boxes, m, 0, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, best_t, parallel)
+                e1 = lane_enter(boxes, m, 1, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, best_t, parallel)
+                e2 = lane_enter(boxes, m, 2, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, best_t, parallel)
+                e3 = lane_enter(boxes, m, 3, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, best_t, parallel)
+            else:  # the same entries, the four boxes at once
+                e0, e1, e2, e3 = wide_enters(boxes, m, near_x, near_y, near_z, ox, oy, oz, ix, iy, iz, best_t)
+            c0 = int32_at(boxes, (m + W_LINK) * LINKS)
+            c1 = int32_at(boxes, (m + W_LINK) * LINKS + 1)
+            c2 = int32_at(boxes, (m + W_LINK) * LINKS + 2)
+            c3 = int32_at(boxes, (m + W_LINK) * LINKS + 3)
+            e0, c0, e1, c1 = ordered(e0, c0, e1, c1)
+            e2, c2, e3, c3 = ordered(e2, c2, e3, c3)
+            e0, c0, e2, c2 = ordered(e0, c0, e2, c2)
+            e1, c1, e3, c3 = ordered(e1, c1, e3, c3)
+            e1, c1, e2, c2 = ordered(e1, c1, e2, c2)
+            if e0 != INF:
+                if e3 != INF:
+                    si[top * NSI + BV_FROM] = c3
+                    sf[top * NSF + CS_T] = e3
+                    top += 1
+                if e2 != INF:
+                    si[top * NSI + BV_FROM] = c2
+                    sf[top * NSF + CS_T] = e2
+                    top += 1
+                if e1 != INF:
+                    si[top * NSI + BV_FROM] = c1
+                    sf[top * NSF + CS_T] = e1
+                    top += 1
+                node = c0
+                continue
+        else:
+            leaf = -1 - node
+            first = leaf >> 3
+            for k in range(first, first + (leaf & 7)):
+                p = items[k * NITEM + ITEM_A]
+                q = items[k * NITEM + ITEM_B]
+                if p != run:  # the ray in the run's object space, once per run
+                    run = p
+                    lox, loy, loz = to_object_point(pf, p, ox, oy, oz)
+                    ldx, ldy, ldz = to_object_vector(pf, p, dx, dy, dz)
+                n, hit, u, v = compact_intersect(geo[0], q, lox, loy, loz, ldx, ldy, ldz, eps)
+                t = hit if n > 0 and hit >= ZERO else INF
+                if t < best_t or (t == best_t and (p < best_p or (p == best_p and q < best_l))):
+                    best_t, best_p, best_l, best_u, best_v = t, p, q, u, v
+        node = NO_NODE  # the nearest child left that the ray enters before best_t
+        while top > bottom:
+            top -= 1
+            if sf[top * NSF + CS_T] <= best_t:
+                node = si[top * NSI + BV_FROM]
+                break
+        if node == NO_NODE:
+            break
     return best_t, best_p, best_l, best_u, best_v
 
 
@@ -599,7 +720,10 @@ def shadowed(w, s, ox, oy, oz, vx, vy, vz, eps, slot):
             else:
                 i = items[i * NITEM + ITEM_A]
         elif HAS_NODES and kind == I_NODES:
-            if nodes_occluded(w, s, i, last, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, a, eps, distance, slot):
+            if items[i * NITEM + ITEM_C] == WIDE:
+                if wide_occluded(w, s, i, last, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, a, eps, distance, slot):
+                    return True
+            elif nodes_occluded(w, s, i, last, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, a, eps, distance, slot):
                 return True
             i = items[i * NITEM + ITEM_A]
         elif HAS_CSG and kind == I_CSG:
@@ -612,6 +736,59 @@ def shadowed(w, s, ox, oy, oz, vx, vy, vz, eps, slot):
         else:
             i += 1
     return False
+
+
+@njit(**CALLED)
+def wide_occluded(w, s, i, last, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, a, eps,
+                  distance, slot):  # fmt: skip
+    """``nodes_occluded`` through I_NODES item i's wide nodes (``bvh=sah4``): every child
+    the ray enters before ``distance`` is visited, in slot order."""
+    pf, pi, items, _, boxes, _, _, _, _, _, _, geo = w
+    _, si, _ = s
+    base = items[i * NITEM + ITEM_B]
+    top = 0
+    node = 0
+    near_x = 3 * WIDE if dx < ZERO else 0
+    near_y = 3 * WIDE if dy < ZERO else 0
+    near_z = 3 * WIDE if dz < ZERO else 0
+    while True:
+        if node >= 0:
+            m = base + node * NWIDE
+            if parallel:
+                e0 = lane_enter(boxes, m, 0, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, distance, parallel)
+                e1 = lane_enter(boxes, m, 1, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, distance, parallel)
+                e2 = lane_enter(boxes, m, 2, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, distance, parallel)
+                e3 = lane_enter(boxes, m, 3, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, distance, parallel)
+            else:  # the same entries, the four boxes at once
+                e0, e1, e2, e3 = wide_enters(boxes, m, near_x, near_y, near_z, ox, oy, oz, ix, iy, iz, distance)
+            links = (m + W_LINK) * LINKS
+            if e3 != INF:
+                si[top * NSI + BV_FROM] = int32_at(boxes, links + 3)
+                top += 1
+            if e2 != INF:
+                si[top * NSI + BV_FROM] = int32_at(boxes, links + 2)
+                top += 1
+            if e1 != INF:
+                si[top * NSI + BV_FROM] = int32_at(boxes, links + 1)
+                top += 1
+            if e0 != INF:
+                si[top * NSI + BV_FROM] = int32_at(boxes, links)
+                top += 1
+        else:
+            leaf = -1 - node
+            first = leaf >> 3
+            for k in range(first, first + (leaf & 7)):
+                if (
+                    k != last
+                    and pi[items[k * NITEM + ITEM_A] * NI + CASTS_SHADOW] != 0
+                    and occludes(pf, pi, items, geo, k, ox, oy, oz, dx, dy, dz, a, eps, distance)
+                ):
+                    si[slot * NSI + MEMO] = k
+                    return True
+        if top == 0:
+            return False
+        top -= 1
+        node = si[top * NSI + BV_FROM]
 
 
 @njit(**CALLED)

@@ -164,7 +164,8 @@ I_SKIP = 3  # nothing (a group whose box would not help; dropped when packing en
 I_TRI = 4  # a compact triangle (``tg``) of a run
 I_NODES = 5  # a hierarchy over compact triangles only, also as compact nodes (``bvh``):
 # ITEM_A: the item after the hierarchy's items (which follow it, for the kernels that walk
-# the items), ITEM_B: where its root node starts in the flat box table (``nodes``)
+# the items), ITEM_B: where its root node starts in the flat box table (``nodes``), ITEM_C:
+# WIDE when the nodes are wide ones (``bvh=sah4``), else 0
 
 # csg nodes (post-order): the left operand is primitives [START, MID), the right [MID, END)
 CSG_START = 0
@@ -196,6 +197,14 @@ NODE_C = 7  # a leaf: how many triangles (> 0); an inner node: -1 - its split ax
 # (-1: no axis, the first child first; -2, -3, -4: x, y, z, the second child first for
 # a ray going down that axis)
 NNODE = 8
+# wide nodes (``bvh=sah4``: the same hierarchy collapsed, a node adopting its children's
+# children), NWIDE values a node: four children's boxes as six rows of four (lo x, lo y,
+# lo z, hi x, hi y, hi z; child j at row * WIDE + j; an empty slot's box holds nothing: lo
+# +inf, hi -inf), then four links as int32 (in W_LINK's value and on): a child node's row
+# (>= 0), or a leaf, -1 - (its first I_TRI item * 8 + how many triangles); then nothing
+WIDE = 4
+W_LINK = 6 * WIDE
+NWIDE = 32
 
 # the hierarchy's builder (``bvh``, ``bvh_kernel``: its own copies, checked by the tests)
 BVH_BINS = 16  # bins per axis

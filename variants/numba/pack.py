@@ -49,6 +49,7 @@ from variants.numba.bvh import (
     build_into,
     nodes_as,
     outward32,
+    wide_nodes,
 )
 from variants.numba.errors import PackError, refusal
 from variants.numba.lights import light_rows
@@ -281,7 +282,7 @@ class _Packer(Rows):
         if self.structure in SAH:
             given = [bounds]
             del bounds  # given away: _hierarchy lets it go as soon as it can
-            with_nodes = self.compact and self.structure == "sah"
+            with_nodes = self.compact and self.structure in ("sah", "sah4")
             items, boxes, nodes, hierarchy = _hierarchy(items, given, with_nodes)
         else:
             box = np.flatnonzero(items[:, L.ITEM_TYPE] == L.I_BOX)
@@ -299,8 +300,11 @@ class _Packer(Rows):
         tg = _stack(self.tg, L.NTG, np.float64).astype(dtype, copy=False)
         tn = _stack(self.tn, L.NTN, np.float64).astype(dtype, copy=False)
         seconds = time.perf_counter() - started if started is not None else 0.0
-        boxes, nodes, at = _box_table(_outward(boxes, dtype), nodes_as(nodes, dtype))
+        wide = self.structure == "sah4" and len(nodes) > 0
+        nodes = wide_nodes(nodes, dtype) if wide else nodes_as(nodes, dtype)
+        boxes, nodes, at = _box_table(_outward(boxes, dtype), nodes)
         items[items[:, L.ITEM_TYPE] == L.I_NODES, L.ITEM_B] = at
+        items[items[:, L.ITEM_TYPE] == L.I_NODES, L.ITEM_C] = L.WIDE if wide else 0
         return Packed(
             pf.astype(dtype, copy=False), pi, items, boxes, csg,
             rows, self.shapes, max(self.capacity, 1), self.cs_size,
