@@ -13,6 +13,7 @@ from __future__ import annotations
 import itertools
 import math
 import random
+import sys
 import tracemalloc
 from dataclasses import replace
 from pathlib import Path
@@ -37,7 +38,10 @@ from raytracer.shapes.sphere import Sphere
 from raytracer.tracer import TRACER
 from scene import load_scene
 from variants.registry import VariantError, load_variant
+from variants.wavefront import handoff
 from variants.wavefront import hits as H
+from variants.wavefront import tracer as tracer_module
+from variants.wavefront import wave as wave_module
 from variants.wavefront.camera import camera_rays, lens, sample_offsets
 from variants.wavefront.indices import refractive_indices
 from variants.wavefront.pack import pack
@@ -313,6 +317,38 @@ def test_max_mb_and_threads_cut_the_work_but_change_no_bit() -> None:
     first = _pixels("wavefront", build, settings)
     for name in ("wavefront[max_mb=1]", "wavefront[max_mb=1,threads=2]", "wavefront[threads=2]"):
         assert np.array_equal(_pixels(name, build, settings), first), name
+
+
+def test_threaded_passes_hand_the_gil_over_quickly_and_give_the_interval_back(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """While passes run on two threads the switch interval is at most ``INTERVAL``; after,
+    the program's own value is back, also when two renders overlap (the last one out puts it
+    back) and when the program's value is already shorter (never raised)."""
+    seen: list[float] = []
+    real = wave_module.render_block
+
+    def watched(*args: Any) -> Any:
+        seen.append(sys.getswitchinterval())
+        return real(*args)
+
+    monkeypatch.setattr(tracer_module, "render_block", watched)
+    before = sys.getswitchinterval()
+    try:
+        sys.setswitchinterval(0.003)
+        _pixels("wavefront[max_mb=1,threads=2]", lambda v: lit_scene(v, 1, 8), RenderSettings())
+        assert len(seen) >= 2 and max(seen) <= handoff.INTERVAL
+        assert sys.getswitchinterval() == pytest.approx(0.003, abs=1e-5)
+        with handoff.quick_handoffs():
+            with handoff.quick_handoffs():
+                assert sys.getswitchinterval() == pytest.approx(handoff.INTERVAL, abs=1e-5)
+            assert sys.getswitchinterval() == pytest.approx(handoff.INTERVAL, abs=1e-5)
+        assert sys.getswitchinterval() == pytest.approx(0.003, abs=1e-5)
+        sys.setswitchinterval(handoff.INTERVAL / 2)
+        with handoff.quick_handoffs():
+            assert sys.getswitchinterval() == pytest.approx(handoff.INTERVAL / 2, abs=1e-5)
+    finally:
+        sys.setswitchinterval(before)
 
 
 @pytest.mark.parametrize(

@@ -30,6 +30,7 @@ from raytracer.world import World
 from variants.arrays.canvas import ArrayCanvas, ArrayCanvasTracer
 from variants.wavefront.allocator import keep_freed_arrays
 from variants.wavefront.camera import lens
+from variants.wavefront.handoff import quick_handoffs
 from variants.wavefront.hits import blocked, index, records
 from variants.wavefront.pack import pack, pack_scene
 from variants.wavefront.scene import KIND_NAMES, Scene, Unsupported
@@ -210,7 +211,7 @@ class WavefrontTracer(ArrayCanvasTracer):
             for first, end in jobs:
                 finished(first, end, render_block(frame, whole, first, end))
         else:
-            with ThreadPoolExecutor(self.options.threads) as pool:
+            with quick_handoffs(), ThreadPoolExecutor(self.options.threads) as pool:
                 futures = [
                     (first, end, pool.submit(render_block, frame, whole, first, end))
                     for first, end in jobs
