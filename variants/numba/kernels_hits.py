@@ -639,6 +639,21 @@ def occludes(pf, pi, items, geo, i, ox, oy, oz, dx, dy, dz, a, eps, distance):
 
 
 @njit(**INLINE)
+def leaf_occluder(pf, pi, items, geo, first, count, last, ox, oy, oz, dx, dy, dz, a, eps,
+                  distance):  # fmt: skip
+    """A hierarchy leaf's items ``first`` .. ``first + count - 1``: the first one other than
+    item ``last`` that casts a shadow and meets the ray before ``distance``, or -1."""
+    for k in range(first, first + count):
+        if (
+            k != last
+            and pi[items[k * NITEM + ITEM_A] * NI + CASTS_SHADOW] != 0
+            and occludes(pf, pi, items, geo, k, ox, oy, oz, dx, dy, dz, a, eps, distance)
+        ):
+            return k
+    return -1
+
+
+@njit(**INLINE)
 def shadowed(w, s, ox, oy, oz, vx, vy, vz, eps, slot):
     """Chapter 8 (``is_shadowed``): does a shadow-casting object lie between (ox, oy, oz)
     and the light at the end of (vx, vy, vz)? The shadow ray is the book's: the unit
@@ -776,15 +791,11 @@ def wide_occluded(w, s, i, last, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, a
                 top += 1
         else:
             leaf = -1 - node
-            first = leaf >> 3
-            for k in range(first, first + (leaf & 7)):
-                if (
-                    k != last
-                    and pi[items[k * NITEM + ITEM_A] * NI + CASTS_SHADOW] != 0
-                    and occludes(pf, pi, items, geo, k, ox, oy, oz, dx, dy, dz, a, eps, distance)
-                ):
-                    si[slot * NSI + MEMO] = k
-                    return True
+            k = leaf_occluder(pf, pi, items, geo, leaf >> 3, leaf & 7, last, ox, oy, oz, dx, dy,
+                              dz, a, eps, distance)  # fmt: skip
+            if k >= 0:
+                si[slot * NSI + MEMO] = k
+                return True
         if top == 0:
             return False
         top -= 1
@@ -821,14 +832,11 @@ def nodes_occluded(w, s, i, last, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, 
                 node = first if near else first + 1
                 inside = near or far
                 continue
-            for k in range(first, first + code):
-                if (
-                    k != last
-                    and pi[items[k * NITEM + ITEM_A] * NI + CASTS_SHADOW] != 0
-                    and occludes(pf, pi, items, geo, k, ox, oy, oz, dx, dy, dz, a, eps, distance)
-                ):
-                    si[slot * NSI + MEMO] = k
-                    return True
+            k = leaf_occluder(pf, pi, items, geo, first, code, last, ox, oy, oz, dx, dy, dz, a,
+                              eps, distance)  # fmt: skip
+            if k >= 0:
+                si[slot * NSI + MEMO] = k
+                return True
         if top == 0:
             return False
         top -= 1
