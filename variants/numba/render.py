@@ -49,12 +49,12 @@ starts) runs the generic kernel, as ``specialize=off`` does, whatever the varian
 the test suite sets it (tests/conftest.py): one kernel for all its scenes, not one each."""
 GENERIC_CALLS = "RTC_NUMBA_GENERIC_CALLS"
 """``RTC_NUMBA_GENERIC_CALLS=on``: a generic kernel (``specialize=off``, or the switch
-above) calls its helpers rather than inlining them, as the book API's module does (it is
-that module): it compiles in two thirds of the CPU time (28 against 42 s for float64's) and
-runs a little slower. The test suite sets it (tests/conftest.py; ``--thorough`` does not);
-a timed render, whose ``specialize=off`` step shows what specialization buys, never should.
-Without fast math the pictures are the same bits (no fused multiply-add, so a call boundary
-changes no rounding)."""
+above) calls its helpers rather than inlining them, as the book API's module does (with
+every feature, it is that module): it compiles in two thirds of the CPU time (33 against
+48 s for float64's) and runs a little slower. The test suite sets it (tests/conftest.py;
+``--thorough`` does not); a timed render, whose ``specialize=off`` step shows what
+specialization buys, never should. Without fast math the pictures are the same bits (no
+fused multiply-add, so a call boundary changes no rounding)."""
 
 
 def max_threads() -> int:
