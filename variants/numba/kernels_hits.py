@@ -442,6 +442,21 @@ def lane_enter(boxes, m, j, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, thi,
 
 
 @njit(**INLINE)
+def wide_entries(boxes, m, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, thi, parallel):
+    """Where the ray enters each of the four children of the wide node at ``m`` (``INF``:
+    not before ``thi``): a ray along an axis child by child (``lane_enter``'s exact parallel
+    tests), any other the four boxes at once (``wide_enters``)."""
+    if parallel:
+        return (
+            lane_enter(boxes, m, 0, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, thi, parallel),
+            lane_enter(boxes, m, 1, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, thi, parallel),
+            lane_enter(boxes, m, 2, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, thi, parallel),
+            lane_enter(boxes, m, 3, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, thi, parallel),
+        )
+    return wide_enters(boxes, m, near_x, near_y, near_z, ox, oy, oz, ix, iy, iz, thi)
+
+
+@njit(**INLINE)
 def ordered(ea, ca, eb, cb):
     """The two (entry, link) pairs, the nearer first."""
     if eb < ea:
@@ -471,13 +486,8 @@ def wide_nearest(w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, eps
     while True:
         if node >= 0:
             m = base + node * NWIDE
-            if parallel:
-                e0 = lane_enter(boxes, m, 0, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, best_t, parallel)
-                e1 = lane_enter(boxes, m, 1, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, best_t, parallel)
-                e2 = lane_enter(boxes, m, 2, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, best_t, parallel)
-                e3 = lane_enter(boxes, m, 3, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, best_t, parallel)
-            else:  # the same entries, the four boxes at once
-                e0, e1, e2, e3 = wide_enters(boxes, m, near_x, near_y, near_z, ox, oy, oz, ix, iy, iz, best_t)
+            e0, e1, e2, e3 = wide_entries(boxes, m, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z,
+                                          best_t, parallel)  # fmt: skip
             c0 = int32_at(boxes, (m + W_LINK) * LINKS)
             c1 = int32_at(boxes, (m + W_LINK) * LINKS + 1)
             c2 = int32_at(boxes, (m + W_LINK) * LINKS + 2)
@@ -769,13 +779,8 @@ def wide_occluded(w, s, i, last, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, a
     while True:
         if node >= 0:
             m = base + node * NWIDE
-            if parallel:
-                e0 = lane_enter(boxes, m, 0, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, distance, parallel)
-                e1 = lane_enter(boxes, m, 1, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, distance, parallel)
-                e2 = lane_enter(boxes, m, 2, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, distance, parallel)
-                e3 = lane_enter(boxes, m, 3, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, distance, parallel)
-            else:  # the same entries, the four boxes at once
-                e0, e1, e2, e3 = wide_enters(boxes, m, near_x, near_y, near_z, ox, oy, oz, ix, iy, iz, distance)
+            e0, e1, e2, e3 = wide_entries(boxes, m, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z,
+                                          distance, parallel)  # fmt: skip
             links = (m + W_LINK) * LINKS
             if e3 != INF:
                 si[top * NSI + BV_FROM] = int32_at(boxes, links + 3)
