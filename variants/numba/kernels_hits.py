@@ -353,6 +353,27 @@ def node_enter(boxes, m, ox, oy, oz, ix, iy, iz, near_x, near_y, near_z, thi, pa
     return tlo if tlo <= thi else INF
 
 
+@njit(**INLINE)
+def leaf_nearest(pf, items, geo, first, count, ox, oy, oz, dx, dy, dz, eps, run, lox, loy,
+                 loz, ldx, ldy, ldz, best_t, best_p, best_l, best_u, best_v):  # fmt: skip
+    """A hierarchy leaf's compact triangles ``first`` .. ``first + count - 1`` against the
+    nearest hit so far (ties: the earlier run's row, then its earlier triangle). ``run`` and
+    the ray in its object space (lo*, ld*) carry over from leaf to leaf: the ray is moved
+    into a run's space once per run. Returns them and the nearest hit."""
+    for k in range(first, first + count):
+        p = items[k * NITEM + ITEM_A]
+        q = items[k * NITEM + ITEM_B]
+        if p != run:
+            run = p
+            lox, loy, loz = to_object_point(pf, p, ox, oy, oz)
+            ldx, ldy, ldz = to_object_vector(pf, p, dx, dy, dz)
+        n, hit, u, v = compact_intersect(geo[0], q, lox, loy, loz, ldx, ldy, ldz, eps)
+        t = hit if n > 0 and hit >= ZERO else INF
+        if t < best_t or (t == best_t and (p < best_p or (p == best_p and q < best_l))):
+            best_t, best_p, best_l, best_u, best_v = t, p, q, u, v
+    return run, lox, loy, loz, ldx, ldy, ldz, best_t, best_p, best_l, best_u, best_v
+
+
 @njit(**CALLED)
 def nodes_nearest(w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, eps,
                   best_t, best_p, best_l, best_u, best_v):  # fmt: skip
@@ -397,17 +418,9 @@ def nodes_nearest(w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, ep
                     top += 1
                 enter = near
                 continue
-            for k in range(first, first + code):
-                p = items[k * NITEM + ITEM_A]
-                q = items[k * NITEM + ITEM_B]
-                if p != run:  # the ray in the run's object space, once per run
-                    run = p
-                    lox, loy, loz = to_object_point(pf, p, ox, oy, oz)
-                    ldx, ldy, ldz = to_object_vector(pf, p, dx, dy, dz)
-                n, hit, u, v = compact_intersect(geo[0], q, lox, loy, loz, ldx, ldy, ldz, eps)
-                t = hit if n > 0 and hit >= ZERO else INF
-                if t < best_t or (t == best_t and (p < best_p or (p == best_p and q < best_l))):
-                    best_t, best_p, best_l, best_u, best_v = t, p, q, u, v
+            run, lox, loy, loz, ldx, ldy, ldz, best_t, best_p, best_l, best_u, best_v = leaf_nearest(
+                pf, items, geo, first, code, ox, oy, oz, dx, dy, dz, eps, run, lox, loy, loz,
+                ldx, ldy, ldz, best_t, best_p, best_l, best_u, best_v)  # fmt: skip
         if top == bottom:
             break
         top -= 1
@@ -514,18 +527,9 @@ def wide_nearest(w, s, i, top, ox, oy, oz, dx, dy, dz, ix, iy, iz, parallel, eps
                 continue
         else:
             leaf = -1 - node
-            first = leaf >> 3
-            for k in range(first, first + (leaf & 7)):
-                p = items[k * NITEM + ITEM_A]
-                q = items[k * NITEM + ITEM_B]
-                if p != run:  # the ray in the run's object space, once per run
-                    run = p
-                    lox, loy, loz = to_object_point(pf, p, ox, oy, oz)
-                    ldx, ldy, ldz = to_object_vector(pf, p, dx, dy, dz)
-                n, hit, u, v = compact_intersect(geo[0], q, lox, loy, loz, ldx, ldy, ldz, eps)
-                t = hit if n > 0 and hit >= ZERO else INF
-                if t < best_t or (t == best_t and (p < best_p or (p == best_p and q < best_l))):
-                    best_t, best_p, best_l, best_u, best_v = t, p, q, u, v
+            run, lox, loy, loz, ldx, ldy, ldz, best_t, best_p, best_l, best_u, best_v = leaf_nearest(
+                pf, items, geo, leaf >> 3, leaf & 7, ox, oy, oz, dx, dy, dz, eps, run, lox, loy, loz,
+                ldx, ldy, ldz, best_t, best_p, best_l, best_u, best_v)  # fmt: skip
         node = NO_NODE  # the nearest child left that the ray enters before best_t
         while top > bottom:
             top -= 1
