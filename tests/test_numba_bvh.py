@@ -637,17 +637,25 @@ def _check_nodes(packed: Packed) -> None:
             for child in (first, first + 1):
                 assert _contains(outer, boxes[child]), f"node {row} does not hold {child}"
             continue
-        assert code > 0 and at < first and first + code <= end
-        for k in range(first, first + code):
-            assert items[k, L.ITEM_TYPE] == L.I_TRI
-            shape = packed.shapes[int(items[k, L.ITEM_A])]
-            run_first = packed.pi[items[k, L.ITEM_A], L.TRI_FIRST]
-            shape = _triangle_of(packed, int(items[k, L.ITEM_B]) - int(run_first), shape)
-            assert _contains(outer, _world_box(shape)), f"leaf {row} misses item {k}"
-            reached.append(k)
+        reached += _leaf_triangles(packed, items, outer, first, code, at, end, f"leaf {row}")
     assert sorted(children) == list(range(1, len(nodes))), "every node a child once"
     triangles = [k for k in range(at, end) if items[k, L.ITEM_TYPE] == L.I_TRI]
     assert sorted(reached) == triangles, "every triangle in one leaf"
+
+
+def _leaf_triangles(
+    packed: Any, items: Any, box: Any, first: int, count: int, at: Any, end: Any, leaf: str
+) -> list[int]:
+    """A leaf's items ``first`` .. ``first + count - 1``: within the hierarchy's items (after
+    its own, before ``end``), compact triangles all, each inside ``box``; their indices."""
+    assert count > 0 and at < first and first + count <= end
+    for k in range(first, first + count):
+        assert items[k, L.ITEM_TYPE] == L.I_TRI
+        shape = packed.shapes[int(items[k, L.ITEM_A])]
+        run_first = packed.pi[items[k, L.ITEM_A], L.TRI_FIRST]
+        shape = _triangle_of(packed, int(items[k, L.ITEM_B]) - int(run_first), shape)
+        assert _contains(box, _world_box(shape)), f"{leaf} misses item {k}"
+    return list(range(first, first + count))
 
 
 def test_compact_nodes_keep_their_invariants() -> None:
@@ -758,14 +766,7 @@ def _check_wide(packed: Packed) -> None:
                 assert _contains(box, np.concatenate([lo, hi])), f"node {row} misses {link}"
                 continue
             first, count = (-1 - link) >> 3, (-1 - link) & 7
-            assert count > 0 and at < first and first + count <= end
-            for k in range(first, first + count):
-                assert items[k, L.ITEM_TYPE] == L.I_TRI
-                shape = packed.shapes[int(items[k, L.ITEM_A])]
-                run_first = packed.pi[items[k, L.ITEM_A], L.TRI_FIRST]
-                shape = _triangle_of(packed, int(items[k, L.ITEM_B]) - int(run_first), shape)
-                assert _contains(box, _world_box(shape)), f"leaf of {row} misses item {k}"
-                reached.append(k)
+            reached += _leaf_triangles(packed, items, box, first, count, at, end, f"leaf of {row}")
     assert sorted(children) == list(range(1, len(boxes))), "every node a child once"
     triangles = [k for k in range(at, end) if items[k, L.ITEM_TYPE] == L.I_TRI]
     assert sorted(reached) == triangles, "every triangle in one leaf"
